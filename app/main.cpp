@@ -1,0 +1,33 @@
+// carom: the command line. Parsing lives here; each subcommand is in its own file.
+#include <iostream>
+#include <new>
+
+#include <CLI/CLI.hpp>
+
+#include "app/commands.h"
+
+int main(int argc, char** argv) {
+    using namespace carom::app;
+    CLI::App app{"carom: 2D elastic disk collisions on OpenCL and CPU backends"};
+    app.require_subcommand(1, 1);
+
+    RunOptions runOptions;
+    CLI::App* run = app.add_subcommand("run", "Simulate a scene headless and print a summary");
+    addRunOptions(*run, runOptions);
+    CLI::App* devices = app.add_subcommand("devices", "List OpenCL platforms and devices with their index");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    }
+    try {
+        if (*run) return runCommand(runOptions);
+        if (*devices) return devicesCommand();
+    } catch (const carom::Error& e) {
+        std::cerr << "carom: error: " << e.what() << '\n';
+    } catch (const std::bad_alloc&) {
+        std::cerr << "carom: error: out of memory; try fewer particles\n";
+    }
+    return 1;
+}

@@ -1,0 +1,7 @@
+// The OpenCL C source of kernels/, embedded at build time
+// (kernels/embed.cmake), so carom runs from any directory.
+#pragma once
+
+namespace carom::opencl {
+const char* kernelSource();
+}

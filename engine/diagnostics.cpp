@@ -1,0 +1,37 @@
+#include "engine/diagnostics.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/grid.h"
+
+namespace carom {
+
+Diagnostics measure(const std::vector<Particle>& particles, const WorldDef& world) {
+    Diagnostics d;
+    float maxRadius = 0.0f;
+    for (const Particle& p : particles) {
+        const double vx = p.velocity.x, vy = p.velocity.y;
+        d.kineticEnergy += 0.5 * p.mass * (vx * vx + vy * vy);
+        d.momentum[0] += p.mass * vx;
+        d.momentum[1] += p.mass * vy;
+        const float2 x = p.position;
+        const bool inside = x.x >= 0.0f && x.x <= world.width && x.y >= 0.0f && x.y <= world.height;
+        if (!inside) ++d.escaped;  // also counts NaN
+        maxRadius = std::max(maxRadius, p.radius);
+    }
+
+    Grid grid;
+    grid.geometry = gridGeometryFor(world.width, world.height, maxRadius, particles.size());
+    buildGrid(particles.data(), particles.size(), grid);
+    forEachOverlappingPair(particles.data(), particles.size(), grid, [&](std::uint32_t i, std::uint32_t j) {
+        const Particle& a = particles[i];
+        const Particle& b = particles[j];
+        const double distance = std::hypot(double(a.position.x) - b.position.x,
+                                           double(a.position.y) - b.position.y);
+        d.maxOverlap = std::max(d.maxOverlap, double(a.radius) + b.radius - distance);
+    });
+    return d;
+}
+
+}  // namespace carom

@@ -1,0 +1,44 @@
+#include "engine/grid.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "kernels/physics.h"
+
+namespace carom {
+
+GridGeometry gridGeometryFor(float width, float height, float maxRadius, std::size_t particleCount) {
+    // A hair more than the diameter: float rounding of position * cellsPerLength
+    // must never put two touching disks two cells apart.
+    const double diameter = 2.0 * maxRadius * (1.0 + 1e-5);
+    const double maxCells = 4.0 * double(particleCount) + 1024.0;
+    const double cellSize = std::max(diameter, std::sqrt(double(width) * height / maxCells));
+    GridGeometry g;
+    g.cols = static_cast<int>(std::clamp(std::floor(width / cellSize), 1.0, maxCells));
+    g.rows = static_cast<int>(std::clamp(std::floor(height / cellSize), 1.0, maxCells));
+    g.cellsPerLengthX = static_cast<float>(g.cols / double(width));
+    g.cellsPerLengthY = static_cast<float>(g.rows / double(height));
+    return g;
+}
+
+void buildGrid(const Particle* particles, std::size_t count, Grid& grid) {
+    const GridGeometry& g = grid.geometry;
+    grid.cells.assign(std::size_t(g.cols) * g.rows, GridCell{0, 0});
+    grid.sortedIndices.resize(count);
+
+    for (std::size_t i = 0; i < count; ++i) ++grid.cells[carom_cell_index(particles[i].position, g)].count;
+    std::uint32_t start = 0;
+    for (GridCell& cell : grid.cells) {
+        cell.start = start;
+        start += cell.count;
+    }
+    // Scatter in ascending id, so each cell lists its particles in id order.
+    // `count` doubles as the fill cursor and ends where it began.
+    for (GridCell& cell : grid.cells) cell.count = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+        GridCell& cell = grid.cells[carom_cell_index(particles[i].position, g)];
+        grid.sortedIndices[cell.start + cell.count++] = static_cast<std::uint32_t>(i);
+    }
+}
+
+}  // namespace carom

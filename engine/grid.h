@@ -1,0 +1,42 @@
+// The shared grid builder: the broad phase that both backends use.
+//
+// Each step, every particle is hashed to the cell that holds its centre; a
+// counting sort groups the particle ids by cell, ascending within a cell
+// (which fixes the order in which neighbours are visited and summed). A disk
+// can only touch disks in the 3x3 cells around its own, because a cell is at
+// least as wide and tall as the largest disk diameter.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "kernels/particle.h"
+
+namespace carom {
+
+struct Grid {
+    GridGeometry geometry{};
+    std::vector<GridCell> cells;              // cols * rows, row-major
+    std::vector<std::uint32_t> sortedIndices;  // particle ids grouped by cell
+};
+
+// The cell layout for a box and the largest radius. Cells are as small as the
+// largest diameter allows, but never more than about 4 per particle, so a
+// dilute system does not allocate a huge empty grid (larger cells are still
+// correct, only slower).
+GridGeometry gridGeometryFor(float width, float height, float maxRadius, std::size_t particleCount);
+
+// Fills grid.cells and grid.sortedIndices for the particles, keeping
+// grid.geometry. Reuses the vectors' storage from step to step.
+void buildGrid(const Particle* particles, std::size_t count, Grid& grid);
+
+// Calls visit(i, j) for every pair i < j whose disks overlap, found with the
+// same 3x3 search the collision kernel uses.
+template <class Visit>
+void forEachOverlappingPair(const Particle* particles, std::size_t count, const Grid& grid,
+                            Visit&& visit);
+
+}  // namespace carom
+
+#include "engine/grid_search.inl"

@@ -1,0 +1,33 @@
+// Template body of forEachOverlappingPair (see grid.h).
+#include "kernels/physics.h"
+
+namespace carom {
+
+template <class Visit>
+void forEachOverlappingPair(const Particle* particles, std::size_t count, const Grid& grid,
+                            Visit&& visit) {
+    const GridGeometry& g = grid.geometry;
+    for (std::uint32_t i = 0; i < count; ++i) {
+        const Particle& self = particles[i];
+        const int cellX = carom_cell_coord(self.position.x, g.cellsPerLengthX, g.cols);
+        const int cellY = carom_cell_coord(self.position.y, g.cellsPerLengthY, g.rows);
+        for (int y = cellY - 1; y <= cellY + 1; ++y) {
+            if (y < 0 || y >= g.rows) continue;
+            for (int x = cellX - 1; x <= cellX + 1; ++x) {
+                if (x < 0 || x >= g.cols) continue;
+                const GridCell cell = grid.cells[std::size_t(y) * g.cols + x];
+                for (std::uint32_t k = cell.start; k < cell.start + cell.count; ++k) {
+                    const std::uint32_t j = grid.sortedIndices[k];
+                    if (j <= i) continue;
+                    const Particle& other = particles[j];
+                    const float dx = self.position.x - other.position.x;
+                    const float dy = self.position.y - other.position.y;
+                    const float contact = self.radius + other.radius;
+                    if (dx * dx + dy * dy < contact * contact) visit(i, j);
+                }
+            }
+        }
+    }
+}
+
+}  // namespace carom

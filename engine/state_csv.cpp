@@ -1,0 +1,129 @@
+#include "engine/state_csv.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "engine/atomic_file.h"
+
+namespace carom {
+namespace {
+
+const char* const kHeader = "id,x,y,vx,vy,mass,radius";
+const char* const kColumns[] = {"id", "x", "y", "vx", "vy", "mass", "radius"};
+constexpr int kColumnCount = 7;
+
+std::string trim(const std::string& s) {
+    const auto first = s.find_first_not_of(" \t\r");
+    if (first == std::string::npos) return "";
+    return s.substr(first, s.find_last_not_of(" \t\r") - first + 1);
+}
+
+class Reader {
+public:
+    explicit Reader(const std::string& path) : path_(path) {}
+
+    [[noreturn]] void fail(std::size_t line, const std::string& what) const {
+        throw Error(path_ + ":" + std::to_string(line) + ": " + what);
+    }
+
+    float number(std::size_t line, int column, const std::string& text) const {
+        // strtof reads the C locale's decimal point: carom never changes the locale.
+        char* end = nullptr;
+        errno = 0;
+        const float value = std::strtof(text.c_str(), &end);
+        if (text.empty() || end != text.c_str() + text.size())
+            fail(line, std::string("column '") + kColumns[column] + "': '" + text + "' is not a number");
+        if (errno == ERANGE && std::isinf(value))
+            fail(line, std::string("column '") + kColumns[column] + "': " + text + " is out of float range");
+        return value;
+    }
+
+    std::uint64_t id(std::size_t line, const std::string& text) const {
+        if (text.empty() || text.size() > 10 || text.find_first_not_of("0123456789") != std::string::npos)
+            fail(line, "column 'id': '" + text + "' is not a particle id (an integer >= 0)");
+        return std::stoull(text);
+    }
+
+private:
+    std::string path_;
+};
+
+}  // namespace
+
+std::vector<Particle> readStateCsv(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error("cannot read state file '" + path + "': " + std::strerror(errno));
+    const Reader reader(path);
+
+    std::string line;
+    std::size_t lineNumber = 1;
+    if (!std::getline(in, line)) reader.fail(1, std::string("empty file; expected the header '") + kHeader + "'");
+    if (trim(line) != kHeader)
+        reader.fail(1, "header is '" + trim(line) + "'; expected '" + kHeader + "'");
+
+    struct Row {
+        std::uint64_t id;
+        std::size_t line;
+        Particle particle;
+    };
+    std::vector<Row> rows;
+    while (std::getline(in, line)) {
+        ++lineNumber;
+        if (trim(line).empty()) continue;
+        std::vector<std::string> fields;
+        std::stringstream split(line);
+        for (std::string field; std::getline(split, field, ',');) fields.push_back(trim(field));
+        if (!line.empty() && line.back() == ',') fields.emplace_back();
+        if (fields.size() != kColumnCount)
+            reader.fail(lineNumber, "expected " + std::to_string(kColumnCount) + " columns (" + kHeader +
+                                        "), found " + std::to_string(fields.size()));
+        Row row{reader.id(lineNumber, fields[0]), lineNumber, Particle{}};
+        Particle& p = row.particle;
+        p.position.x = reader.number(lineNumber, 1, fields[1]);
+        p.position.y = reader.number(lineNumber, 2, fields[2]);
+        p.velocity.x = reader.number(lineNumber, 3, fields[3]);
+        p.velocity.y = reader.number(lineNumber, 4, fields[4]);
+        p.mass = reader.number(lineNumber, 5, fields[5]);
+        p.radius = reader.number(lineNumber, 6, fields[6]);
+        rows.push_back(row);
+    }
+    if (in.bad()) throw Error("reading state file '" + path + "' failed");
+    if (rows.empty()) reader.fail(lineNumber, "no particle rows after the header");
+
+    std::vector<Particle> particles(rows.size());
+    std::vector<std::size_t> seenOnLine(rows.size(), 0);
+    for (const Row& row : rows) {
+        if (row.id >= rows.size())
+            reader.fail(row.line, "id " + std::to_string(row.id) + " is out of range: with " +
+                                      std::to_string(rows.size()) + " rows the ids must be 0.." +
+                                      std::to_string(rows.size() - 1));
+        if (seenOnLine[row.id] != 0)
+            reader.fail(row.line, "duplicate id " + std::to_string(row.id) + " (first on line " +
+                                      std::to_string(seenOnLine[row.id]) + ")");
+        seenOnLine[row.id] = row.line;
+        particles[row.id] = row.particle;
+    }
+    return particles;
+}
+
+void writeStateCsv(const std::string& path, const std::vector<Particle>& particles) {
+    AtomicFile file(path);
+    std::ofstream& out = file.stream();
+    out << kHeader << '\n';
+    char row[256];
+    for (std::size_t i = 0; i < particles.size(); ++i) {
+        const Particle& p = particles[i];
+        // %.9g round-trips every float; snprintf uses the C locale's decimal point.
+        std::snprintf(row, sizeof row, "%zu,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", i, p.position.x,
+                      p.position.y, p.velocity.x, p.velocity.y, p.mass, p.radius);
+        out << row;
+    }
+    file.commit();
+}
+
+}  // namespace carom

@@ -1,0 +1,21 @@
+// Particle states as CSV: `id,x,y,vx,vy,mass,radius`, one row per particle in
+// id order, floats with 9 significant digits so they read back bit for bit.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "engine/carom.h"
+
+namespace carom {
+
+// Reads a state file. Rows may come in any order; the ids must be exactly
+// 0..N-1. Throws Error naming the file, line and column of anything wrong.
+// Physical checks (inside the box, positive mass) are validateParticles' job.
+std::vector<Particle> readStateCsv(const std::string& path);
+
+// Writes the state through a temporary file renamed into place, so `path`
+// holds either its old content or the complete new file.
+void writeStateCsv(const std::string& path, const std::vector<Particle>& particles);
+
+}  // namespace carom

@@ -1,0 +1,61 @@
+/* The data layout shared by the host C++ and the OpenCL C kernels.
+ *
+ * This header is compiled twice: by the host compiler (inside namespace carom)
+ * and by the OpenCL compiler (embedded in the binary at build time). Both must
+ * see byte-identical structs, so every type here has a fixed size and
+ * alignment, checked on the host by the static_asserts at the end. */
+#ifndef CAROM_PARTICLE_H
+#define CAROM_PARTICLE_H
+
+#ifdef __OPENCL_VERSION__
+#define CAROM_ALIGNED(n) __attribute__((aligned(n)))
+#else
+#define CAROM_ALIGNED(n) alignas(n)
+#include <cstddef>
+namespace carom {
+/* OpenCL's float2: two floats, 8-byte aligned. */
+struct alignas(8) float2 {
+    float x;
+    float y;
+};
+#endif
+
+/* One disk. 32 bytes, 32-byte aligned, so a particle never straddles two
+ * 32-byte memory segments on a GPU. */
+typedef struct CAROM_ALIGNED(32) Particle {
+    float2 position; /* centre [length], inside the box [0,W]x[0,H] */
+    float2 velocity; /* [length/time] */
+    float mass;      /* > 0 [mass] */
+    float radius;    /* > 0 [length] */
+    float2 padding;  /* unused; keeps the size at 32 bytes */
+} Particle;
+
+/* The particles of one grid cell: sortedIndices[start .. start+count). */
+typedef struct GridCell {
+    unsigned int start;
+    unsigned int count;
+} GridCell;
+
+/* How positions map to cells. The box [0,W]x[0,H] is cut into cols x rows
+ * cells; cellsPerLength is cols/W (rows/H), so a cell is at least as wide as
+ * the largest disk diameter and the 3x3 cells around a disk hold every disk
+ * that can touch it. */
+typedef struct GridGeometry {
+    float cellsPerLengthX;
+    float cellsPerLengthY;
+    int cols;
+    int rows;
+} GridGeometry;
+
+#ifndef __OPENCL_VERSION__
+static_assert(sizeof(float2) == 8 && alignof(float2) == 8, "float2 must match OpenCL's");
+static_assert(sizeof(Particle) == 32 && alignof(Particle) == 32, "Particle is 32 bytes, 32-aligned");
+static_assert(offsetof(Particle, position) == 0 && offsetof(Particle, velocity) == 8 &&
+                  offsetof(Particle, mass) == 16 && offsetof(Particle, radius) == 20 &&
+                  offsetof(Particle, padding) == 24,
+              "Particle field offsets must match the OpenCL struct");
+static_assert(sizeof(GridCell) == 8 && offsetof(GridCell, count) == 4, "GridCell is two uints");
+} /* namespace carom */
+#endif
+
+#endif /* CAROM_PARTICLE_H */

@@ -1,0 +1,122 @@
+// The shared grid builder and the 3x3 neighbour search, against brute force.
+#include <algorithm>
+#include <random>
+#include <set>
+#include <utility>
+
+#include "engine/grid.h"
+#include "support.h"
+
+using namespace carom;
+using carom::test::disk;
+
+namespace {
+
+using PairSet = std::set<std::pair<std::uint32_t, std::uint32_t>>;
+
+PairSet bruteForcePairs(const std::vector<Particle>& ps) {
+    PairSet pairs;
+    for (std::uint32_t i = 0; i < ps.size(); ++i)
+        for (std::uint32_t j = i + 1; j < ps.size(); ++j) {
+            const float dx = ps[i].position.x - ps[j].position.x;
+            const float dy = ps[i].position.y - ps[j].position.y;
+            const float contact = ps[i].radius + ps[j].radius;
+            if (dx * dx + dy * dy < contact * contact) pairs.insert({i, j});
+        }
+    return pairs;
+}
+
+Grid gridFor(const std::vector<Particle>& ps, float width, float height) {
+    float maxRadius = 0;
+    for (const Particle& p : ps) maxRadius = std::max(maxRadius, p.radius);
+    Grid grid;
+    grid.geometry = gridGeometryFor(width, height, maxRadius, ps.size());
+    buildGrid(ps.data(), ps.size(), grid);
+    return grid;
+}
+
+// Random polydisperse disks, overlaps allowed, plus disks exactly on the box
+// edges, on cell boundaries and slightly outside the box.
+std::vector<Particle> randomConfiguration(unsigned seed, float width, float height, float rmin, float rmax) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> x(0, width), y(0, height), r(rmin, rmax);
+    std::vector<Particle> ps;
+    for (int i = 0; i < 3000; ++i) ps.push_back(disk(x(rng), y(rng), 0, 0, 1, r(rng)));
+    const GridGeometry g = gridGeometryFor(width, height, rmax, ps.size() + 8);
+    const float cellWidth = width / g.cols;
+    for (float edgeX : {0.0f, width, cellWidth, 2 * cellWidth, -0.5f, width + 0.5f})
+        ps.push_back(disk(edgeX, y(rng), 0, 0, 1, rmax));
+    ps.push_back(disk(width, height, 0, 0, 1, rmax));
+    ps.push_back(disk(0, 0, 0, 0, 1, rmax));
+    return ps;
+}
+
+}  // namespace
+
+TEST_CASE("grid: cells are at least one largest diameter and cover the box") {
+    const GridGeometry g = gridGeometryFor(100.0f, 50.0f, 1.5f, 1000);
+    CHECK(100.0 / g.cols >= 3.0);
+    CHECK(50.0 / g.rows >= 3.0);
+    CHECK(g.cols == 33);
+    CHECK(g.rows == 16);
+
+    SUBCASE("a dilute system gets at most about 4 cells per particle") {
+        const GridGeometry dilute = gridGeometryFor(1e6f, 1e6f, 0.5f, 100);
+        CHECK(double(dilute.cols) * dilute.rows <= 4.0 * 100 + 1024);
+    }
+    SUBCASE("a box narrower than a disk has one cell across") {
+        const GridGeometry narrow = gridGeometryFor(1.0f, 10.0f, 1.0f, 10);
+        CHECK(narrow.cols == 1);
+        CHECK(narrow.rows == 4);
+    }
+}
+
+TEST_CASE("grid: every particle appears once, in its own cell, ascending by id") {
+    const float width = 80.0f, height = 60.0f;
+    const std::vector<Particle> ps = randomConfiguration(7, width, height, 0.1f, 1.3f);
+    const Grid grid = gridFor(ps, width, height);
+    const GridGeometry& g = grid.geometry;
+
+    REQUIRE(grid.sortedIndices.size() == ps.size());
+    std::vector<int> seen(ps.size(), 0);
+    std::uint32_t expectedStart = 0;
+    for (std::size_t c = 0; c < grid.cells.size(); ++c) {
+        const GridCell cell = grid.cells[c];
+        CHECK(cell.start == expectedStart);
+        expectedStart += cell.count;
+        for (std::uint32_t k = cell.start; k < cell.start + cell.count; ++k) {
+            const std::uint32_t id = grid.sortedIndices[k];
+            ++seen[id];
+            CHECK(carom_cell_index(ps[id].position, g) == int(c));
+            if (k > cell.start) CHECK(grid.sortedIndices[k - 1] < id);
+        }
+    }
+    CHECK(expectedStart == ps.size());
+    CHECK(std::all_of(seen.begin(), seen.end(), [](int n) { return n == 1; }));
+}
+
+TEST_CASE("grid: the 3x3 search finds exactly the overlapping pairs of brute force") {
+    struct Case {
+        unsigned seed;
+        float width, height, rmin, rmax;
+    };
+    for (const Case c : {Case{1, 80, 60, 0.1f, 1.3f}, Case{2, 50, 50, 0.5f, 0.5f}, Case{3, 200, 20, 0.05f, 2.0f},
+                         Case{4, 30, 120, 1.0f, 1.0f}}) {
+        CAPTURE(c.seed);
+        const std::vector<Particle> ps = randomConfiguration(c.seed, c.width, c.height, c.rmin, c.rmax);
+        const Grid grid = gridFor(ps, c.width, c.height);
+        PairSet found;
+        forEachOverlappingPair(ps.data(), ps.size(), grid, [&](std::uint32_t i, std::uint32_t j) {
+            CHECK(found.insert({i, j}).second);  // each pair once
+        });
+        const PairSet expected = bruteForcePairs(ps);
+        CHECK(expected.size() > 100);  // the configurations do overlap
+        CHECK(found == expected);
+    }
+}
+
+TEST_CASE("grid: NaN positions land in a valid cell") {
+    std::vector<Particle> ps = {disk(NAN, NAN, 0, 0), disk(5, 5, 0, 0)};
+    const Grid grid = gridFor(ps, 10, 10);
+    CHECK(carom_cell_index(ps[0].position, grid.geometry) == 0);
+}
