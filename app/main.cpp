@@ -15,6 +15,10 @@ int main(int argc, char** argv) {
     CLI::App* run = app.add_subcommand("run", "Simulate a scene headless and print a summary");
     addRunOptions(*run, runOptions);
     CLI::App* devices = app.add_subcommand("devices", "List OpenCL platforms and devices with their index");
+    const std::function<int()> runView = addViewCommand(app);
+    BenchOptions benchOptions;
+    CLI::App* bench = app.add_subcommand("bench", "Compare the speed of the methods over a sweep of N");
+    addBenchOptions(*bench, benchOptions);
 
     try {
         app.parse(argc, argv);
@@ -24,10 +28,14 @@ int main(int argc, char** argv) {
     try {
         if (*run) return runCommand(runOptions);
         if (*devices) return devicesCommand();
+        if (*bench) return benchCommand(benchOptions);
+        if (app.got_subcommand("view")) return runView();
     } catch (const carom::Error& e) {
         std::cerr << "carom: error: " << e.what() << '\n';
     } catch (const std::bad_alloc&) {
         std::cerr << "carom: error: out of memory; try fewer particles\n";
+    } catch (const std::exception& e) {  // a library's own error: still a message, never an abort
+        std::cerr << "carom: error: " << e.what() << '\n';
     }
     return 1;
 }

@@ -1,102 +1,443 @@
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <iostream>
+#include <iterator>
+#include <limits>
 #include <memory>
 #include <optional>
+#include <utility>
+
+#ifdef _WIN32
+#include <io.h>
+#else
+#include <unistd.h>
+#endif
 
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
 #include "backends/backend.h"
 #include "engine/atomic_file.h"
+#include "engine/checkpoint.h"
 #include "engine/diagnostics.h"
 #include "engine/state_csv.h"
+#include "engine/stats.h"
+#include "engine/trajectory.h"
 
 namespace carom::app {
 
 void addRunOptions(CLI::App& command, RunOptions& o) {
     addSceneOptions(command, o.scene);
-    command.add_option("--steps", o.steps, "Number of steps")->capture_default_str();
+    tracked(command.add_option("--steps", o.steps, "Number of steps (default: the scene file's, else 1000)"),
+            o.scene.given);
     command.add_option("--output-state", o.outputState, "Write the final state to this CSV");
     command.add_flag("--json", o.json, "Print a JSON summary on stdout instead of the text summary");
+    command.add_option("--trajectory", o.trajectory, "Write extended XYZ frames (OVITO, ASE) every --every steps");
+    command.add_option("--stats", o.stats, "Write a CSV row of statistics every --every steps");
+    command.add_option("--checkpoint", o.checkpoint, "Write a checkpoint every --every steps and at the end");
+    tracked(command.add_option("--every", o.every, "Steps between trajectory frames, statistics and checkpoints")
+                ->check(CLI::Range(std::uint64_t{1}, std::numeric_limits<std::uint64_t>::max()))
+                ->capture_default_str(),
+            o.scene.given);
+    auto* resume = command.add_option("--resume", o.resume,
+                                      "Continue from this checkpoint for --steps more steps, bit for bit");
+    for (const char* scene : {"--scene", "--input-state", "--particles", "--packing", "--box", "--radius",
+                              "--radius-min", "--radius-max", "--mass", "--mass-min", "--mass-max", "--speed",
+                              "--seed", "--dt", "--gravity"})
+        resume->excludes(command.get_option(scene));
+    command.add_flag("--quiet", o.quiet, "No progress line on stderr");
 }
 
 namespace {
 
+// ---------------------------------------------------------------------------
+// Ctrl-C: the run stops at the next step boundary and writes its outputs. A
+// second Ctrl-C kills the process as usual.
+
+volatile std::sig_atomic_t interrupted = 0;
+
+extern "C" void onInterrupt(int) {
+    interrupted = 1;
+    std::signal(SIGINT, SIG_DFL);
+}
+
+class InterruptHandler {
+public:
+    InterruptHandler() : previous_(std::signal(SIGINT, onInterrupt)) { interrupted = 0; }
+    ~InterruptHandler() { std::signal(SIGINT, previous_); }
+    InterruptHandler(const InterruptHandler&) = delete;
+    InterruptHandler& operator=(const InterruptHandler&) = delete;
+
+private:
+    void (*previous_)(int);
+};
+
+// ---------------------------------------------------------------------------
+// What the run starts from: a scene (options or file) or a checkpoint.
+
+struct Start {
+    WorldDef world;
+    std::vector<Particle> particles;
+    std::uint64_t step = 0;        // steps the scene has taken before this run
+    std::uint64_t collisions = 0;  // collisions before this run
+    std::uint64_t steps = 0;       // steps this run takes
+    bool resumed = false;          // from a checkpoint, whose step the previous run sampled
+    OutputDef outputs;
+};
+
+// A command-line path wins over the scene file's.
+void preferGiven(std::string& path, const std::string& given) {
+    if (!given.empty()) path = given;
+}
+
+Start planRun(const RunOptions& o) {
+    const bool stepsGiven = o.scene.given.count("--steps") > 0;
+    Start start;
+    start.steps = o.steps;
+    if (!o.resume.empty()) {
+        Checkpoint c = readCheckpoint(o.resume);
+        start.world = c.world;
+        start.particles = std::move(c.particles);
+        start.step = c.step;
+        start.collisions = c.collisions;
+        start.resumed = true;
+    } else {
+        Setup setup = makeSetup(o.scene);
+        start.world = setup.world;
+        start.particles = std::move(setup.particles);
+        if (setup.sceneFile) {
+            start.outputs = setup.sceneFile->output;
+            if (!stepsGiven) start.steps = setup.sceneFile->steps;
+        }
+    }
+    if (start.steps > std::numeric_limits<std::uint64_t>::max() - start.step)
+        throw Error("--steps " + std::to_string(start.steps) + " would take the step count past 2^64");
+    preferGiven(start.outputs.trajectory, o.trajectory);
+    preferGiven(start.outputs.stats, o.stats);
+    preferGiven(start.outputs.checkpoint, o.checkpoint);
+    preferGiven(start.outputs.state, o.outputState);
+    if (o.scene.given.count("--every") || o.scene.sceneFile.empty()) start.outputs.every = o.every;
+    return start;
+}
+
+// ---------------------------------------------------------------------------
+// The output files. Trajectory and statistics stream into temporary files
+// renamed into place at the end; the checkpoint is replaced whole each time.
+
+bool allFinite(const std::vector<Particle>& particles) {
+    return std::all_of(particles.begin(), particles.end(), [](const Particle& p) {
+        return std::isfinite(p.position.x) && std::isfinite(p.position.y) && std::isfinite(p.velocity.x) &&
+               std::isfinite(p.velocity.y);
+    });
+}
+
+class Outputs {
+public:
+    // Opens every output before the simulation, so a bad path is refused at once.
+    explicit Outputs(const OutputDef& def) : def_(def) {
+        requireDistinctPaths();
+        if (!def.trajectory.empty()) trajectory_.emplace(def.trajectory);
+        if (!def.stats.empty()) stats_.emplace(def.stats);
+        for (const std::string& path : {def.checkpoint, def.state})
+            if (!path.empty()) AtomicFile probe(path);
+    }
+
+    void sample(std::uint64_t step, const WorldDef& world, const std::vector<Particle>& particles,
+                std::uint64_t collisions) {
+        const double time = double(step) * world.dt;
+        if (trajectory_) trajectory_->write(particles, world, step, time);
+        if (stats_) stats_->write(step, time, measure(particles, world), collisions);
+        checkpoint(step, world, particles, collisions);
+    }
+
+    // A non-finite state (the step blew up) would replace a good checkpoint
+    // with one that cannot be resumed: keep the good one.
+    void checkpoint(std::uint64_t step, const WorldDef& world, const std::vector<Particle>& particles,
+                    std::uint64_t collisions) {
+        if (def_.checkpoint.empty() || checkpointStep_ == step) return;
+        if (!allFinite(particles)) {
+            if (!warnedNonFinite_)
+                std::cerr << "carom: warning: the state at step " << step << " is not finite; checkpoint '"
+                          << def_.checkpoint << "' is not updated from now on\n";
+            warnedNonFinite_ = true;
+            return;
+        }
+        writeCheckpoint(def_.checkpoint, Checkpoint{world, step, double(step) * world.dt, collisions, particles});
+        checkpointStep_ = step;
+    }
+
+    // Renames the trajectory and statistics into place: every frame and row
+    // in them is complete.
+    void commitStreams() {
+        if (trajectory_) trajectory_->commit();
+        if (stats_) stats_->commit();
+    }
+
+    void finish(std::uint64_t step, const WorldDef& world, const std::vector<Particle>& particles,
+                std::uint64_t collisions) {
+        checkpoint(step, world, particles, collisions);
+        commitStreams();
+        if (!def_.state.empty()) writeStateCsv(def_.state, particles);
+    }
+
+    std::uint64_t every() const { return def_.every; }
+    std::optional<std::uint64_t> checkpointStep() const { return checkpointStep_; }
+
+    // "run.xyz (21 frames), run.csv (21 rows), ..." for the summary.
+    std::string written() const {
+        std::string list;
+        auto add = [&list](const std::string& item) { list += (list.empty() ? "" : ", ") + item; };
+        if (trajectory_) add(def_.trajectory + " (" + std::to_string(trajectory_->frames()) + " frames)");
+        if (stats_) add(def_.stats + " (" + std::to_string(stats_->rows()) + " rows)");
+        if (checkpointStep_) add(def_.checkpoint + " (step " + std::to_string(*checkpointStep_) + ")");
+        if (!def_.state.empty()) add(def_.state);
+        return list;
+    }
+
+private:
+    void requireDistinctPaths() const {
+        const std::pair<const char*, const std::string*> outputs[] = {{"--trajectory", &def_.trajectory},
+                                                                      {"--stats", &def_.stats},
+                                                                      {"--checkpoint", &def_.checkpoint},
+                                                                      {"--output-state", &def_.state}};
+        for (std::size_t a = 0; a < std::size(outputs); ++a)
+            for (std::size_t b = a + 1; b < std::size(outputs); ++b)
+                if (!outputs[a].second->empty() && *outputs[a].second == *outputs[b].second)
+                    throw Error(std::string(outputs[a].first) + " and " + outputs[b].first + " name the same file '" +
+                                *outputs[a].second + "'; give each output its own file");
+    }
+
+    OutputDef def_;
+    std::optional<TrajectoryWriter> trajectory_;
+    std::optional<StatsWriter> stats_;
+    std::optional<std::uint64_t> checkpointStep_;
+    bool warnedNonFinite_ = false;
+};
+
+// ---------------------------------------------------------------------------
+// Progress: one line on stderr, rewritten in place, for runs longer than a
+// couple of seconds, and only when stderr is a terminal.
+
+bool stderrIsTerminal() {
+#ifdef _WIN32
+    return _isatty(_fileno(stderr)) != 0;
+#else
+    return isatty(fileno(stderr)) != 0;
+#endif
+}
+
+class Progress {
+public:
+    using Clock = std::chrono::steady_clock;
+
+    Progress(bool enabled, std::uint64_t first, std::uint64_t last)
+        : enabled_(enabled), first_(first), last_(last), start_(Clock::now()), shownAt_(start_) {}
+
+    void update(std::uint64_t step) {
+        if (!enabled_) return;
+        const Clock::time_point now = Clock::now();
+        const double elapsed = std::chrono::duration<double>(now - start_).count();
+        if (elapsed < kDelaySeconds || std::chrono::duration<double>(now - shownAt_).count() < kPeriodSeconds) return;
+        shownAt_ = now;
+        const double rate = double(step - first_) / elapsed;
+        const double eta = rate > 0 ? double(last_ - step) / rate : 0.0;
+        const int length = std::fprintf(
+            stderr, "\rcarom: step %llu of %llu (%.0f%%), %.3g steps/s, ETA %s   ",
+            static_cast<unsigned long long>(step), static_cast<unsigned long long>(last_),
+            100.0 * double(step - first_) / double(std::max<std::uint64_t>(last_ - first_, 1)), rate,
+            duration(eta).c_str());
+        std::fflush(stderr);
+        shownLength_ = std::max(shownLength_, length);
+    }
+
+    // Clears the line, so the summary starts on a clean one.
+    void finish() {
+        if (shownLength_ > 0) std::fprintf(stderr, "\r%*s\r", shownLength_, "");
+    }
+
+private:
+    static constexpr double kDelaySeconds = 2.0;
+    static constexpr double kPeriodSeconds = 0.25;
+
+    static std::string duration(double seconds) {
+        const auto s = static_cast<unsigned long long>(std::min(seconds, 359999.0));
+        char text[32];
+        std::snprintf(text, sizeof text, "%llu:%02llu:%02llu", s / 3600, s / 60 % 60, s % 60);
+        return text;
+    }
+
+    bool enabled_;
+    std::uint64_t first_, last_;
+    Clock::time_point start_, shownAt_;
+    int shownLength_ = 0;  // of the longest line printed, 0 before the first
+};
+
+// Steps per backend call: doubled while a call takes under 50 ms, halved
+// above 200 ms, so Ctrl-C and the progress line respond quickly without a
+// call per step. Results do not depend on it: n steps are n steps.
+class Chunk {
+public:
+    std::uint64_t size() const { return size_; }
+    void adapt(double seconds) {
+        if (seconds < 0.05 && size_ < (std::uint64_t{1} << 20)) size_ *= 2;
+        if (seconds > 0.2 && size_ > 1) size_ /= 2;
+    }
+
+private:
+    std::uint64_t size_ = 1;
+};
+
+// ---------------------------------------------------------------------------
+// The summary.
+
 nlohmann::json pair(double x, double y) { return nlohmann::json::array({x, y}); }
 
-void printSummary(const Backend& backend, std::uint64_t steps, double seconds, const Diagnostics& initial,
-                  const Diagnostics& final, std::uint64_t collisions) {
+struct Result {
+    std::uint64_t firstStep = 0, lastStep = 0;
+    double seconds = 0.0;
+    Diagnostics initial, final;
+    std::uint64_t collisions = 0;  // during this run
+    bool interrupted = false;
+};
+
+void printSummary(const Backend& backend, const Result& r, const std::string& resumedFrom, const Outputs& outputs) {
     const WorldDef& w = backend.world();
-    const double energyChange = initial.kineticEnergy > 0
-                                    ? (final.kineticEnergy - initial.kineticEnergy) / initial.kineticEnergy
+    const std::uint64_t steps = r.lastStep - r.firstStep;
+    const double energyChange = r.initial.kineticEnergy > 0
+                                    ? (r.final.kineticEnergy - r.initial.kineticEnergy) / r.initial.kineticEnergy
                                     : 0.0;
     std::printf("carom run: %zu disks, %llu steps of dt %g in a %g x %g box\n", backend.particleCount(),
                 static_cast<unsigned long long>(steps), w.dt, w.width, w.height);
+    if (!resumedFrom.empty())
+        std::printf("  resumed      from %s at step %llu, now at step %llu\n", resumedFrom.c_str(),
+                    static_cast<unsigned long long>(r.firstStep), static_cast<unsigned long long>(r.lastStep));
     std::printf("  backend      %s on %s\n", backend.name().c_str(), backend.device().c_str());
-    std::printf("  wall time    %.3f s, %.3g particle-steps/s\n", seconds,
-                seconds > 0 ? double(backend.particleCount()) * steps / seconds : 0.0);
-    std::printf("  energy       %.9g -> %.9g (relative change %+.2e)\n", initial.kineticEnergy, final.kineticEnergy,
-                energyChange);
-    std::printf("  momentum     (%.6g, %.6g) -> (%.6g, %.6g)\n", initial.momentum[0], initial.momentum[1],
-                final.momentum[0], final.momentum[1]);
-    std::printf("  collisions   %llu, max overlap %.3g, escaped %zu\n", static_cast<unsigned long long>(collisions),
-                final.maxOverlap, final.escaped);
+    std::printf("  wall time    %.3f s, %.3g particle-steps/s\n", r.seconds,
+                r.seconds > 0 ? double(backend.particleCount()) * steps / r.seconds : 0.0);
+    std::printf("  energy       %.9g -> %.9g (relative change %+.2e)\n", r.initial.kineticEnergy,
+                r.final.kineticEnergy, energyChange);
+    std::printf("  momentum     (%.6g, %.6g) -> (%.6g, %.6g)\n", r.initial.momentum[0], r.initial.momentum[1],
+                r.final.momentum[0], r.final.momentum[1]);
+    std::printf("  collisions   %llu, max overlap %.3g, escaped %zu\n",
+                static_cast<unsigned long long>(r.collisions), r.final.maxOverlap, r.final.escaped);
+    const std::string written = outputs.written();
+    if (!written.empty()) std::printf("  wrote        %s\n", written.c_str());
+}
+
+void printJson(const Backend& backend, const Result& r) {
+    const WorldDef& w = backend.world();
+    const std::uint64_t steps = r.lastStep - r.firstStep;
+    const double n = double(backend.particleCount());
+    const nlohmann::json summary = {
+        {"backend", backend.name()},
+        {"device", backend.device()},
+        {"exact_arithmetic", backend.exactArithmetic()},
+        {"particles", backend.particleCount()},
+        {"steps", steps},
+        {"step", r.lastStep},
+        {"time", double(r.lastStep) * w.dt},
+        {"interrupted", r.interrupted},
+        {"dt", w.dt},
+        {"box", pair(w.width, w.height)},
+        {"gravity", pair(w.gravity.x, w.gravity.y)},
+        {"wall_seconds", r.seconds},
+        {"particle_steps_per_second", r.seconds > 0 ? n * steps / r.seconds : 0.0},
+        {"kinetic_energy", {{"initial", r.initial.kineticEnergy}, {"final", r.final.kineticEnergy}}},
+        {"momentum",
+         {{"initial", pair(r.initial.momentum[0], r.initial.momentum[1])},
+          {"final", pair(r.final.momentum[0], r.final.momentum[1])}}},
+        {"collisions", r.collisions},
+        {"max_overlap", r.final.maxOverlap},
+        {"escaped", r.final.escaped},
+    };
+    std::cout << summary.dump(2) << '\n';
+}
+
+// Runs `steps` steps, naming the steps that failed in the error.
+void advance(Backend& backend, std::uint64_t from, std::uint64_t steps, Outputs& outputs) {
+    try {
+        backend.step(steps);
+    } catch (const Error& e) {
+        outputs.commitStreams();  // keep the complete frames and rows written so far
+        std::string message = "steps " + std::to_string(from + 1) + " to " + std::to_string(from + steps) +
+                              " failed: " + e.what();
+        if (const auto step = outputs.checkpointStep())
+            message += "; the checkpoint holds step " + std::to_string(*step);
+        throw Error(message);
+    }
+}
+
+// Steps from start.step to `last`, or until Ctrl-C, sampling on every
+// multiple of the outputs' `every`; returns the step reached. Leaves the
+// state at that step in start.particles.
+std::uint64_t runSteps(Backend& backend, Start& start, std::uint64_t last, Outputs& outputs, Progress& progress) {
+    const WorldDef& world = start.world;
+    const std::uint64_t every = outputs.every();
+    std::vector<Particle>& particles = start.particles;
+    Chunk chunk;
+    std::uint64_t step = start.step;
+    if (!start.resumed) outputs.sample(step, world, particles, start.collisions);  // a new scene records its start
+    while (step < last && !interrupted) {
+        const std::uint64_t n = std::min({last - step, every - step % every, chunk.size()});
+        const auto callStart = std::chrono::steady_clock::now();
+        advance(backend, step, n, outputs);
+        chunk.adapt(std::chrono::duration<double>(std::chrono::steady_clock::now() - callStart).count());
+        step += n;
+        if (step % every == 0) {
+            backend.readParticles(particles);
+            outputs.sample(step, world, particles, start.collisions + backend.collisions());
+        }
+        progress.update(step);
+    }
+    progress.finish();
+    backend.readParticles(particles);
+    return step;
+}
+
+void reportInterruption(const Start& start, std::uint64_t step, std::uint64_t last) {
+    std::cerr << "carom: interrupted at step " << step << " of " << last << "; every output holds that step";
+    if (!start.outputs.checkpoint.empty())
+        std::cerr << "; continue with: carom run --resume " << start.outputs.checkpoint << " --steps " << last - step;
+    std::cerr << '\n';
 }
 
 }  // namespace
 
 int runCommand(const RunOptions& o) {
-    const Setup setup = makeSetup(o.scene);
-    // Refuse an unwritable output path before the simulation, not after it.
-    std::optional<AtomicFile> outputProbe;
-    if (!o.outputState.empty()) outputProbe.emplace(o.outputState);
-    outputProbe.reset();
+    Start start = planRun(o);
+    Outputs outputs(start.outputs);
+    std::unique_ptr<Backend> backend = makeBackend(o.scene.backend, start.world);
+    backend->setParticles(start.particles);
 
-    std::unique_ptr<Backend> backend = makeBackend(o.scene.backend, setup.world);
-    backend->setParticles(setup.particles);
-    const Diagnostics initial = measure(setup.particles, setup.world);
+    Result r;
+    r.firstStep = start.step;
+    r.initial = measure(start.particles, start.world);
+    const std::uint64_t last = start.step + start.steps;
+    const InterruptHandler interruptHandler;
+    Progress progress(!o.quiet && !o.json && stderrIsTerminal(), start.step, last);
+    const auto began = std::chrono::steady_clock::now();
+    r.lastStep = runSteps(*backend, start, last, outputs, progress);
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+    r.interrupted = interrupted != 0;
+    r.final = measure(start.particles, start.world);
+    r.collisions = backend->collisions();
+    outputs.finish(r.lastStep, start.world, start.particles, start.collisions + r.collisions);
 
-    std::vector<Particle> particles;
-    const auto start = std::chrono::steady_clock::now();
-    backend->step(o.steps);
-    backend->readParticles(particles);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
-    const Diagnostics final = measure(particles, setup.world);
-    const std::uint64_t collisions = backend->collisions();
-    if (!o.outputState.empty()) writeStateCsv(o.outputState, particles);
-    if (final.escaped > 0)
-        std::cerr << "carom: warning: " << final.escaped
+    if (r.final.escaped > 0)
+        std::cerr << "carom: warning: " << r.final.escaped
                   << " particles left the box or became non-finite: the step is unstable at this dt "
                      "(try a smaller --dt)\n";
-
-    if (!o.json) {
-        printSummary(*backend, o.steps, seconds, initial, final, collisions);
-        return 0;
+    if (o.json) {
+        printJson(*backend, r);
+    } else {
+        printSummary(*backend, r, o.resume, outputs);
     }
-    const WorldDef& w = setup.world;
-    const nlohmann::json summary = {
-        {"backend", backend->name()},
-        {"device", backend->device()},
-        {"exact_arithmetic", backend->exactArithmetic()},
-        {"particles", particles.size()},
-        {"steps", o.steps},
-        {"dt", w.dt},
-        {"box", pair(w.width, w.height)},
-        {"gravity", pair(w.gravity.x, w.gravity.y)},
-        {"wall_seconds", seconds},
-        {"particle_steps_per_second", seconds > 0 ? double(particles.size()) * o.steps / seconds : 0.0},
-        {"kinetic_energy", {{"initial", initial.kineticEnergy}, {"final", final.kineticEnergy}}},
-        {"momentum",
-         {{"initial", pair(initial.momentum[0], initial.momentum[1])},
-          {"final", pair(final.momentum[0], final.momentum[1])}}},
-        {"collisions", collisions},
-        {"max_overlap", final.maxOverlap},
-        {"escaped", final.escaped},
-    };
-    std::cout << summary.dump(2) << '\n';
-    return 0;
+    if (!r.interrupted) return 0;
+    reportInterruption(start, r.lastStep, last);
+    return 130;  // the shell's status for a run stopped by SIGINT
 }
 
 }  // namespace carom::app

@@ -1,9 +1,90 @@
 #include "app/scene_options.h"
 
+#if __has_include(<unistd.h>)
+#include <unistd.h>
+#endif
+
 #include "backends/backend.h"
+#include "engine/resources.h"
 #include "engine/state_csv.h"
 
 namespace carom::app {
+namespace {
+
+// Physical memory in bytes, or 0 where the platform does not say.
+std::uint64_t physicalMemoryBytes() {
+#if defined(_SC_PHYS_PAGES) && defined(_SC_PAGESIZE)
+    const long pages = sysconf(_SC_PHYS_PAGES);
+    const long pageSize = sysconf(_SC_PAGESIZE);
+    if (pages > 0 && pageSize > 0) return std::uint64_t(pages) * std::uint64_t(pageSize);
+#endif
+    return 0;
+}
+
+// The options that describe the one particle group of a scene file.
+const char* const kGroupOptions[] = {"--particles", "--radius", "--radius-min", "--radius-max",
+                                     "--mass",      "--mass-min", "--mass-max", "--speed"};
+
+void applyOverrides(const SceneOptions& o, SceneFile& scene) {
+    auto given = [&o](const char* option) { return o.given.count(option) > 0; };
+    if (given("--box")) {
+        scene.world.width = o.box[0];
+        scene.world.height = o.box[1];
+        scene.packing = 0.0f;
+    }
+    if (given("--packing")) {
+        scene.packing = o.scene.packing;
+        scene.world.width = scene.world.height = 0.0f;
+    }
+    if (given("--dt")) scene.world.dt = o.world.dt;
+    if (given("--gravity")) scene.world.gravity = float2{o.gravity[0], o.gravity[1]};
+    if (given("--seed")) scene.seed = o.scene.seed;
+    for (const char* option : kGroupOptions) {
+        if (given(option) && scene.groups.size() != 1)
+            throw Error(std::string(option) + " sets the particle group of a scene, but '" + scene.path + "' has " +
+                        std::to_string(scene.groups.size()) + " [[group]] tables; edit the file instead");
+    }
+    if (scene.groups.size() != 1) return;
+    GroupDef& group = scene.groups.front();
+    if (given("--particles")) group.count = o.scene.particles;
+    if (given("--radius") || given("--radius-min")) {
+        group.radiusMin = o.scene.radiusMin;
+        group.radiusMax = o.scene.radiusMax;
+    }
+    if (given("--mass") || given("--mass-min")) {
+        group.massMin = o.scene.massMin;
+        group.massMax = o.scene.massMax;
+    }
+    if (given("--speed")) {
+        group.speed = o.scene.speed;
+        group.temperature = 0.0f;
+    }
+}
+
+Setup setupFromSceneFile(const SceneOptions& o) {
+    SceneFile scene = readSceneFile(o.sceneFile);
+    applyOverrides(o, scene);
+    std::uint64_t particles = scene.disks.size();
+    for (const GroupDef& group : scene.groups) particles += group.count;
+    requireRoomFor(particles, physicalMemoryBytes(), o.sceneFile.c_str());
+
+    InitialState initial = makeInitialState(scene);
+    Setup setup;
+    setup.world = scene.world;
+    setup.world.width = initial.width;
+    setup.world.height = initial.height;
+    validate(setup.world);
+    setup.particles = std::move(initial.particles);
+    setup.sceneFile = std::move(scene);
+    return setup;
+}
+
+}  // namespace
+
+CLI::Option* tracked(CLI::Option* option, std::set<std::string>& given) {
+    const std::string name = "--" + option->get_single_name();
+    return option->each([&given, name](const std::string&) { given.insert(name); });
+}
 
 void addSceneOptions(CLI::App& command, SceneOptions& o) {
     const std::vector<std::string> backends = availableBackends();
@@ -14,6 +95,11 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
     command.add_option("--device", o.backend.device,
                        "OpenCL device: index from `carom devices` or part of its name (default: first GPU, "
                        "else first device)");
+    command.add_option("--pipeline", o.backend.pipeline,
+                       "OpenCL pipeline: seed (host builds the grid, state read back each step) or resident "
+                       "(grid and state stay on the device)")
+        ->check(CLI::IsMember({"seed", "resident"}))
+        ->capture_default_str();
 
     auto* particles = command.add_option("--particles", o.scene.particles, "Number of disks")->capture_default_str();
     auto* packing = command.add_option("--packing", o.scene.packing, "Area fraction of the disks; sizes a square box")
@@ -40,17 +126,25 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
     auto* speed = command.add_option("--speed", o.scene.speed, "Initial speed of every disk, random directions")
                       ->capture_default_str();
     auto* seed = command.add_option("--seed", o.scene.seed, "Random seed")->capture_default_str();
-    command.add_option("--dt", o.world.dt, "Time step")->capture_default_str();
-    command.add_option("--gravity", o.gravity, "Constant acceleration GX GY (default off)")->expected(2);
+    auto* dt = command.add_option("--dt", o.world.dt, "Time step")->capture_default_str();
+    auto* gravity = command.add_option("--gravity", o.gravity, "Constant acceleration GX GY (default off)")->expected(2);
 
     auto* input = command.add_option("--input-state", o.inputState,
                                      "Start from the particles in this CSV (id,x,y,vx,vy,mass,radius); needs --box");
     input->needs(box);
     for (CLI::Option* generated : {particles, packing, radius, radiusMin, radiusMax, mass, massMin, massMax, speed, seed})
         input->excludes(generated);
+
+    command.add_option("--scene", o.sceneFile,
+                       "Start from this TOML scene file; the options above that are given override its values")
+        ->excludes(input);
+    for (CLI::Option* overriding :
+         {particles, packing, box, radius, radiusMin, radiusMax, mass, massMin, massMax, speed, seed, dt, gravity})
+        tracked(overriding, o.given);
 }
 
 Setup makeSetup(const SceneOptions& o) {
+    if (!o.sceneFile.empty()) return setupFromSceneFile(o);
     Setup setup;
     setup.world = o.world;
     if (!o.gravity.empty()) setup.world.gravity = float2{o.gravity[0], o.gravity[1]};
@@ -71,6 +165,7 @@ Setup makeSetup(const SceneOptions& o) {
             throw Error("--box must be two finite numbers > 0, got " + std::to_string(o.box[0]) + " " +
                         std::to_string(o.box[1]));
     }
+    requireRoomFor(scene.particles, physicalMemoryBytes(), "--particles");
     InitialState initial = makeInitialState(scene);
     setup.world.width = initial.width;
     setup.world.height = initial.height;

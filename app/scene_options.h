@@ -3,12 +3,15 @@
 // initial particles.
 #pragma once
 
+#include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "engine/carom.h"
+#include "engine/scene_file.h"
 
 namespace carom::app {
 
@@ -19,19 +22,29 @@ struct SceneOptions {
     std::vector<float> box;      // W H, when given
     std::vector<float> gravity;  // GX GY, when given
     std::string inputState;
+    std::string sceneFile;        // --scene: a TOML scene file (engine/scene_file.h)
+    std::set<std::string> given;  // the options given on the command line ("--dt", ...):
+                                  //   these override the scene file's values
 };
 
-// Adds --backend, --device, --particles, --packing, --box, --radius...,
-// --mass..., --speed, --seed, --dt, --gravity and --input-state.
+// Adds --backend, --device, --pipeline, --particles, --packing, --box, --radius...,
+// --mass..., --speed, --seed, --dt, --gravity, --input-state and --scene.
 void addSceneOptions(CLI::App& command, SceneOptions& options);
+
+// Records `option`'s name in `given` when it appears on the command line.
+CLI::Option* tracked(CLI::Option* option, std::set<std::string>& given);
 
 struct Setup {
     WorldDef world;
     std::vector<Particle> particles;
+    std::optional<SceneFile> sceneFile;  // the --scene file with the command line's overrides
+                                         //   applied (its steps and outputs), when given
 };
 
-// The world and particles the options describe: from --input-state, or built
-// from the scene. Throws Error for values out of range.
+// The world and particles the options describe: from --input-state, from
+// --scene with the options given on the command line overriding the file's
+// values, or built from the options. Throws Error for values out of range
+// and for requests that cannot fit in memory, before allocating them.
 Setup makeSetup(const SceneOptions& options);
 
 }  // namespace carom::app

@@ -20,6 +20,14 @@ void Backend::setParticles(const std::vector<Particle>& particles) {
     load(particles);
 }
 
+void Backend::setMotion(float dt, float2 gravity) {
+    WorldDef changed = world_;
+    changed.dt = dt;
+    changed.gravity = gravity;
+    validate(changed);
+    world_ = changed;
+}
+
 std::vector<std::string> availableBackends() {
 #ifdef CAROM_HAVE_OPENCL
     return {"cpu", "opencl"};
@@ -29,9 +37,13 @@ std::vector<std::string> availableBackends() {
 }
 
 std::unique_ptr<Backend> makeBackend(const BackendDef& def, const WorldDef& world) {
-    if (def.kind == "cpu") return std::make_unique<CpuBackend>(world);
+    if (def.kind == "cpu") {
+        if (def.pipeline != "seed")
+            throw Error("--pipeline " + def.pipeline + " needs --backend opencl; the CPU backend has one pipeline");
+        return std::make_unique<CpuBackend>(world);
+    }
 #ifdef CAROM_HAVE_OPENCL
-    if (def.kind == "opencl") return std::make_unique<OpenClBackend>(world, def.device);
+    if (def.kind == "opencl") return std::make_unique<OpenClBackend>(world, def.device, parsePipeline(def.pipeline));
 #else
     if (def.kind == "opencl")
         throw Error("this carom was built without OpenCL (no OpenCL headers or loader were found); "

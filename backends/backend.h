@@ -38,6 +38,10 @@ public:
     // Pairs that received an impulse, summed over all steps since setParticles.
     virtual std::uint64_t collisions() = 0;
 
+    // Changes dt and gravity between steps (the box stays fixed); throws
+    // Error for values out of range.
+    void setMotion(float dt, float2 gravity);
+
     const WorldDef& world() const { return world_; }
     std::size_t particleCount() const { return particleCount_; }
 

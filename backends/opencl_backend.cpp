@@ -1,86 +1,205 @@
 #include "backends/opencl_backend.h"
 
 #include <algorithm>
+#include <chrono>
 #include <numeric>
 
 namespace carom {
 
 using namespace opencl;
 
-OpenClBackend::OpenClBackend(const WorldDef& world, const std::string& device)
-    : Backend(world), device_(selectDevice(device)) {
+namespace {
+
+// Steps enqueued between waits for the device: bounds the commands in flight
+// on a long run, while one wait per batch costs the GPU almost no idle time.
+constexpr std::uint64_t kStepsPerSync = 64;
+
+}  // namespace
+
+Pipeline parsePipeline(const std::string& name) {
+    if (name == "seed") return Pipeline::Seed;
+    if (name == "resident") return Pipeline::Resident;
+    throw Error("unknown pipeline '" + name + "'; allowed: seed, resident");
+}
+
+OpenClBackend::OpenClBackend(const WorldDef& world, const std::string& device, Pipeline pipeline, bool profiling)
+    : Backend(world),
+      pipeline_(pipeline),
+      profiler_(profiling ? std::make_unique<Profiler>() : nullptr),
+      device_(selectDevice(device)) {
     cl_int status = CL_SUCCESS;
     context_ = Context(clCreateContext(nullptr, 1, &device_.id, nullptr, nullptr, &status));
     check(status, "clCreateContext");
-    queue_ = Queue(clCreateCommandQueue(context_.get(), device_.id, 0, &status));
+    queue_ = Queue(clCreateCommandQueue(context_.get(), device_.id, profiling ? CL_QUEUE_PROFILING_ENABLE : 0,
+                                        &status));
     check(status, "clCreateCommandQueue");
     program_ = buildProgram(context_.get(), device_, device_.correctlyRoundedDivideSqrt);
     resolveKernel_ = createKernel(program_.get(), "resolveCollisions");
     integrateKernel_ = createKernel(program_.get(), "integrate");
-    for (cl_kernel kernel : {resolveKernel_.get(), integrateKernel_.get()}) {
-        std::size_t limit = 0;
-        check(clGetKernelWorkGroupInfo(kernel, device_.id, CL_KERNEL_WORK_GROUP_SIZE, sizeof limit, &limit, nullptr),
-              "clGetKernelWorkGroupInfo");
-        workGroupSize_ = std::min(workGroupSize_, limit);
-    }
+    fusedKernel_ = createKernel(program_.get(), "resolveIntegrateAndCount");
+    allPairsKernel_ = createKernel(program_.get(), "resolveAllPairs");
+    for (cl_kernel kernel : {resolveKernel_.get(), integrateKernel_.get(), fusedKernel_.get(), allPairsKernel_.get()})
+        workGroupSize_ = std::min(workGroupSize_, kernelWorkGroupLimit(kernel, device_.id));
 }
 
 std::string OpenClBackend::device() const {
-    return device_.name + " (" + device_.platformName + ", " + device_.version + ")";
+    static const char* const pipelines[] = {"seed", "resident", "all-pairs"};
+    return device_.name + " (" + device_.platformName + ", " + device_.version + "), " +
+           pipelines[static_cast<int>(pipeline_)] + " pipeline";
 }
 
 void OpenClBackend::load(const std::vector<Particle>& particles) {
     const std::size_t n = particles.size();
-    hostState_ = particles;
+    // Free the previous state's buffers first: a state may fill the device.
+    hostState_.clear();
+    state_.reset();
+    next_.reset();
+    collisionCounts_.reset();
+    sortedIndices_.reset();
+    cells_.reset();
+    deviceGrid_ = DeviceGrid();
+    ids_.reset();
+    sortedIds_.reset();
+
     state_ = createBuffer(context_.get(), n * sizeof(Particle), "particle state");
     next_ = createBuffer(context_.get(), n * sizeof(Particle), "next particle state");
-    sortedIndices_ = createBuffer(context_.get(), n * sizeof(cl_uint), "sorted indices");
-    cells_ = createBuffer(context_.get(),
-                          std::size_t(grid_.geometry.cols) * grid_.geometry.rows * sizeof(GridCell), "grid cells");
     collisionCounts_ = createBuffer(context_.get(), n * sizeof(cl_uint), "collision counts");
-    const std::vector<cl_uint> zeros(n, 0);
     check(clEnqueueWriteBuffer(queue_.get(), state_.get(), CL_TRUE, 0, n * sizeof(Particle), particles.data(), 0,
                                nullptr, nullptr),
           "clEnqueueWriteBuffer(particle state)");
-    check(clEnqueueWriteBuffer(queue_.get(), collisionCounts_.get(), CL_TRUE, 0, n * sizeof(cl_uint), zeros.data(),
-                               0, nullptr, nullptr),
-          "clEnqueueWriteBuffer(collision counts)");
+    enqueueZero(queue_.get(), collisionCounts_.get(), n * sizeof(cl_uint), "collision counts");
+    switch (pipeline_) {
+        case Pipeline::Seed:
+            hostState_ = particles;
+            sortedIndices_ = createBuffer(context_.get(), n * sizeof(cl_uint), "sorted indices");
+            cells_ = createBuffer(context_.get(),
+                                  std::size_t(grid_.geometry.cols) * grid_.geometry.rows * sizeof(GridCell),
+                                  "grid cells");
+            break;
+        case Pipeline::Resident:
+            loadResident(n);
+            break;
+        case Pipeline::AllPairs:
+            break;
+    }
+    finish();
+    if (profiler_) profiler_->clear();  // the profile covers steps only
 }
 
-std::size_t OpenClBackend::globalSize() const {
-    return (particleCount_ + workGroupSize_ - 1) / workGroupSize_ * workGroupSize_;
+// Slot s holds particle s to begin with; the first step writes them in cell order.
+void OpenClBackend::loadResident(std::size_t n) {
+    ids_ = createBuffer(context_.get(), n * sizeof(cl_uint), "particle ids");
+    sortedIds_ = createBuffer(context_.get(), n * sizeof(cl_uint), "particle ids in cell order");
+    std::vector<cl_uint> ids(n);
+    std::iota(ids.begin(), ids.end(), cl_uint{0});
+    check(clEnqueueWriteBuffer(queue_.get(), ids_.get(), CL_TRUE, 0, n * sizeof(cl_uint), ids.data(), 0, nullptr,
+                               nullptr),
+          "clEnqueueWriteBuffer(particle ids)");
+    deviceGrid_ = DeviceGrid(context_.get(), device_, program_.get(), grid_.geometry, n, profiler_.get());
+    deviceGrid_.count(queue_.get(), state_.get());
+}
+
+void OpenClBackend::finish() {
+    check(clFinish(queue_.get()), "clFinish");
+    if (profiler_) profiler_->collect();
 }
 
 void OpenClBackend::step(std::uint64_t steps) {
+    for (std::uint64_t s = 0; s < steps; ++s) {
+        switch (pipeline_) {
+            case Pipeline::Seed:
+                stepSeed();
+                break;
+            case Pipeline::Resident:
+                stepResident();
+                break;
+            case Pipeline::AllPairs:
+                stepAllPairs();
+                break;
+        }
+        if ((s + 1) % kStepsPerSync == 0) finish();
+    }
+    finish();
+}
+
+void OpenClBackend::stepSeed() {
     const cl_uint count = static_cast<cl_uint>(particleCount_);
     const GridGeometry& g = grid_.geometry;
-    const std::size_t global = globalSize();
     cl_command_queue queue = queue_.get();
-    for (std::uint64_t s = 0; s < steps; ++s) {
-        buildGrid(hostState_.data(), hostState_.size(), grid_);
-        // Non-blocking writes: the host vectors stay untouched until the
-        // blocking read below, which the in-order queue runs last.
-        check(clEnqueueWriteBuffer(queue, sortedIndices_.get(), CL_FALSE, 0, count * sizeof(cl_uint),
-                                   grid_.sortedIndices.data(), 0, nullptr, nullptr),
-              "clEnqueueWriteBuffer(sorted indices)");
-        check(clEnqueueWriteBuffer(queue, cells_.get(), CL_FALSE, 0, grid_.cells.size() * sizeof(GridCell),
-                                   grid_.cells.data(), 0, nullptr, nullptr),
-              "clEnqueueWriteBuffer(grid cells)");
-        setKernelArgs(resolveKernel_.get(), state_.get(), sortedIndices_.get(), cells_.get(), g.cellsPerLengthX,
-                      g.cellsPerLengthY, g.cols, g.rows, count, next_.get(), collisionCounts_.get());
-        check(clEnqueueNDRangeKernel(queue, resolveKernel_.get(), 1, nullptr, &global, &workGroupSize_, 0, nullptr,
-                                     nullptr),
-              "clEnqueueNDRangeKernel(resolveCollisions)");
-        setKernelArgs(integrateKernel_.get(), next_.get(), count, world_.dt, world_.gravity.x, world_.gravity.y,
-                      world_.width, world_.height);
-        check(clEnqueueNDRangeKernel(queue, integrateKernel_.get(), 1, nullptr, &global, &workGroupSize_, 0, nullptr,
-                                     nullptr),
-              "clEnqueueNDRangeKernel(integrate)");
-        check(clEnqueueReadBuffer(queue, next_.get(), CL_TRUE, 0, count * sizeof(Particle), hostState_.data(), 0,
-                                  nullptr, nullptr),
-              "clEnqueueReadBuffer(particle state)");
-        std::swap(state_, next_);
+    Profiler* profiler = profiler_.get();
+    const auto gridStart = std::chrono::steady_clock::now();
+    buildGrid(hostState_.data(), hostState_.size(), grid_);
+    if (profiler)
+        profiler->addHostSeconds("buildGrid (host)", std::chrono::duration<double>(
+                                                         std::chrono::steady_clock::now() - gridStart)
+                                                         .count());
+    // Non-blocking writes: the host vectors stay untouched until the
+    // blocking read below, which the in-order queue runs last.
+    check(clEnqueueWriteBuffer(queue, sortedIndices_.get(), CL_FALSE, 0, count * sizeof(cl_uint),
+                               grid_.sortedIndices.data(), 0, nullptr, eventSlot(profiler, "upload grid")),
+          "clEnqueueWriteBuffer(sorted indices)");
+    check(clEnqueueWriteBuffer(queue, cells_.get(), CL_FALSE, 0, grid_.cells.size() * sizeof(GridCell),
+                               grid_.cells.data(), 0, nullptr, eventSlot(profiler, "upload grid")),
+          "clEnqueueWriteBuffer(grid cells)");
+    setKernelArgs(resolveKernel_.get(), state_.get(), sortedIndices_.get(), cells_.get(), g.cellsPerLengthX,
+                  g.cellsPerLengthY, g.cols, g.rows, count, next_.get(), collisionCounts_.get());
+    enqueue1d(queue, resolveKernel_.get(), count, workGroupSize_, "resolveCollisions", profiler);
+    setKernelArgs(integrateKernel_.get(), next_.get(), count, world_.dt, world_.gravity.x, world_.gravity.y,
+                  world_.width, world_.height);
+    enqueue1d(queue, integrateKernel_.get(), count, workGroupSize_, "integrate", profiler);
+    check(clEnqueueReadBuffer(queue, next_.get(), CL_TRUE, 0, count * sizeof(Particle), hostState_.data(), 0,
+                              nullptr, eventSlot(profiler, "download state")),
+          "clEnqueueReadBuffer(particle state)");
+    std::swap(state_, next_);
+}
+
+void OpenClBackend::stepResident() {
+    const cl_uint count = static_cast<cl_uint>(particleCount_);
+    const GridGeometry& g = grid_.geometry;
+    deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get());
+    // next_ receives the new state in this step's cell order: slot k holds particle sortedIds_[k].
+    setKernelArgs(fusedKernel_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), deviceGrid_.cells(),
+                  g.cellsPerLengthX, g.cellsPerLengthY, g.cols, g.rows, count, world_.dt, world_.gravity.x,
+                  world_.gravity.y, world_.width, world_.height, next_.get(), collisionCounts_.get(),
+                  deviceGrid_.nextCounts(), deviceGrid_.cellOf(), deviceGrid_.rankInCell());
+    enqueue1d(queue_.get(), fusedKernel_.get(), count, workGroupSize_, "resolveIntegrateAndCount", profiler_.get());
+    std::swap(state_, next_);
+    std::swap(ids_, sortedIds_);
+    deviceGrid_.advance();
+}
+
+void OpenClBackend::stepAllPairs() {
+    const cl_uint count = static_cast<cl_uint>(particleCount_);
+    setKernelArgs(allPairsKernel_.get(), state_.get(), count, next_.get(), collisionCounts_.get());
+    enqueue1d(queue_.get(), allPairsKernel_.get(), count, workGroupSize_, "resolveAllPairs", profiler_.get());
+    setKernelArgs(integrateKernel_.get(), next_.get(), count, world_.dt, world_.gravity.x, world_.gravity.y,
+                  world_.width, world_.height);
+    enqueue1d(queue_.get(), integrateKernel_.get(), count, workGroupSize_, "integrate", profiler_.get());
+    std::swap(state_, next_);
+}
+
+void OpenClBackend::readParticles(std::vector<Particle>& particles) {
+    if (pipeline_ == Pipeline::Seed) {
+        particles = hostState_;
+        return;
     }
+    particles.resize(particleCount_);
+    if (pipeline_ == Pipeline::AllPairs) {
+        check(clEnqueueReadBuffer(queue_.get(), state_.get(), CL_TRUE, 0, particleCount_ * sizeof(Particle),
+                                  particles.data(), 0, nullptr, nullptr),
+              "clEnqueueReadBuffer(particle state)");
+        return;
+    }
+    // Resident: slot s holds particle ids[s].
+    std::vector<Particle> slots(particleCount_);
+    std::vector<cl_uint> ids(particleCount_);
+    check(clEnqueueReadBuffer(queue_.get(), state_.get(), CL_TRUE, 0, particleCount_ * sizeof(Particle),
+                              slots.data(), 0, nullptr, nullptr),
+          "clEnqueueReadBuffer(particle state)");
+    check(clEnqueueReadBuffer(queue_.get(), ids_.get(), CL_TRUE, 0, particleCount_ * sizeof(cl_uint), ids.data(), 0,
+                              nullptr, nullptr),
+          "clEnqueueReadBuffer(particle ids)");
+    for (std::size_t s = 0; s < particleCount_; ++s) particles[ids[s]] = slots[s];
 }
 
 std::uint64_t OpenClBackend::collisions() {
@@ -89,6 +208,12 @@ std::uint64_t OpenClBackend::collisions() {
                               counts.data(), 0, nullptr, nullptr),
           "clEnqueueReadBuffer(collision counts)");
     return std::accumulate(counts.begin(), counts.end(), std::uint64_t{0});
+}
+
+Grid OpenClBackend::readDeviceGrid() {
+    if (pipeline_ != Pipeline::Resident) throw Error("readDeviceGrid needs the resident pipeline");
+    deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get());
+    return deviceGrid_.read(queue_.get(), sortedIds_.get());
 }
 
 }  // namespace carom

@@ -1,45 +1,84 @@
-// The OpenCL backend, seed pipeline: each step the host builds the grid with
-// the shared builder from its copy of the state, uploads it, runs the
-// resolveCollisions and integrate kernels (kernels/step.cl) and reads the new
-// state back.
+// The OpenCL backend, with three pipelines:
+//  - seed: each step the host builds the grid with the shared builder from
+//    its copy of the state, uploads it, runs the resolveCollisions and
+//    integrate kernels (kernels/step.cl) and reads the new state back;
+//  - resident: the state stays on the device, stored in the cell order of
+//    the step before; the grid is built there (DeviceGrid, kernels/grid.cl)
+//    and one fused kernel resolves, integrates and counts the new positions
+//    into the next grid (kernels/resident.cl). The host reads the state only
+//    when asked (readParticles);
+//  - all-pairs: resident too, but every particle checks every other, O(N^2):
+//    the naive baseline of `carom bench` (kernels/bench.cl).
+// Seed and resident give bitwise identical results (and equal the CPU
+// backend's where exactArithmetic()); all-pairs sums in another order.
 #pragma once
 
 #include "backends/backend.h"
+#include "backends/opencl_grid.h"
 #include "backends/opencl_runtime.h"
 
 namespace carom {
 
+enum class Pipeline { Seed, Resident, AllPairs };
+
+// "seed" or "resident" (BackendDef::pipeline); throws Error naming the value
+// otherwise. All-pairs is for the benchmark only.
+Pipeline parsePipeline(const std::string& name);
+
 class OpenClBackend final : public Backend {
 public:
-    // `device`: see opencl::selectDevice.
-    OpenClBackend(const WorldDef& world, const std::string& device);
+    // `device`: see opencl::selectDevice. With `profiling`, each command's
+    // device time is recorded (profiler()); for explaining a step, not timing it.
+    OpenClBackend(const WorldDef& world, const std::string& device, Pipeline pipeline = Pipeline::Seed,
+                  bool profiling = false);
 
     std::string name() const override { return "opencl"; }
     std::string device() const override;
     bool exactArithmetic() const override { return device_.correctlyRoundedDivideSqrt; }
+    Pipeline pipeline() const { return pipeline_; }
+    const opencl::DeviceInfo& deviceInfo() const { return device_; }
 
     void step(std::uint64_t steps) override;
-    void readParticles(std::vector<Particle>& particles) override { particles = hostState_; }
+    void readParticles(std::vector<Particle>& particles) override;
     std::uint64_t collisions() override;
+
+    // Resident pipeline only: the grid of the current state as the device
+    // builds it, read back (tests compare it with the shared builder's).
+    Grid readDeviceGrid();
+
+    // Seconds per kernel, transfer and host grid build over the steps so
+    // far; null unless constructed with profiling.
+    opencl::Profiler* profiler() { return profiler_.get(); }
 
 private:
     void load(const std::vector<Particle>& particles) override;
-    std::size_t globalSize() const;
+    void loadResident(std::size_t particleCount);
+    void finish();  // waits for the queue; collects the profile
+    void stepSeed();
+    void stepResident();
+    void stepAllPairs();
 
+    Pipeline pipeline_;
+    std::unique_ptr<opencl::Profiler> profiler_;
     opencl::DeviceInfo device_;
     opencl::Context context_;
     opencl::Queue queue_;
     opencl::Program program_;
     opencl::Kernel resolveKernel_;
     opencl::Kernel integrateKernel_;
+    opencl::Kernel fusedKernel_;     // resident: resolveIntegrateAndCount
+    opencl::Kernel allPairsKernel_;  // all-pairs: resolveAllPairs
     std::size_t workGroupSize_ = 64;
 
-    std::vector<Particle> hostState_;  // the state the host builds the grid from
-    opencl::Buffer state_;             // the state before the step
+    std::vector<Particle> hostState_;  // seed: the state the host builds the grid from
+    opencl::Buffer state_;             // the state before the step (resident: in slots)
     opencl::Buffer next_;              // written by the step, then swapped in
-    opencl::Buffer sortedIndices_;
-    opencl::Buffer cells_;
-    opencl::Buffer collisionCounts_;
+    opencl::Buffer sortedIndices_;     // seed: uploaded each step
+    opencl::Buffer cells_;             // seed: uploaded each step
+    opencl::Buffer collisionCounts_;   // by particle id
+    opencl::DeviceGrid deviceGrid_;    // resident
+    opencl::Buffer ids_;               // resident: the particle id in each slot of state_
+    opencl::Buffer sortedIds_;         // resident: sortedIndices, then the ids of next_'s slots
 };
 
 }  // namespace carom

@@ -156,11 +156,13 @@ std::vector<DeviceInfo> listDevices() {
             d.platformName = platformName;
             d.name = deviceString(id, CL_DEVICE_NAME);
             d.version = deviceString(id, CL_DEVICE_VERSION);
+            d.driverVersion = deviceString(id, CL_DRIVER_VERSION);
             d.type = typeName(deviceValue<cl_device_type>(id, CL_DEVICE_TYPE));
             d.correctlyRoundedDivideSqrt =
                 (deviceValue<cl_device_fp_config>(id, CL_DEVICE_SINGLE_FP_CONFIG) &
                  CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) != 0;
             d.globalMemoryBytes = deviceValue<cl_ulong>(id, CL_DEVICE_GLOBAL_MEM_SIZE);
+            d.localMemoryBytes = deviceValue<cl_ulong>(id, CL_DEVICE_LOCAL_MEM_SIZE);
             devices.push_back(d);
         }
     }
@@ -224,6 +226,58 @@ Buffer createBuffer(cl_context context, std::size_t bytes, const char* what) {
     Buffer buffer(clCreateBuffer(context, CL_MEM_READ_WRITE, std::max<std::size_t>(bytes, 1), nullptr, &status));
     check(status, (std::string("clCreateBuffer(") + what + ", " + std::to_string(bytes) + " bytes)").c_str());
     return buffer;
+}
+
+std::size_t kernelWorkGroupLimit(cl_kernel kernel, cl_device_id device) {
+    std::size_t limit = 0;
+    check(clGetKernelWorkGroupInfo(kernel, device, CL_KERNEL_WORK_GROUP_SIZE, sizeof limit, &limit, nullptr),
+          "clGetKernelWorkGroupInfo");
+    return limit;
+}
+
+Profiler::~Profiler() {
+    for (auto& [name, event] : pending_)
+        if (event) clReleaseEvent(event);
+}
+
+cl_event* Profiler::slot(const char* name) {
+    pending_.emplace_back(name, nullptr);
+    return &pending_.back().second;
+}
+
+void Profiler::addHostSeconds(const std::string& name, double seconds) { seconds_[name] += seconds; }
+
+void Profiler::collect() {
+    for (auto& [name, event] : pending_) {
+        if (!event) continue;
+        cl_ulong start = 0, end = 0;
+        check(clGetEventProfilingInfo(event, CL_PROFILING_COMMAND_START, sizeof start, &start, nullptr),
+              "clGetEventProfilingInfo");
+        check(clGetEventProfilingInfo(event, CL_PROFILING_COMMAND_END, sizeof end, &end, nullptr),
+              "clGetEventProfilingInfo");
+        seconds_[name] += double(end - start) * 1e-9;
+        clReleaseEvent(event);
+    }
+    pending_.clear();
+}
+
+void enqueue1d(cl_command_queue queue, cl_kernel kernel, std::size_t items, std::size_t groupSize,
+               const char* name, Profiler* profiler) {
+    if (items == 0) return;
+    const std::size_t global = (items + groupSize - 1) / groupSize * groupSize;
+    check(clEnqueueNDRangeKernel(queue, kernel, 1, nullptr, &global, &groupSize, 0, nullptr,
+                                 eventSlot(profiler, name)),
+          (std::string("clEnqueueNDRangeKernel(") + name + ")").c_str());
+}
+
+void enqueueZero(cl_command_queue queue, cl_mem buffer, std::size_t bytes, const char* what) {
+    const cl_uint zero = 0;
+    check(clEnqueueFillBuffer(queue, buffer, &zero, sizeof zero, 0, bytes, 0, nullptr, nullptr),
+          (std::string("clEnqueueFillBuffer(") + what + ")").c_str());
+}
+
+void setLocalArg(cl_kernel kernel, cl_uint index, std::size_t bytes) {
+    check(clSetKernelArg(kernel, index, bytes, nullptr), "clSetKernelArg(local)");
 }
 
 }  // namespace carom::opencl

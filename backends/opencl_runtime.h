@@ -10,6 +10,8 @@
 #include <CL/cl.h>
 #endif
 
+#include <deque>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -30,10 +32,12 @@ struct DeviceInfo {
     cl_device_id id = nullptr;
     std::string platformName;
     std::string name;
-    std::string version;  // CL_DEVICE_VERSION
-    std::string type;     // "GPU", "CPU", "accelerator", ...
+    std::string version;        // CL_DEVICE_VERSION
+    std::string driverVersion;  // CL_DRIVER_VERSION
+    std::string type;           // "GPU", "CPU", "accelerator", ...
     bool correctlyRoundedDivideSqrt = false;
     unsigned long long globalMemoryBytes = 0;
+    unsigned long long localMemoryBytes = 0;
 };
 
 // Every device of every platform. Throws Error, suggesting --backend cpu,
@@ -92,11 +96,56 @@ Program buildProgram(cl_context context, const DeviceInfo& device, bool exactAri
 Kernel createKernel(cl_program program, const char* name);
 Buffer createBuffer(cl_context context, std::size_t bytes, const char* what);
 
+// Device time per command name, read from the events of a queue created
+// with CL_QUEUE_PROFILING_ENABLE, plus host work timed by the caller. For
+// explaining where a step's time goes; timings for the record come from
+// wall clocks on a queue without profiling.
+class Profiler {
+public:
+    Profiler() = default;
+    ~Profiler();
+    Profiler(const Profiler&) = delete;
+    Profiler& operator=(const Profiler&) = delete;
+
+    // Where the next command named `name` stores its event.
+    cl_event* slot(const char* name);
+    void addHostSeconds(const std::string& name, double seconds);
+    // Adds the device times of the recorded commands, which must have
+    // finished (after clFinish), and releases their events.
+    void collect();
+    // Seconds per name since the last clear(), in collect()ed commands.
+    const std::map<std::string, double>& seconds() const { return seconds_; }
+    void clear() { seconds_.clear(); }
+
+private:
+    std::deque<std::pair<std::string, cl_event>> pending_;  // a deque keeps slots in place
+    std::map<std::string, double> seconds_;
+};
+
+// `profiler`'s event slot for a command, or none when not profiling.
+inline cl_event* eventSlot(Profiler* profiler, const char* name) {
+    return profiler ? profiler->slot(name) : nullptr;
+}
+
+// The largest work-group the kernel can run with on the device.
+std::size_t kernelWorkGroupLimit(cl_kernel kernel, cl_device_id device);
+
+// Runs a 1D kernel over `items` work-items in groups of `groupSize` (the
+// global size rounded up; kernels skip the excess ids).
+void enqueue1d(cl_command_queue queue, cl_kernel kernel, std::size_t items, std::size_t groupSize,
+               const char* name, Profiler* profiler = nullptr);
+
+// Sets `bytes` bytes of the buffer to zero (clEnqueueFillBuffer).
+void enqueueZero(cl_command_queue queue, cl_mem buffer, std::size_t bytes, const char* what);
+
 // Sets all arguments of a kernel in order.
 template <class... Args>
 void setKernelArgs(cl_kernel kernel, const Args&... args) {
     cl_uint index = 0;
     (check(clSetKernelArg(kernel, index++, sizeof(Args), &args), "clSetKernelArg"), ...);
 }
+
+// Makes argument `index` a __local buffer of `bytes` bytes.
+void setLocalArg(cl_kernel kernel, cl_uint index, std::size_t bytes);
 
 }  // namespace carom::opencl

@@ -1,11 +1,13 @@
 // Output files that are either complete or absent: written to a temporary
 // name beside the target and renamed into place by commit(). If the writer
 // is destroyed without commit() (an error, an exception), the temporary file
-// is removed and the target is untouched.
+// is removed and the target is untouched. A crash leaves at most the
+// temporary file, never a half-written target.
 #pragma once
 
 #include <fstream>
 #include <string>
+#include <string_view>
 
 namespace carom {
 
@@ -20,10 +22,19 @@ public:
 
     std::ofstream& stream() { return stream_; }
 
-    // Flushes, checks that every write succeeded, and renames into place.
+    // Writes `text`; throws Error at once if the write fails (a full disk
+    // stops a long run then, not at its end).
+    void append(std::string_view text);
+
+    // Flushes, checks that every write succeeded, and renames into place
+    // (replacing the target, on every platform).
     void commit();
 
+    const std::string& path() const { return path_; }
+
 private:
+    [[noreturn]] void failWrite() const;
+
     std::string path_;
     std::string temporaryPath_;
     std::ofstream stream_;

@@ -21,6 +21,11 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+// The most particles a scene, state file or checkpoint may hold: particle
+// ids and grid cell offsets are 32-bit, and the grid's up to 4 cells per
+// particle must stay countable in an int.
+constexpr std::uint64_t kMaxParticles = 500'000'000;
+
 // The box and the rules of motion. The world is [0,width] x [0,height] with
 // reflective walls on all four sides.
 struct WorldDef {
@@ -58,6 +63,8 @@ struct BackendDef {
     std::string kind = "cpu";  // "cpu" (OpenMP) or "opencl"
     std::string device;        // OpenCL only: index from `carom devices` or part of the
                                //   device name; empty = first GPU, else first device
+    std::string pipeline = "seed";  // OpenCL only: "seed" (host grid, state read back each
+                                    //   step) or "resident" (grid and state stay on the device)
 };
 
 // Throws Error unless every field of the world is finite and in range.

@@ -5,10 +5,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "engine/atomic_file.h"
+#include "engine/text_format.h"
 
 namespace carom {
 namespace {
@@ -21,6 +23,11 @@ std::string trim(const std::string& s) {
     const auto first = s.find_first_not_of(" \t\r");
     if (first == std::string::npos) return "";
     return s.substr(first, s.find_last_not_of(" \t\r") - first + 1);
+}
+
+// Spreadsheet programs often start a CSV with a UTF-8 byte order mark.
+void skipByteOrderMark(std::string& line) {
+    if (line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
 }
 
 class Reader {
@@ -37,15 +44,15 @@ public:
         errno = 0;
         const float value = std::strtof(text.c_str(), &end);
         if (text.empty() || end != text.c_str() + text.size())
-            fail(line, std::string("column '") + kColumns[column] + "': '" + text + "' is not a number");
+            fail(line, std::string("column '") + kColumns[column] + "': '" + printable(text) + "' is not a number");
         if (errno == ERANGE && std::isinf(value))
-            fail(line, std::string("column '") + kColumns[column] + "': " + text + " is out of float range");
+            fail(line, std::string("column '") + kColumns[column] + "': " + printable(text) + " is out of float range");
         return value;
     }
 
     std::uint64_t id(std::size_t line, const std::string& text) const {
         if (text.empty() || text.size() > 10 || text.find_first_not_of("0123456789") != std::string::npos)
-            fail(line, "column 'id': '" + text + "' is not a particle id (an integer >= 0)");
+            fail(line, "column 'id': '" + printable(text) + "' is not a particle id (an integer >= 0)");
         return std::stoull(text);
     }
 
@@ -56,15 +63,22 @@ private:
 }  // namespace
 
 std::vector<Particle> readStateCsv(const std::string& path) {
+    std::error_code error;
+    if (std::filesystem::is_directory(path, error))
+        throw Error("cannot read state file '" + path + "': it is a directory");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error("cannot read state file '" + path + "': " + std::strerror(errno));
-    const Reader reader(path);
+    return parseStateCsv(in, path);
+}
 
+std::vector<Particle> parseStateCsv(std::istream& in, const std::string& path) {
+    const Reader reader(path);
     std::string line;
     std::size_t lineNumber = 1;
     if (!std::getline(in, line)) reader.fail(1, std::string("empty file; expected the header '") + kHeader + "'");
+    skipByteOrderMark(line);
     if (trim(line) != kHeader)
-        reader.fail(1, "header is '" + trim(line) + "'; expected '" + kHeader + "'");
+        reader.fail(1, "header is '" + printable(trim(line)) + "'; expected '" + kHeader + "'");
 
     struct Row {
         std::uint64_t id;
@@ -82,6 +96,8 @@ std::vector<Particle> readStateCsv(const std::string& path) {
         if (fields.size() != kColumnCount)
             reader.fail(lineNumber, "expected " + std::to_string(kColumnCount) + " columns (" + kHeader +
                                         "), found " + std::to_string(fields.size()));
+        if (rows.size() == kMaxParticles)
+            reader.fail(lineNumber, "more than " + std::to_string(kMaxParticles) + " particle rows");
         Row row{reader.id(lineNumber, fields[0]), lineNumber, Particle{}};
         Particle& p = row.particle;
         p.position.x = reader.number(lineNumber, 1, fields[1]);
@@ -113,15 +129,18 @@ std::vector<Particle> readStateCsv(const std::string& path) {
 
 void writeStateCsv(const std::string& path, const std::vector<Particle>& particles) {
     AtomicFile file(path);
-    std::ofstream& out = file.stream();
-    out << kHeader << '\n';
-    char row[256];
+    file.append(std::string(kHeader) + '\n');
+    std::string row;
     for (std::size_t i = 0; i < particles.size(); ++i) {
         const Particle& p = particles[i];
-        // %.9g round-trips every float; snprintf uses the C locale's decimal point.
-        std::snprintf(row, sizeof row, "%zu,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", i, p.position.x,
-                      p.position.y, p.velocity.x, p.velocity.y, p.mass, p.radius);
-        out << row;
+        row.clear();
+        appendNumber(row, i);
+        for (float value : {p.position.x, p.position.y, p.velocity.x, p.velocity.y, p.mass, p.radius}) {
+            row += ',';
+            appendNumber(row, value);
+        }
+        row += '\n';
+        file.append(row);
     }
     file.commit();
 }

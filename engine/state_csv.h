@@ -1,7 +1,8 @@
 // Particle states as CSV: `id,x,y,vx,vy,mass,radius`, one row per particle in
-// id order, floats with 9 significant digits so they read back bit for bit.
+// id order, each float as the shortest text that reads back bit for bit.
 #pragma once
 
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,9 @@ namespace carom {
 // 0..N-1. Throws Error naming the file, line and column of anything wrong.
 // Physical checks (inside the box, positive mass) are validateParticles' job.
 std::vector<Particle> readStateCsv(const std::string& path);
+
+// The same, from a stream; `path` names it in messages.
+std::vector<Particle> parseStateCsv(std::istream& in, const std::string& path);
 
 // Writes the state through a temporary file renamed into place, so `path`
 // holds either its old content or the complete new file.

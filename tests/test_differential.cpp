@@ -1,5 +1,6 @@
-// CPU vs OpenCL: bitwise identical trajectories where the OpenCL device
-// divides and takes square roots correctly rounded (PoCL and NVIDIA do).
+// CPU vs OpenCL, seed and resident pipelines: bitwise identical trajectories
+// where the OpenCL device divides and takes square roots correctly rounded
+// (PoCL and NVIDIA do).
 //
 // Fallback: on a device without correctly rounded divide/sqrt, rounding
 // differences grow chaotically, so the comparison drops to a tolerance of
@@ -7,6 +8,7 @@
 // test says so.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 
 #include "engine/diagnostics.h"
@@ -17,39 +19,23 @@ using namespace carom::test;
 
 namespace {
 
-void compareBackends(const SceneDef& scene, float dt, float2 gravity, std::uint64_t steps) {
-    const auto kinds = backendKinds();
-    if (std::find(kinds.begin(), kinds.end(), "opencl") == kinds.end()) {
-        MESSAGE("this build has no OpenCL backend: nothing to compare");
-        return;
-    }
-    const InitialState s = makeInitialState(scene);
-    WorldDef world = box(s.width, s.height, dt);
-    world.gravity = gravity;
-
-    auto opencl = makeTestBackend("opencl", world);
-    MESSAGE("OpenCL device: " << opencl->device());
-    const bool exact = opencl->exactArithmetic();
-    if (!exact) {
-        MESSAGE("the device lacks correctly rounded divide/sqrt: comparing within 1e-3 over 20 steps, not bitwise");
-        steps = 20;
-    }
+// One OpenCL run of the scene on the given pipeline, compared with the CPU run.
+void compareWithCpu(const std::string& pipeline, const WorldDef& world, const InitialState& s,
+                    std::uint64_t steps, const std::vector<Particle>& cpu, std::uint64_t cpuCollisions) {
+    const char* device = std::getenv("CAROM_TEST_DEVICE");
+    auto opencl = makeBackend(BackendDef{"opencl", device ? device : "", pipeline}, world);
+    MESSAGE("OpenCL device: " << opencl->device() << ", " << pipeline << " pipeline");
     opencl->setParticles(s.particles);
     opencl->step(steps);
     std::vector<Particle> gpu;
     opencl->readParticles(gpu);
-
-    std::uint64_t cpuCollisions = 0;
-    const std::vector<Particle> cpu = simulate("cpu", world, s.particles, steps, &cpuCollisions);
     REQUIRE(cpu.size() == gpu.size());
-    const Diagnostics d = measure(cpu, world);
-    REQUIRE_MESSAGE(d.escaped == 0, "the CPU run itself went unstable: nothing meaningful to compare");
-    if (exact) {
+    if (opencl->exactArithmetic()) {
         std::size_t differing = 0;
         for (std::size_t i = 0; i < cpu.size(); ++i)
             if (std::memcmp(&cpu[i], &gpu[i], sizeof(Particle)) != 0) ++differing;
         CHECK_MESSAGE(differing == 0, differing << " of " << cpu.size() << " particles differ after " << steps
-                                                << " steps");
+                                                << " steps on the " << pipeline << " pipeline");
         CHECK(opencl->collisions() == cpuCollisions);
         CHECK(cpuCollisions > cpu.size());  // the comparison covered real collisions
     } else {
@@ -60,9 +46,30 @@ void compareBackends(const SceneDef& scene, float dt, float2 gravity, std::uint6
     }
 }
 
+// The CPU run once, then both OpenCL pipelines against it.
+void compareBackends(const SceneDef& scene, float dt, float2 gravity, std::uint64_t steps) {
+    const auto kinds = backendKinds();
+    if (std::find(kinds.begin(), kinds.end(), "opencl") == kinds.end()) {
+        MESSAGE("this build has no OpenCL backend: nothing to compare");
+        return;
+    }
+    const InitialState s = makeInitialState(scene);
+    WorldDef world = box(s.width, s.height, dt);
+    world.gravity = gravity;
+
+    if (!makeTestBackend("opencl", world)->exactArithmetic()) {
+        MESSAGE("the device lacks correctly rounded divide/sqrt: comparing within 1e-3 over 20 steps, not bitwise");
+        steps = 20;
+    }
+    std::uint64_t cpuCollisions = 0;
+    const std::vector<Particle> cpu = simulate("cpu", world, s.particles, steps, &cpuCollisions);
+    REQUIRE_MESSAGE(measure(cpu, world).escaped == 0, "the CPU run itself went unstable: nothing meaningful to compare");
+    for (const char* pipeline : {"seed", "resident"}) compareWithCpu(pipeline, world, s, steps, cpu, cpuCollisions);
+}
+
 }  // namespace
 
-TEST_CASE("differential: CPU and OpenCL agree bitwise, N = 10000 at packing 0.5 over 1000 steps") {
+TEST_CASE("differential: CPU and OpenCL (seed and resident) agree bitwise, N = 10000 at packing 0.5 over 1000 steps") {
     SceneDef scene;
     scene.particles = 10000;
     scene.packing = 0.5f;

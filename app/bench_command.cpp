@@ -1,0 +1,244 @@
+// `carom bench`: the performance comparison of the methods (bench/methods.h)
+// over a sweep of N on one scene, against the measured memory bandwidths.
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <sstream>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "app/commands.h"
+#include "bench/report.h"
+#include "engine/atomic_file.h"
+#include "engine/grid.h"
+
+namespace carom::app {
+
+using namespace carom::bench;
+
+namespace {
+
+const std::vector<std::uint32_t> kDefaultSizes = {1000,   2000,   5000,    10000,   20000,   50000,   100000,
+                                                  200000, 500000, 1000000, 2000000, 4000000, 8000000, 16000000};
+const std::vector<std::uint32_t> kQuickSizes = {1000, 4000};
+// Bandwidth buffers: well beyond the caches, and about the size of the
+// largest state swept; small for --quick.
+constexpr std::size_t kMinBandwidthBytes = std::size_t(64) << 20;
+constexpr std::size_t kMaxBandwidthBytes = std::size_t(512) << 20;
+constexpr std::size_t kQuickBandwidthBytes = std::size_t(16) << 20;
+
+// "1000", "1e6" and "1.6e7" are whole numbers of particles.
+std::uint32_t parseSize(const std::string& text) {
+    std::size_t used = 0;
+    double value = NAN;
+    try {
+        value = std::stod(text, &used);
+    } catch (const std::exception&) {
+    }
+    if (used != text.size() || !(value >= 1 && value <= 4294967295.0) || value != std::floor(value))
+        throw Error("--sizes: '" + text + "' is not a number of particles; allowed: whole numbers from 1 to "
+                    "4294967295, such as 1000 or 1.6e7");
+    return static_cast<std::uint32_t>(value);
+}
+
+std::vector<std::uint32_t> chosenSizes(const BenchOptions& o) {
+    std::vector<std::uint32_t> sizes;
+    for (const std::string& text : o.sizes) sizes.push_back(parseSize(text));
+    if (sizes.empty()) sizes = o.quick ? kQuickSizes : kDefaultSizes;
+    std::sort(sizes.begin(), sizes.end());
+    sizes.erase(std::unique(sizes.begin(), sizes.end()), sizes.end());
+    return sizes;
+}
+
+std::vector<Method> chosenMethods(const BenchOptions& o) {
+    if (o.methods.empty()) return availableMethods();
+    for (const std::string& name : o.methods) findMethod(name);  // refuses unknown names
+    std::vector<Method> methods;
+    for (const Method& m : availableMethods())  // table order, whatever the order given
+        if (std::find(o.methods.begin(), o.methods.end(), m.name) != o.methods.end()) methods.push_back(m);
+    return methods;
+}
+
+TimingPlan timingPlan(const BenchOptions& o) {
+    TimingPlan plan;
+    if (o.quick) {
+        plan.samples = 3;
+        plan.sampleSeconds = 0.01;
+        plan.warmupSeconds = 0.02;
+    }
+    if (o.samples > 0) plan.samples = o.samples;
+    plan.budgetSeconds = o.budgetMs / 1e3;
+    return plan;
+}
+
+std::string utcNow() {
+    const std::time_t now = std::time(nullptr);
+    char text[32];
+    std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+    return text;
+}
+
+std::string hostCpu() {
+    std::ifstream cpuinfo("/proc/cpuinfo");
+    for (std::string line; std::getline(cpuinfo, line);)
+        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+    return "unknown CPU";
+}
+
+double hostLoad() {
+    std::ifstream loadavg("/proc/loadavg");
+    double load = -1;
+    loadavg >> load;
+    return loadavg ? load : -1;
+}
+
+int hostThreads() {
+#ifdef _OPENMP
+    return omp_get_max_threads();
+#else
+    return 1;
+#endif
+}
+
+SceneDef sceneFor(const BenchOptions& o, std::uint32_t particles) {
+    SceneDef scene;
+    scene.particles = particles;
+    scene.packing = o.packing;
+    scene.radiusMin = scene.radiusMax = o.radius;
+    scene.speed = o.speed;
+    scene.seed = o.seed;
+    return scene;
+}
+
+// Measures every method at one N; adds the rows, and drops the methods whose
+// step went over the budget.
+void benchOneSize(const BenchOptions& o, std::uint32_t particles, bool largerFollow, std::vector<Method>& methods,
+                  Report& report) {
+    const InitialState initial = makeInitialState(sceneFor(o, particles));
+    WorldDef world;
+    world.width = initial.width;
+    world.height = initial.height;
+    world.dt = o.dt;
+    const GridGeometry g = gridGeometryFor(world.width, world.height, o.radius, particles);
+    const double cellsPerParticle = double(g.cols) * g.rows / particles;
+
+    std::vector<Method> kept;
+    for (const Method& method : methods) {
+        std::unique_ptr<Backend> backend = makeMethodBackend(method, world, o.device);
+        backend->setParticles(initial.particles);
+        Row row{method, particles, cellsPerParticle, timeSteps(*backend, report.plan), {}};
+        backend.reset();  // free its memory before the next method allocates
+        if (o.profile)
+            row.profile = profileMethod(method, world, initial.particles, o.device, row.timing.stepsPerSample);
+        std::cerr << "  " << method.name << ", N = " << particles << ": " << row.timing.secondsPerStep * 1e3
+                  << " ms/step\n";
+        report.rows.push_back(row);
+        if (row.timing.secondsPerStep <= report.plan.budgetSeconds) {
+            kept.push_back(method);
+        } else if (largerFollow) {
+            report.dropped.push_back({method.name, particles, row.timing.secondsPerStep});
+        }
+    }
+    methods = kept;
+}
+
+int listMethods() {
+    std::cout << "methods (carom bench --methods NAME,...):\n";
+    for (const Method& m : availableMethods()) std::cout << "  " << m.name << std::string(18 - m.name.size(), ' ')
+                                                         << m.description << '\n';
+    std::cout << "default sizes (--sizes N,...):";
+    for (std::uint32_t n : kDefaultSizes) std::cout << ' ' << n;
+    std::cout << "\nquick sizes (--quick):";
+    for (std::uint32_t n : kQuickSizes) std::cout << ' ' << n;
+    std::cout << '\n';
+    return 0;
+}
+
+}  // namespace
+
+void addBenchOptions(CLI::App& command, BenchOptions& o) {
+    command.add_option("--methods", o.methods, "Methods to compare, comma-separated (see --list; default: all)")
+        ->delimiter(',');
+    command.add_option("--sizes", o.sizes, "Particle counts N, comma-separated, e.g. 1e3,1e6,1.6e7 "
+                                           "(default: 1e3 to 1.6e7)")
+        ->delimiter(',');
+    command.add_option("--packing", o.packing, "Area fraction of the disks")->capture_default_str();
+    command.add_option("--radius", o.radius, "Radius of every disk")->capture_default_str();
+    command.add_option("--speed", o.speed, "Initial speed of every disk")->capture_default_str();
+    command.add_option("--dt", o.dt, "Time step")->capture_default_str();
+    command.add_option("--seed", o.seed, "Random seed of the scene")->capture_default_str();
+    command.add_option("--device", o.device, "OpenCL device: index from `carom devices` or part of its name");
+    command.add_option("--samples", o.samples, "Timed samples per method and N (default 7, 3 with --quick)")
+        ->check(CLI::Range(1, 1000));
+    command.add_option("--budget-ms", o.budgetMs, "Drop a method for larger N once one step takes longer than this")
+        ->capture_default_str();
+    command.add_option("--json", o.json, "Write the results as JSON to this file");
+    command.add_option("--csv", o.csv, "Write the results as CSV to this file");
+    command.add_option("--plot", o.plot, "Write an SVG plot of throughput against N to this file");
+    command.add_flag("--profile", o.profile,
+                     "Also show where a step's time goes: device time per kernel (OpenCL), the serial grid "
+                     "build (cpu); from separate runs");
+    command.add_flag("--quick", o.quick, "A short run for CI: N = 1000 and 4000, 3 short samples");
+    command.add_flag("--list", o.list, "List the methods and default sizes, then exit");
+}
+
+int benchCommand(const BenchOptions& o) {
+    if (o.list) return listMethods();
+    std::vector<Method> methods = chosenMethods(o);
+    const std::vector<std::uint32_t> sizes = chosenSizes(o);
+    validate(sceneFor(o, sizes.front()));
+    WorldDef unitBox;
+    unitBox.width = unitBox.height = 1.0f;
+    unitBox.dt = o.dt;
+    validate(unitBox);
+    if (!(std::isfinite(o.budgetMs) && o.budgetMs > 0)) {
+        std::ostringstream message;
+        message << "--budget-ms must be a finite number > 0, got " << o.budgetMs;
+        throw Error(message.str());
+    }
+    // Refuse unwritable outputs before the sweep, not after it.
+    std::optional<AtomicFile> json, csv, plot;
+    if (!o.json.empty()) json.emplace(o.json);
+    if (!o.csv.empty()) csv.emplace(o.csv);
+    if (!o.plot.empty()) plot.emplace(o.plot);
+
+    Report report;
+    report.date = utcNow();
+    report.host = hostCpu();
+    report.hostThreads = hostThreads();
+    report.hostLoad = hostLoad();
+    report.scene = sceneFor(o, 0);
+    report.dt = o.dt;
+    report.plan = timingPlan(o);
+    const std::size_t bandwidthBytes =
+        o.quick ? kQuickBandwidthBytes
+                : std::clamp(std::size_t(sizes.back()) * 2 * sizeof(Particle), kMinBandwidthBytes, kMaxBandwidthBytes);
+    report.bandwidth.hostCopy = measureHostCopy(bandwidthBytes, 5);
+    if (std::any_of(methods.begin(), methods.end(), [](const Method& m) { return m.opencl; }))
+        report.device = measureDeviceBandwidth(o.device, bandwidthBytes, 5, report.bandwidth);
+
+    for (std::size_t k = 0; k < sizes.size() && !methods.empty(); ++k)
+        benchOneSize(o, sizes[k], k + 1 < sizes.size(), methods, report);
+
+    printTable(std::cout, report);
+    if (json) {
+        writeJson(json->stream(), report);
+        json->commit();
+    }
+    if (csv) {
+        writeCsv(csv->stream(), report);
+        csv->commit();
+    }
+    if (plot) {
+        writeSvgPlot(plot->stream(), report);
+        plot->commit();
+    }
+    return 0;
+}
+
+}  // namespace carom::app

@@ -1,0 +1,12 @@
+// PNG files of the current OpenGL frame, written through AtomicFile so a
+// failed write never leaves a partial image.
+#pragma once
+
+#include <string>
+
+namespace carom::viewer {
+
+// Reads the framebuffer (width x height, bottom-up) and writes it as PNG.
+void writeFramePng(const std::string& path, int width, int height);
+
+}  // namespace carom::viewer

@@ -1,0 +1,442 @@
+#include "app/viewer/viewer_app.h"
+
+#include <SDL.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <backends/imgui_impl_sdl.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+
+#include "app/viewer/png.h"
+
+namespace carom::viewer {
+
+const char* const kControls =
+    "Space/P  pause and resume           N  single step while paused\n"
+    "R        reset to the initial scene   G  gravity on/off\n"
+    "C        cycle colouring (speed, mass, radius, id)\n"
+    "H        hide/show the panels         S  save a PNG screenshot\n"
+    "Left drag       grab the nearest disk, release to throw it\n"
+    "Right click     spawn a burst of disks at the cursor\n"
+    "Wheel           zoom about the cursor\n"
+    "Middle/right drag  pan                Esc  quit\n";
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+double median(std::vector<double> values) {
+    if (values.empty()) return 0.0;
+    std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+    return values[values.size() / 2];
+}
+
+Colouring parseColouring(const std::string& name) {
+    for (int i = 0; i < kColouringCount; ++i)
+        if (name == colouringName(Colouring(i))) return Colouring(i);
+    throw Error("--color '" + name + "' is not a colouring; allowed: speed, mass, radius, id");
+}
+
+std::string timestampedScreenshotName() {
+    const std::time_t now = std::time(nullptr);
+    char name[64];
+    std::strftime(name, sizeof name, "carom-%Y%m%d-%H%M%S.png", std::localtime(&now));
+    return name;
+}
+
+}  // namespace
+
+void addViewOptions(CLI::App& command, ViewOptions& o) {
+    app::addSceneOptions(command, o.scene);
+    command.add_option("--window", o.window, "Window size W H in pixels")->expected(2)->capture_default_str();
+    command.add_option("--steps-per-frame", o.stepsPerFrame,
+                       "Simulation steps per 1/60 s frame (the speed of the animation)")
+        ->capture_default_str();
+    command.add_option("--color", o.colouring, "Colouring: speed, mass, radius or id")->capture_default_str();
+    command.add_flag("--hide-panels", o.hidePanels, "Start with the panels hidden (as H)");
+    auto* frames = command.add_option("--frames", o.frames, "Headless: render K frames (one tick each), then exit");
+    command.add_option("--screenshot", o.screenshot, "Headless: write the last frame as PNG")->needs(frames);
+    command.add_option("--record", o.record, "Headless: write every frame as DIR/frame_00000.png ...")->needs(frames);
+}
+
+Viewer::Viewer(const ViewOptions& options) : options_(options) {
+    if (options_.window[0] < 64 || options_.window[1] < 64 || options_.window[0] > 16384 ||
+        options_.window[1] > 16384)
+        throw Error("--window " + std::to_string(options_.window[0]) + " " + std::to_string(options_.window[1]) +
+                    ": each side must be in [64, 16384] pixels");
+    if (options_.stepsPerFrame < 0 || options_.stepsPerFrame > 100000)
+        throw Error("--steps-per-frame must be in [0, 100000], got " + std::to_string(options_.stepsPerFrame));
+    colouring_ = parseColouring(options_.colouring);
+    headless_ = options_.frames > 0;
+    hidePanels_ = options_.hidePanels;
+    stepsPerFrame_ = options_.stepsPerFrame;
+    sceneEdit_ = options_.scene.scene;
+
+    app::Setup setup = app::makeSetup(options_.scene);
+    dt_ = setup.world.dt;
+    gravityOn_ = setup.world.gravity.x != 0.0f || setup.world.gravity.y != 0.0f;
+    if (gravityOn_) gravity_ = setup.world.gravity;
+    if (!options_.record.empty()) std::filesystem::create_directories(options_.record);
+
+    openWindow();
+    start(std::move(setup));
+}
+
+Viewer::~Viewer() {
+    if (glContext_) {
+        renderer_.reset();
+        ImGui_ImplOpenGL3_Shutdown();
+        ImGui_ImplSDL2_Shutdown();
+        ImGui::DestroyContext();
+        SDL_GL_DeleteContext(glContext_);
+    }
+    if (window_) SDL_DestroyWindow(window_);
+    SDL_Quit();
+}
+
+void Viewer::openWindow() {
+    if (SDL_Init(SDL_INIT_VIDEO) != 0)
+        throw Error(std::string("carom view needs a display, and SDL found none (") + SDL_GetError() +
+                    "); use `carom run` to simulate headless, or run under xvfb-run");
+    // Without a display SDL falls back to drivers that draw where nobody can
+    // see: fine for --frames, not for a person.
+    const std::string driver = SDL_GetCurrentVideoDriver();
+    if (!headless_ && (driver == "offscreen" || driver == "dummy"))
+        throw Error("carom view needs a display and found none (SDL fell back to its '" + driver +
+                    "' driver); use `carom run` to simulate headless, or --frames K --screenshot FILE");
+    SDL_GL_SetAttribute(SDL_GL_CONTEXT_MAJOR_VERSION, 3);
+    SDL_GL_SetAttribute(SDL_GL_CONTEXT_MINOR_VERSION, 3);
+    SDL_GL_SetAttribute(SDL_GL_CONTEXT_PROFILE_MASK, SDL_GL_CONTEXT_PROFILE_CORE);
+#ifdef __APPLE__
+    SDL_GL_SetAttribute(SDL_GL_CONTEXT_FLAGS, SDL_GL_CONTEXT_FORWARD_COMPATIBLE_FLAG);
+#endif
+    SDL_GL_SetAttribute(SDL_GL_DOUBLEBUFFER, 1);
+    window_ = SDL_CreateWindow("carom", SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, options_.window[0],
+                               options_.window[1], SDL_WINDOW_OPENGL | SDL_WINDOW_RESIZABLE | SDL_WINDOW_ALLOW_HIGHDPI);
+    if (!window_) throw Error(std::string("carom view could not open a window: ") + SDL_GetError());
+    glContext_ = SDL_GL_CreateContext(window_);
+    if (!glContext_)
+        throw Error(std::string("carom view needs OpenGL 3.3 (core profile): ") + SDL_GetError());
+    SDL_GL_MakeCurrent(window_, glContext_);
+    SDL_GL_SetSwapInterval(headless_ ? 0 : 1);  // vsync when a person watches
+
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr;  // leave no imgui.ini behind
+    ImGui::StyleColorsDark();
+    ImGui_ImplSDL2_InitForOpenGL(window_, glContext_);
+    ImGui_ImplOpenGL3_Init("#version 330 core");
+    renderer_ = std::make_unique<Renderer>();
+}
+
+void Viewer::start(app::Setup setup) {
+    initial_ = std::move(setup);
+    WorldDef world = initial_.world;
+    world.dt = dt_;
+    world.gravity = gravityOn_ ? gravity_ : float2{0, 0};
+    backend_ = makeBackend(options_.scene.backend, world);
+    particles_ = initial_.particles;
+    collisionsBeforeUpload_ = collisionsAtLastReadout_ = 0;
+    backend_->setParticles(particles_);
+    energyHistory_.clear();
+    momentumHistory_.clear();
+    SDL_GL_GetDrawableSize(window_, &drawableWidth_, &drawableHeight_);
+    int windowWidth = 0, windowHeight = 0;
+    SDL_GetWindowSize(window_, &windowWidth, &windowHeight);
+    pixelRatio_ = windowWidth > 0 ? double(drawableWidth_) / windowWidth : 1.0;
+    camera_.fit(world.width, world.height, drawableWidth_, drawableHeight_);
+}
+
+void Viewer::upload() {
+    collisionsBeforeUpload_ += backend_->collisions();
+    backend_->setParticles(particles_);
+}
+
+void Viewer::reset() {
+    particles_ = initial_.particles;
+    upload();
+    grabbed_ = -1;
+    message_ = "reset to the initial scene";
+}
+
+void Viewer::applyScene(const SceneDef& scene) {
+    try {
+        app::SceneOptions options = options_.scene;
+        options.scene = scene;
+        // The panel's values replace whatever the scene came from.
+        options.box.clear();
+        options.inputState.clear();
+        options.sceneFile.clear();
+        start(app::makeSetup(options));
+        message_.clear();
+    } catch (const Error& e) {
+        message_ = e.what();  // keep the current scene running
+    }
+}
+
+void Viewer::setGravity(bool on) {
+    gravityOn_ = on;
+    backend_->setMotion(dt_, on ? gravity_ : float2{0, 0});
+}
+
+double Viewer::simulatedSecondsPerSecond() const {
+    return paused_ ? 0.0 : stepsPerFrame_ * double(dt_) / kTickSeconds;
+}
+
+Vec2 Viewer::cursorPixel() const {
+    int x = 0, y = 0;
+    SDL_GetMouseState(&x, &y);
+    return {x * pixelRatio_, y * pixelRatio_};
+}
+
+void Viewer::grabNearest(Vec2 world) {
+    double best = 1e300;
+    grabbed_ = -1;
+    for (std::size_t i = 0; i < particles_.size(); ++i) {
+        const double dx = particles_[i].position.x - world.x, dy = particles_[i].position.y - world.y;
+        const double d = std::sqrt(dx * dx + dy * dy) - particles_[i].radius;
+        if (d < best) {
+            best = d;
+            grabbed_ = int(i);
+        }
+    }
+    cursorVelocity_ = {0, 0};
+    lastCursorWorld_ = world;
+}
+
+// While a disk is held it follows the cursor, moving at the cursor's speed so
+// that releasing it throws it.
+void Viewer::applyGrab(double realSeconds) {
+    const Vec2 cursor = camera_.toWorld(cursorPixel());
+    if (realSeconds > 0) {
+        const Vec2 v{(cursor.x - lastCursorWorld_.x) / realSeconds, (cursor.y - lastCursorWorld_.y) / realSeconds};
+        cursorVelocity_ = {0.7 * cursorVelocity_.x + 0.3 * v.x, 0.7 * cursorVelocity_.y + 0.3 * v.y};
+    }
+    lastCursorWorld_ = cursor;
+    if (grabbed_ < 0 || grabbed_ >= int(particles_.size())) return;
+    Particle& p = particles_[grabbed_];
+    const WorldDef& w = backend_->world();
+    p.position.x = float(std::clamp(cursor.x, double(p.radius), double(w.width - p.radius)));
+    p.position.y = float(std::clamp(cursor.y, double(p.radius), double(w.height - p.radius)));
+    const double perSimSecond = simulatedSecondsPerSecond();
+    p.velocity.x = perSimSecond > 0 ? float(cursorVelocity_.x / perSimSecond) : 0.0f;
+    p.velocity.y = perSimSecond > 0 ? float(cursorVelocity_.y / perSimSecond) : 0.0f;
+    upload();
+}
+
+void Viewer::spawnBurst(Vec2 world) {
+    constexpr int kCount = 12;
+    const float radius = sceneEdit_.radiusMax;
+    const float mass = 0.5f * (sceneEdit_.massMin + sceneEdit_.massMax);
+    const float speed = std::max(1.0f, 2.0f * sceneEdit_.speed);
+    const WorldDef& w = backend_->world();
+    if (2 * radius > std::min(w.width, w.height)) return;
+    // A ring whose neighbours do not touch, flying outwards.
+    const double ring = 1.1 * radius / std::sin(M_PI / kCount);
+    for (int k = 0; k < kCount; ++k) {
+        const double angle = 2 * M_PI * k / kCount;
+        Particle p{};
+        p.radius = radius;
+        p.mass = mass;
+        p.position.x = float(std::clamp(world.x + ring * std::cos(angle), double(radius), double(w.width - radius)));
+        p.position.y = float(std::clamp(world.y + ring * std::sin(angle), double(radius), double(w.height - radius)));
+        p.velocity = float2{float(speed * std::cos(angle)), float(speed * std::sin(angle))};
+        particles_.push_back(p);
+    }
+    upload();
+}
+
+void Viewer::handleEvent(const SDL_Event& event) {
+    ImGui_ImplSDL2_ProcessEvent(&event);
+    const ImGuiIO& io = ImGui::GetIO();
+    switch (event.type) {
+        case SDL_QUIT:
+            running_ = false;
+            break;
+        case SDL_WINDOWEVENT:
+            if (event.window.event == SDL_WINDOWEVENT_SIZE_CHANGED) {
+                SDL_GL_GetDrawableSize(window_, &drawableWidth_, &drawableHeight_);
+                camera_.resize(drawableWidth_, drawableHeight_);
+            }
+            break;
+        case SDL_KEYDOWN:
+            if (io.WantCaptureKeyboard) break;
+            switch (event.key.keysym.sym) {
+                case SDLK_ESCAPE: running_ = false; break;
+                case SDLK_SPACE:
+                case SDLK_p: paused_ = !paused_; break;
+                case SDLK_n: if (paused_) stepOnce_ = true; break;
+                case SDLK_r: reset(); break;
+                case SDLK_g: setGravity(!gravityOn_); break;
+                case SDLK_c: colouring_ = Colouring((int(colouring_) + 1) % kColouringCount); break;
+                case SDLK_h: hidePanels_ = !hidePanels_; break;
+                case SDLK_s: {
+                    const std::string name = timestampedScreenshotName();
+                    saveScreenshot(name);
+                    message_ = "saved " + name;
+                    std::printf("carom view: saved %s\n", name.c_str());
+                    break;
+                }
+                default: break;
+            }
+            break;
+        case SDL_MOUSEBUTTONDOWN:
+            if (io.WantCaptureMouse) break;
+            if (event.button.button == SDL_BUTTON_LEFT) grabNearest(camera_.toWorld(cursorPixel()));
+            if (event.button.button == SDL_BUTTON_RIGHT) rightDown_ = true, rightDragged_ = false;
+            if (event.button.button == SDL_BUTTON_MIDDLE) middleDown_ = true;
+            break;
+        case SDL_MOUSEBUTTONUP:
+            if (event.button.button == SDL_BUTTON_LEFT) grabbed_ = -1;  // released at the cursor's speed
+            if (event.button.button == SDL_BUTTON_RIGHT) {
+                if (rightDown_ && !rightDragged_) spawnBurst(camera_.toWorld(cursorPixel()));
+                rightDown_ = false;
+            }
+            if (event.button.button == SDL_BUTTON_MIDDLE) middleDown_ = false;
+            break;
+        case SDL_MOUSEMOTION:
+            if (rightDown_ || middleDown_) {
+                if (std::abs(event.motion.xrel) + std::abs(event.motion.yrel) > 0) rightDragged_ = true;
+                camera_.pan(event.motion.xrel * pixelRatio_, event.motion.yrel * pixelRatio_);
+            }
+            break;
+        case SDL_MOUSEWHEEL:
+            if (io.WantCaptureMouse) break;
+            camera_.zoomAbout(cursorPixel(), std::pow(1.15, event.wheel.y));
+            break;
+        default:
+            break;
+    }
+}
+
+void Viewer::advance(int ticks) {
+    const std::uint64_t steps = stepOnce_ ? 1 : paused_ ? 0 : std::uint64_t(ticks) * stepsPerFrame_;
+    stepOnce_ = false;
+    if (steps > 0) {
+        const auto start = Clock::now();
+        backend_->step(steps);
+        simMsPerStep_ = secondsSince(start) * 1e3 / steps;
+    }
+    backend_->readParticles(particles_);
+}
+
+void Viewer::updateReadouts(double realSeconds) {
+    kineticEnergy_ = 0;
+    momentum_[0] = momentum_[1] = 0;
+    for (const Particle& p : particles_) {
+        kineticEnergy_ += 0.5 * p.mass * (double(p.velocity.x) * p.velocity.x + double(p.velocity.y) * p.velocity.y);
+        momentum_[0] += p.mass * double(p.velocity.x);
+        momentum_[1] += p.mass * double(p.velocity.y);
+    }
+    energyHistory_.push_back(float(kineticEnergy_));
+    momentumHistory_.push_back(float(std::hypot(momentum_[0], momentum_[1])));
+    if (energyHistory_.size() > kHistoryLength) energyHistory_.pop_front();
+    if (momentumHistory_.size() > kHistoryLength) momentumHistory_.pop_front();
+
+    // Reading the collision counters costs a device read: twice a second.
+    secondsSinceReadout_ += realSeconds;
+    if (secondsSinceReadout_ >= 0.5) {
+        const std::uint64_t total = collisionsBeforeUpload_ + backend_->collisions();
+        collisionsPerSecond_ = (total - std::min(total, collisionsAtLastReadout_)) / secondsSinceReadout_;
+        collisionsAtLastReadout_ = total;
+        secondsSinceReadout_ = 0;
+    }
+}
+
+void Viewer::buildInstances() {
+    float lo = 1e30f, hi = -1e30f;
+    double meanSquareSpeed = 0;
+    for (const Particle& p : particles_) {
+        const float value = colouring_ == Colouring::Mass ? p.mass : p.radius;
+        lo = std::min(lo, value);
+        hi = std::max(hi, value);
+        meanSquareSpeed += double(p.velocity.x) * p.velocity.x + double(p.velocity.y) * p.velocity.y;
+    }
+    // Speeds map to colour up to 2.5 times the rms speed, so the scale
+    // follows the temperature.
+    const double topSpeed = std::max(1e-12, 2.5 * std::sqrt(meanSquareSpeed / std::max<std::size_t>(1, particles_.size())));
+    instances_.resize(particles_.size());
+    for (std::size_t i = 0; i < particles_.size(); ++i) {
+        const Particle& p = particles_[i];
+        Rgb c;
+        switch (colouring_) {
+            case Colouring::Speed: c = viridis(float(std::hypot(p.velocity.x, p.velocity.y) / topSpeed)); break;
+            case Colouring::Mass: c = viridis(hi > lo ? (p.mass - lo) / (hi - lo) : 0.5f); break;
+            case Colouring::Radius: c = viridis(hi > lo ? (p.radius - lo) / (hi - lo) : 0.5f); break;
+            case Colouring::Id: c = idColour(std::uint32_t(i)); break;
+        }
+        instances_[i] = {p.position.x, p.position.y, p.radius, packColour(c.r, c.g, c.b)};
+    }
+}
+
+void Viewer::render() {
+    buildInstances();
+    const WorldDef& w = backend_->world();
+    renderer_->draw(camera_, w.width, w.height, instances_);
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplSDL2_NewFrame();
+    ImGui::NewFrame();
+    if (!hidePanels_) drawPanels();
+    ImGui::Render();
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+}
+
+void Viewer::saveScreenshot(const std::string& path) { writeFramePng(path, drawableWidth_, drawableHeight_); }
+
+int Viewer::run() {
+    if (!headless_) std::printf("carom view: %zu disks on %s\n%s", particles_.size(), backend_->device().c_str(), kControls);
+    std::vector<double> frameMs, simulationMs, drawingMs;
+    auto last = Clock::now();
+    for (std::uint64_t frame = 0; running_ && (!headless_ || frame < options_.frames); ++frame) {
+        const auto frameStart = Clock::now();
+        const double realSeconds = std::chrono::duration<double>(frameStart - last).count();
+        last = frameStart;
+        for (SDL_Event event; SDL_PollEvent(&event);) handleEvent(event);
+
+        // Headless frames are one tick each, so a recording is the same on
+        // every machine; a window keeps real time with the accumulator.
+        int ticks = 1;
+        if (!headless_) {
+            accumulator_ += realSeconds;
+            ticks = std::min(int(accumulator_ / kTickSeconds), kMaxTicksPerFrame);
+            accumulator_ = std::min(accumulator_ - ticks * kTickSeconds, kTickSeconds);
+        }
+        applyGrab(realSeconds);
+        advance(ticks);
+        updateReadouts(realSeconds);
+        const double simulated = secondsSince(frameStart);
+
+        render();
+        if (!options_.record.empty()) {
+            char name[32];
+            std::snprintf(name, sizeof name, "frame_%05llu.png", static_cast<unsigned long long>(frame));
+            saveScreenshot((std::filesystem::path(options_.record) / name).string());
+        }
+        if (headless_ && frame + 1 == options_.frames && !options_.screenshot.empty())
+            saveScreenshot(options_.screenshot);
+        SDL_GL_SwapWindow(window_);
+        frameMs.push_back(secondsSince(frameStart) * 1e3);
+        simulationMs.push_back(simulated * 1e3);
+        drawingMs.push_back(frameMs.back() - simulationMs.back());
+    }
+    if (headless_)
+        std::printf("carom view: %llu frames of %zu disks, median frame %.2f ms (simulation %.2f ms, drawing %.2f ms)\n",
+                    static_cast<unsigned long long>(options_.frames), particles_.size(), median(frameMs),
+                    median(simulationMs), median(drawingMs));
+    return 0;
+}
+
+int runViewer(const ViewOptions& options) {
+    Viewer viewer(options);
+    return viewer.run();
+}
+
+}  // namespace carom::viewer

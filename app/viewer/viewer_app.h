@@ -1,0 +1,92 @@
+// The Viewer class behind runViewer (viewer.cpp: window, loop, input;
+// panels.cpp: the Dear ImGui panels).
+#pragma once
+
+#include <chrono>
+#include <deque>
+
+#include "app/viewer/viewer.h"
+
+namespace carom::viewer {
+
+class Viewer {
+public:
+    explicit Viewer(const ViewOptions& options);
+    ~Viewer();
+    Viewer(const Viewer&) = delete;
+    Viewer& operator=(const Viewer&) = delete;
+
+    int run();
+
+private:
+    static constexpr double kTickSeconds = 1.0 / 60.0;  // one batch of stepsPerFrame steps
+    static constexpr int kMaxTicksPerFrame = 4;          // a slow frame drops time instead of stalling
+    static constexpr std::size_t kHistoryLength = 300;
+
+    // Setup.
+    void openWindow();
+    void start(app::Setup setup);
+
+    // One frame.
+    void handleEvent(const SDL_Event& event);
+    void applyGrab(double realSeconds);
+    void advance(int ticks);
+    void updateReadouts(double realSeconds);
+    void buildInstances();
+    void render();
+    void drawPanels();  // panels.cpp
+
+    // Actions.
+    void reset();
+    void applyScene(const SceneDef& scene);
+    void setGravity(bool on);
+    void spawnBurst(Vec2 world);
+    void grabNearest(Vec2 world);
+    void upload();  // sends particles_ to the backend, keeping the collision count
+    void saveScreenshot(const std::string& path);
+    Vec2 cursorPixel() const;
+    double simulatedSecondsPerSecond() const;
+
+    ViewOptions options_;
+    app::Setup initial_;  // what R resets to
+    SceneDef sceneEdit_;  // the scene panel's values
+    std::unique_ptr<Backend> backend_;
+    std::vector<Particle> particles_;  // read back once per frame
+    std::vector<DiskInstance> instances_;
+
+    SDL_Window* window_ = nullptr;
+    void* glContext_ = nullptr;
+    std::unique_ptr<Renderer> renderer_;
+    Camera camera_;
+    int drawableWidth_ = 0, drawableHeight_ = 0;
+    double pixelRatio_ = 1.0;  // drawable pixels per window point (HiDPI)
+
+    Colouring colouring_ = Colouring::Speed;
+    bool headless_ = false;
+    bool running_ = true;
+    bool paused_ = false;
+    bool stepOnce_ = false;
+    bool hidePanels_ = false;
+    int stepsPerFrame_ = 1;
+    double accumulator_ = 0.0;
+    float dt_ = 0.01f;
+    bool gravityOn_ = false;
+    float2 gravity_{0.0f, -1.0f};  // used while gravity is on
+
+    int grabbed_ = -1;           // id of the disk held by the mouse
+    Vec2 cursorVelocity_;        // [world units per real second], smoothed
+    Vec2 lastCursorWorld_;
+    bool rightDown_ = false, rightDragged_ = false, middleDown_ = false;
+
+    std::uint64_t collisionsBeforeUpload_ = 0;
+    std::uint64_t collisionsAtLastReadout_ = 0;
+    double secondsSinceReadout_ = 0.0;
+    double collisionsPerSecond_ = 0.0;
+    double simMsPerStep_ = 0.0;
+    double kineticEnergy_ = 0.0;
+    double momentum_[2] = {0, 0};
+    std::deque<float> energyHistory_, momentumHistory_;
+    std::string message_;  // the last error or notice, shown in the panels
+};
+
+}  // namespace carom::viewer

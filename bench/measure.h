@@ -1,0 +1,47 @@
+// Timing a backend's steps, and the memory bandwidths the results are read
+// against.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "backends/backend.h"
+#include "bench/methods.h"
+
+namespace carom::bench {
+
+struct TimingPlan {
+    int samples = 7;                // timed samples; the median is reported
+    double sampleSeconds = 0.1;     // each sample runs enough steps to last about this long
+    double warmupSeconds = 0.2;     // untimed steps first (caches, clocks, lazy allocations)
+    double budgetSeconds = 1.0;     // a step slower than this: fewer samples, and larger N is dropped
+    int samplesOverBudget = 3;
+};
+
+struct Timing {
+    double secondsPerStep = 0;                 // median over the samples
+    std::vector<double> sampleSecondsPerStep;  // each sample's mean step time
+    std::uint64_t stepsPerSample = 1;
+    std::uint64_t warmupSteps = 0;
+};
+
+// Warms the backend up, then times plan.samples samples of whole steps.
+Timing timeSteps(Backend& backend, const TimingPlan& plan);
+
+// Host memory: an OpenMP-parallel copy between two buffers of `bytes`, best
+// of `repeats`.
+double measureHostCopy(std::size_t bytes, int repeats);
+
+// The OpenCL device named by `selector`: its copy kernel (kernels/bench.cl)
+// between two buffers of `bytes`, and uploads and downloads of `bytes`, each
+// best of `repeats`. Fills the device fields of `bandwidth`; returns the device's
+// description.
+struct DeviceDescription {
+    std::string name, platform, version, driver;
+};
+DeviceDescription measureDeviceBandwidth(const std::string& selector, std::size_t bytes, int repeats,
+                                         Bandwidth& bandwidth);
+
+}  // namespace carom::bench

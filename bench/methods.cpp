@@ -1,0 +1,132 @@
+#include "bench/methods.h"
+
+#include <algorithm>
+#include <chrono>
+#include <utility>
+
+#include "bench/all_pairs_cpu.h"
+#ifdef CAROM_HAVE_OPENCL
+#include "backends/opencl_backend.h"
+#endif
+
+namespace carom::bench {
+namespace {
+
+constexpr double kStateBytes = 2.0 * sizeof(Particle);  // read + written
+constexpr double kIndexBytes = 2.0 * sizeof(std::uint32_t);
+constexpr double kCellBytes = 2.0 * sizeof(GridCell);
+
+#ifdef CAROM_HAVE_OPENCL
+Pipeline pipelineOf(const Method& method) {
+    if (method.allPairs) return Pipeline::AllPairs;
+    return method.name == "opencl-seed" ? Pipeline::Seed : Pipeline::Resident;
+}
+#endif
+
+// The serial part of the CPU backend's step: the shared grid builder, timed
+// alone on the scene's particles.
+std::map<std::string, double> profileHostGrid(const WorldDef& world, const std::vector<Particle>& particles,
+                                              std::uint64_t steps) {
+    float maxRadius = 0;
+    for (const Particle& p : particles) maxRadius = std::max(maxRadius, p.radius);
+    Grid grid;
+    grid.geometry = gridGeometryFor(world.width, world.height, maxRadius, particles.size());
+    buildGrid(particles.data(), particles.size(), grid);  // allocates the vectors once, as a running backend has
+    const auto start = std::chrono::steady_clock::now();
+    for (std::uint64_t s = 0; s < steps; ++s) buildGrid(particles.data(), particles.size(), grid);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return {{"buildGrid (host, serial)", seconds / double(steps)}};
+}
+
+}  // namespace
+
+const std::vector<Method>& allMethods() {
+    static const std::vector<Method> methods = {
+        {"naive-cpu", "all pairs O(N^2) on the CPU, OpenMP", false, true},
+        {"naive-opencl", "all pairs O(N^2) on the OpenCL device", true, true},
+        {"cpu", "CPU backend: shared grid builder, OpenMP step", false, false},
+        {"opencl-seed", "OpenCL seed pipeline: host grid, state read back each step", true, false},
+        {"opencl-resident", "OpenCL resident pipeline: grid and state stay on the device", true, false},
+    };
+    return methods;
+}
+
+std::vector<Method> availableMethods() {
+    std::vector<Method> methods;
+    const std::vector<std::string> backends = availableBackends();
+    const bool haveOpenCl = std::find(backends.begin(), backends.end(), "opencl") != backends.end();
+    for (const Method& m : allMethods())
+        if (!m.opencl || haveOpenCl) methods.push_back(m);
+    return methods;
+}
+
+Method findMethod(const std::string& name) {
+    std::string names;
+    for (const Method& m : availableMethods()) {
+        if (m.name == name) return m;
+        names += (names.empty() ? "" : ", ") + m.name;
+    }
+    throw Error("--methods: unknown method '" + name + "'; allowed: " + names);
+}
+
+std::unique_ptr<Backend> makeMethodBackend(const Method& method, const WorldDef& world, const std::string& device) {
+    if (!method.opencl) {
+        if (method.allPairs) return std::make_unique<AllPairsCpuBackend>(world);
+        return makeBackend(BackendDef{"cpu", "", "seed"}, world);
+    }
+#ifdef CAROM_HAVE_OPENCL
+    return std::make_unique<OpenClBackend>(world, device, pipelineOf(method));
+#else
+    (void)device;
+    throw Error("this carom was built without OpenCL: method " + method.name + " is not available");
+#endif
+}
+
+std::map<std::string, double> profileMethod(const Method& method, const WorldDef& world,
+                                            const std::vector<Particle>& particles, const std::string& device,
+                                            std::uint64_t steps) {
+    if (!method.opencl)
+        return method.allPairs ? std::map<std::string, double>{} : profileHostGrid(world, particles, steps);
+#ifdef CAROM_HAVE_OPENCL
+    OpenClBackend backend(world, device, pipelineOf(method), true);
+    backend.setParticles(particles);
+    backend.step(steps);
+    std::map<std::string, double> perStep = backend.profiler()->seconds();
+    for (auto& [name, seconds] : perStep) seconds /= double(steps);
+    return perStep;
+#else
+    (void)world, (void)device;
+    return {};
+#endif
+}
+
+Traffic trafficPerParticleStep(const Method& method, double cellsPerParticle) {
+    const double grid = kIndexBytes + kCellBytes * cellsPerParticle;
+    Traffic t;
+    if (method.allPairs) {
+        (method.opencl ? t.device : t.host) = kStateBytes;
+    } else if (!method.opencl) {
+        t.host = kStateBytes + grid;
+    } else if (method.name == "opencl-resident") {
+        t.device = kStateBytes + grid;
+    } else {  // seed: the host reads its copy and writes the grid; the device reads the grid once
+        t.host = kStateBytes / 2 + grid / 2;
+        t.upload = grid / 2;
+        t.download = kStateBytes / 2;
+        t.device = kStateBytes + grid / 2;
+    }
+    return t;
+}
+
+double floorSecondsPerParticleStep(const Traffic& t, const Bandwidth& b) {
+    double seconds = 0;
+    for (const auto& [bytes, rate] : {std::pair{t.device, b.deviceCopy}, std::pair{t.host, b.hostCopy},
+                                      std::pair{t.upload, b.upload}, std::pair{t.download, b.download}}) {
+        if (bytes == 0) continue;
+        if (rate <= 0) return 0;
+        seconds += bytes / rate;
+    }
+    return seconds;
+}
+
+}  // namespace carom::bench

@@ -1,0 +1,66 @@
+// The methods `carom bench` compares, how to make each one's backend, and
+// the bytes each must move per particle-step: the model that turns a time
+// into a fraction of the memory-bandwidth floor.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "backends/backend.h"
+
+namespace carom::bench {
+
+struct Method {
+    std::string name;
+    std::string description;
+    bool opencl = false;    // runs on the OpenCL device, else on the host CPU
+    bool allPairs = false;  // the naive O(N^2) baseline
+};
+
+// Every method, in the order of the table: the baselines first.
+const std::vector<Method>& allMethods();
+// The methods this build can run (the OpenCL ones need OpenCL).
+std::vector<Method> availableMethods();
+// The method called `name`; throws Error naming the value and the choices.
+Method findMethod(const std::string& name);
+
+std::unique_ptr<Backend> makeMethodBackend(const Method& method, const WorldDef& world, const std::string& device);
+
+// Where a step's time goes, in seconds per step: for an OpenCL method each
+// kernel, transfer and host grid build, from `steps` steps of a separate run
+// with profiling on (so the timed runs carry no profiling overhead); for the
+// CPU backend its serial part, the grid build, timed alone; nothing for
+// the CPU all-pairs method.
+std::map<std::string, double> profileMethod(const Method& method, const WorldDef& world,
+                                            const std::vector<Particle>& particles, const std::string& device,
+                                            std::uint64_t steps);
+
+// Bytes a method must move per particle-step, by the memory they cross: the
+// state read and written once (2 x 32 B), the grid written and read once
+// (sortedIndices 2 x 4 B, cells 2 x 8 B per cell); neighbour reads are assumed
+// to hit in cache. The seed pipeline also builds the grid on the host from
+// its copy of the state and moves the grid up and the state down each step.
+struct Traffic {
+    double device = 0;    // the OpenCL device's memory
+    double host = 0;      // host memory
+    double upload = 0;    // host to device
+    double download = 0;  // device to host
+};
+Traffic trafficPerParticleStep(const Method& method, double cellsPerParticle);
+
+// Measured bandwidths in bytes per second; a copy counts the bytes read plus
+// the bytes written. Zero where not measured.
+struct Bandwidth {
+    double hostCopy = 0;
+    double deviceCopy = 0;
+    double upload = 0;
+    double download = 0;
+};
+
+// The shortest time per particle-step the traffic allows at these
+// bandwidths; 0 when a bandwidth it needs was not measured.
+double floorSecondsPerParticleStep(const Traffic& traffic, const Bandwidth& bandwidth);
+
+}  // namespace carom::bench

@@ -1,0 +1,251 @@
+#include "bench/report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include <nlohmann/json.hpp>
+
+namespace carom::bench {
+namespace {
+
+std::string format(const char* pattern, double value) {
+    char text[64];
+    std::snprintf(text, sizeof text, pattern, value);
+    return text;
+}
+
+std::string optionalRatio(std::optional<double> ratio) {
+    return ratio ? format("%.2fx", *ratio) : "-";
+}
+
+nlohmann::json optionalJson(std::optional<double> value) {
+    return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
+}
+
+double fractionOfFloor(const Report& report, const Row& row) {
+    return floorSecondsPerStep(report, row) / row.timing.secondsPerStep;
+}
+
+}  // namespace
+
+double particleStepsPerSecond(const Row& row) { return row.particles / row.timing.secondsPerStep; }
+
+std::optional<double> speedupOver(const Report& report, const Row& row, const std::string& method) {
+    for (const Row& other : report.rows)
+        if (other.method.name == method && other.particles == row.particles)
+            return other.timing.secondsPerStep / row.timing.secondsPerStep;
+    return std::nullopt;
+}
+
+std::string naiveCounterpart(const Method& method) { return method.opencl ? "naive-opencl" : "naive-cpu"; }
+
+double floorSecondsPerStep(const Report& report, const Row& row) {
+    const Traffic traffic = trafficPerParticleStep(row.method, row.cellsPerParticle);
+    return row.particles * floorSecondsPerParticleStep(traffic, report.bandwidth);
+}
+
+void printTable(std::ostream& out, const Report& report) {
+    out << "carom bench, " << report.date << "\n  host   " << report.host << ", " << report.hostThreads
+        << " threads, load average " << format("%.2f", report.hostLoad) << " at the start, copy "
+        << format("%.1f", report.bandwidth.hostCopy / 1e9) << " GB/s\n";
+    if (report.device)
+        out << "  device " << report.device->name << " (" << report.device->platform << ", driver "
+            << report.device->driver << "), copy " << format("%.1f", report.bandwidth.deviceCopy / 1e9)
+            << " GB/s, upload " << format("%.1f", report.bandwidth.upload / 1e9) << " GB/s, download "
+            << format("%.1f", report.bandwidth.download / 1e9) << " GB/s\n";
+    out << "  scene  packing " << report.scene.packing << ", radius " << report.scene.radiusMin << ", speed "
+        << report.scene.speed << ", dt " << report.dt << "; median of " << report.plan.samples
+        << " samples after warm-up\n\n";
+    char line[200];
+    std::snprintf(line, sizeof line, "%-16s %10s %11s %16s %9s %9s %10s %9s\n", "method", "N", "ms/step",
+                  "particle-steps/s", "vs seed", "vs naive", "floor ms", "of floor");
+    out << line;
+    for (const Row& row : report.rows) {
+        const double floorMs = floorSecondsPerStep(report, row) * 1e3;
+        std::snprintf(line, sizeof line, "%-16s %10u %11.4g %16.3g %9s %9s %10.3g %8.1f%%\n", row.method.name.c_str(),
+                      row.particles, row.timing.secondsPerStep * 1e3, particleStepsPerSecond(row),
+                      optionalRatio(speedupOver(report, row, "opencl-seed")).c_str(),
+                      optionalRatio(speedupOver(report, row, naiveCounterpart(row.method))).c_str(), floorMs,
+                      100.0 * fractionOfFloor(report, row));
+        out << line;
+    }
+    bool profiled = false;
+    for (const Row& row : report.rows) {
+        if (row.profile.empty()) continue;
+        if (!profiled) out << "\nprofile: time per step of each part, from a separate run\n";
+        profiled = true;
+        double sum = 0;
+        out << "  " << row.method.name << ", N = " << row.particles << ":";
+        for (const auto& [name, seconds] : row.profile) {
+            out << ' ' << name << ' ' << format("%.4g", seconds * 1e6) << " us,";
+            sum += seconds;
+        }
+        out << " sum " << format("%.4g", sum * 1e6) << " us of " << format("%.4g", row.timing.secondsPerStep * 1e6)
+            << " us measured\n";
+    }
+    for (const Dropped& d : report.dropped)
+        out << "  " << d.method << ": dropped after N = " << d.particles << " (a step took "
+            << format("%.3g", d.secondsPerStep * 1e3) << " ms, over the budget of "
+            << format("%.3g", report.plan.budgetSeconds * 1e3) << " ms)\n";
+}
+
+void writeJson(std::ostream& out, const Report& report) {
+    using nlohmann::json;
+    const Bandwidth& b = report.bandwidth;
+    json rows = json::array();
+    for (const Row& row : report.rows) {
+        const Traffic t = trafficPerParticleStep(row.method, row.cellsPerParticle);
+        rows.push_back({
+            {"method", row.method.name},
+            {"particles", row.particles},
+            {"ms_per_step", row.timing.secondsPerStep * 1e3},
+            {"sample_ms_per_step", [&] {
+                 json samples = json::array();
+                 for (double s : row.timing.sampleSecondsPerStep) samples.push_back(s * 1e3);
+                 return samples;
+             }()},
+            {"steps_per_sample", row.timing.stepsPerSample},
+            {"warmup_steps", row.timing.warmupSteps},
+            {"particle_steps_per_second", particleStepsPerSecond(row)},
+            {"speedup_vs_seed", optionalJson(speedupOver(report, row, "opencl-seed"))},
+            {"speedup_vs_naive", optionalJson(speedupOver(report, row, naiveCounterpart(row.method)))},
+            {"cells_per_particle", row.cellsPerParticle},
+            {"bytes_per_particle_step",
+             {{"device", t.device}, {"host", t.host}, {"upload", t.upload}, {"download", t.download}}},
+            {"floor_ms_per_step", floorSecondsPerStep(report, row) * 1e3},
+            {"fraction_of_floor", fractionOfFloor(report, row)},
+        });
+        if (!row.profile.empty()) {
+            json profile = json::object();
+            for (const auto& [name, seconds] : row.profile) profile[name] = seconds * 1e3;
+            rows.back()["profile_ms_per_step"] = profile;
+        }
+    }
+    json dropped = json::array();
+    for (const Dropped& d : report.dropped)
+        dropped.push_back(
+            {{"method", d.method}, {"after_particles", d.particles}, {"ms_per_step", d.secondsPerStep * 1e3}});
+    json device = nullptr;
+    if (report.device)
+        device = {{"name", report.device->name},
+                  {"platform", report.device->platform},
+                  {"version", report.device->version},
+                  {"driver", report.device->driver}};
+    const SceneDef& s = report.scene;
+    const json document = {
+        {"date", report.date},
+        {"host", {{"cpu", report.host}, {"threads", report.hostThreads}, {"load_average_1min", report.hostLoad}}},
+        {"opencl_device", device},
+        {"scene",
+         {{"packing", s.packing}, {"radius", s.radiusMin}, {"mass", s.massMin}, {"speed", s.speed}, {"seed", s.seed},
+          {"dt", report.dt}}},
+        {"timing",
+         {{"samples", report.plan.samples},
+          {"sample_seconds", report.plan.sampleSeconds},
+          {"warmup_seconds", report.plan.warmupSeconds},
+          {"budget_ms_per_step", report.plan.budgetSeconds * 1e3},
+          {"statistic", "median of the samples' mean ms/step"}}},
+        {"bandwidth_bytes_per_second",
+         {{"host_copy", b.hostCopy}, {"device_copy", b.deviceCopy}, {"upload", b.upload}, {"download", b.download},
+          {"note", "copies count bytes read plus bytes written; best of several runs"}}},
+        {"traffic_model",
+         "bytes per particle-step: state read and written once (2 x 32), sortedIndices written and read once "
+         "(2 x 4), cells written and read once (2 x 8 per cell); neighbour reads hit in cache. Seed: the host "
+         "reads its state copy and writes the grid, uploads the grid, downloads the state. All pairs: the state only."},
+        {"results", rows},
+        {"dropped", dropped},
+    };
+    out << document.dump(2) << '\n';
+}
+
+void writeCsv(std::ostream& out, const Report& report) {
+    out << "method,particles,ms_per_step,particle_steps_per_second,speedup_vs_seed,speedup_vs_naive,"
+           "floor_ms_per_step,fraction_of_floor,samples,steps_per_sample\n";
+    const auto optional = [](std::optional<double> v) { return v ? format("%.6g", *v) : std::string(); };
+    for (const Row& row : report.rows)
+        out << row.method.name << ',' << row.particles << ',' << format("%.6g", row.timing.secondsPerStep * 1e3)
+            << ',' << format("%.6g", particleStepsPerSecond(row)) << ','
+            << optional(speedupOver(report, row, "opencl-seed")) << ','
+            << optional(speedupOver(report, row, naiveCounterpart(row.method))) << ','
+            << format("%.6g", floorSecondsPerStep(report, row) * 1e3) << ','
+            << format("%.6g", fractionOfFloor(report, row)) << ',' << row.timing.sampleSecondsPerStep.size() << ','
+            << row.timing.stepsPerSample << '\n';
+}
+
+// Log-log axes: N across, particle-steps/s up, one line per method, and the
+// bandwidth floor of the grid methods as dashed lines.
+void writeSvgPlot(std::ostream& out, const Report& report) {
+    const double width = 860, height = 540, left = 90, right = 230, top = 50, bottom = 60;
+    const double plotW = width - left - right, plotH = height - top - bottom;
+    if (report.rows.empty()) {
+        out << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height
+            << "\"><text x=\"20\" y=\"40\">no results</text></svg>\n";
+        return;
+    }
+    const std::map<std::string, std::string> colours = {{"naive-cpu", "#9e9e9e"},
+                                                         {"naive-opencl", "#616161"},
+                                                         {"cpu", "#1f77b4"},
+                                                         {"opencl-seed", "#ff7f0e"},
+                                                         {"opencl-resident", "#2ca02c"}};
+    // Floors (in particle-steps/s) of the grid methods, at the largest N's cells per particle.
+    std::map<std::string, double> floors;
+    for (const Row& row : report.rows) {
+        const double seconds = floorSecondsPerStep(report, row);
+        if (!row.method.allPairs && seconds > 0) floors[row.method.name] = row.particles / seconds;
+    }
+    double minN = INFINITY, maxN = 0, minY = INFINITY, maxY = 0;
+    for (const Row& row : report.rows) {
+        minN = std::min(minN, double(row.particles));
+        maxN = std::max(maxN, double(row.particles));
+        minY = std::min(minY, particleStepsPerSecond(row));
+        maxY = std::max(maxY, particleStepsPerSecond(row));
+    }
+    for (const auto& [name, rate] : floors) maxY = std::max(maxY, rate);
+    const double x0 = std::floor(std::log10(minN)), x1 = std::max(x0 + 1, std::ceil(std::log10(maxN)));
+    const double y0 = std::floor(std::log10(minY)), y1 = std::max(y0 + 1, std::ceil(std::log10(maxY)));
+    const auto px = [&](double n) { return left + (std::log10(n) - x0) / (x1 - x0) * plotW; };
+    const auto py = [&](double rate) { return top + (y1 - std::log10(rate)) / (y1 - y0) * plotH; };
+
+    out << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height
+        << "\" font-family=\"sans-serif\" font-size=\"13\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+    out << "<text x=\"" << left << "\" y=\"28\" font-size=\"16\">carom bench: throughput against N, packing "
+        << report.scene.packing << (report.device ? ", " + report.device->name : std::string()) << "</text>\n";
+    for (double e = x0; e <= x1; ++e)
+        out << "<line x1=\"" << px(std::pow(10, e)) << "\" y1=\"" << top << "\" x2=\"" << px(std::pow(10, e))
+            << "\" y2=\"" << top + plotH << "\" stroke=\"#e0e0e0\"/>\n<text x=\"" << px(std::pow(10, e))
+            << "\" y=\"" << top + plotH + 20 << "\" text-anchor=\"middle\">1e" << e << "</text>\n";
+    for (double e = y0; e <= y1; ++e)
+        out << "<line x1=\"" << left << "\" y1=\"" << py(std::pow(10, e)) << "\" x2=\"" << left + plotW
+            << "\" y2=\"" << py(std::pow(10, e)) << "\" stroke=\"#e0e0e0\"/>\n<text x=\"" << left - 8 << "\" y=\""
+            << py(std::pow(10, e)) + 4 << "\" text-anchor=\"end\">1e" << e << "</text>\n";
+    out << "<rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << plotW << "\" height=\"" << plotH
+        << "\" fill=\"none\" stroke=\"black\"/>\n<text x=\"" << left + plotW / 2 << "\" y=\"" << height - 15
+        << "\" text-anchor=\"middle\">N (disks)</text>\n<text transform=\"translate(22," << top + plotH / 2
+        << ") rotate(-90)\" text-anchor=\"middle\">particle-steps per second</text>\n";
+
+    double legendY = top + 10;
+    for (const Method& method : allMethods()) {
+        std::string points;
+        for (const Row& row : report.rows)
+            if (row.method.name == method.name)
+                points += format("%.1f,", px(row.particles)) + format("%.1f ", py(particleStepsPerSecond(row)));
+        if (points.empty()) continue;
+        const std::string& colour = colours.at(method.name);
+        out << "<polyline fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"2\" points=\"" << points
+            << "\"/>\n<text x=\"" << left + plotW + 12 << "\" y=\"" << legendY << "\" fill=\"" << colour << "\">"
+            << method.name << "</text>\n";
+        legendY += 20;
+        const auto floor = floors.find(method.name);
+        if (floor == floors.end() || method.name == "opencl-seed") continue;
+        out << "<line x1=\"" << left << "\" y1=\"" << py(floor->second) << "\" x2=\"" << left + plotW << "\" y2=\""
+            << py(floor->second) << "\" stroke=\"" << colour << "\" stroke-dasharray=\"6,4\"/>\n<text x=\""
+            << left + plotW + 12 << "\" y=\"" << legendY << "\" fill=\"" << colour << "\">" << method.name
+            << " floor (model)</text>\n";
+        legendY += 20;
+    }
+    out << "</svg>\n";
+}
+
+}  // namespace carom::bench

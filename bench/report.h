@@ -1,0 +1,60 @@
+// The results of a `carom bench` run and their forms: a table on stdout,
+// JSON, CSV and an SVG plot of throughput against N.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "bench/measure.h"
+#include "bench/methods.h"
+#include "engine/carom.h"
+
+namespace carom::bench {
+
+struct Row {
+    Method method;
+    std::uint32_t particles = 0;
+    double cellsPerParticle = 0;  // of the grid the scene gets (gridGeometryFor)
+    Timing timing;
+    std::map<std::string, double> profile;  // with --profile: seconds per step by part (profileMethod)
+};
+
+// A method left out of the larger N, because its step at `particles` took
+// longer than the budget.
+struct Dropped {
+    std::string method;
+    std::uint32_t particles = 0;
+    double secondsPerStep = 0;
+};
+
+struct Report {
+    std::string date;  // UTC, ISO 8601
+    std::string host;  // CPU model
+    int hostThreads = 1;
+    double hostLoad = -1;  // 1-minute load average at the start (Linux), -1 if unknown: others' work skews CPU timings
+    std::optional<DeviceDescription> device;
+    SceneDef scene;  // particles varies; the rest is the scene of every row
+    float dt = 0;
+    TimingPlan plan;
+    Bandwidth bandwidth;
+    std::vector<Row> rows;
+    std::vector<Dropped> dropped;
+};
+
+double particleStepsPerSecond(const Row& row);
+// Time per step of `method` over this row's at the same N, when measured.
+std::optional<double> speedupOver(const Report& report, const Row& row, const std::string& method);
+// The naive method on the same hardware as the row's method.
+std::string naiveCounterpart(const Method& method);
+double floorSecondsPerStep(const Report& report, const Row& row);
+
+void printTable(std::ostream& out, const Report& report);
+void writeJson(std::ostream& out, const Report& report);
+void writeCsv(std::ostream& out, const Report& report);
+void writeSvgPlot(std::ostream& out, const Report& report);
+
+}  // namespace carom::bench

@@ -1,0 +1,233 @@
+#include "engine/checkpoint.h"
+
+#include <array>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "engine/atomic_file.h"
+
+namespace carom {
+namespace {
+
+constexpr char kMagic[8] = {'C', 'A', 'R', 'O', 'M', 'C', 'K', 'P'};
+constexpr std::uint32_t kByteOrderMark = 0x01020304;
+constexpr std::uint32_t kSwappedByteOrderMark = 0x04030201;
+constexpr std::uint32_t kReflectiveWalls = 0;
+constexpr std::size_t kHeaderBytes = 72;
+constexpr std::size_t kParticleBytes = 24;
+constexpr std::size_t kChecksumBytes = 4;
+
+std::uint32_t crc32(const unsigned char* data, std::size_t size) {
+    static const std::array<std::uint32_t, 256> table = [] {
+        std::array<std::uint32_t, 256> t{};
+        for (std::uint32_t i = 0; i < 256; ++i) {
+            std::uint32_t c = i;
+            for (int bit = 0; bit < 8; ++bit) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+            t[i] = c;
+        }
+        return t;
+    }();
+    std::uint32_t crc = 0xFFFFFFFFu;
+    for (std::size_t i = 0; i < size; ++i) crc = table[(crc ^ data[i]) & 0xFFu] ^ (crc >> 8);
+    return crc ^ 0xFFFFFFFFu;
+}
+
+// Little-endian writes, byte by byte, so the file is the same on every machine.
+class Encoder {
+public:
+    void u32(std::uint32_t v) {
+        for (int i = 0; i < 4; ++i) bytes_.push_back(static_cast<char>(v >> (8 * i)));
+    }
+    void u64(std::uint64_t v) {
+        for (int i = 0; i < 8; ++i) bytes_.push_back(static_cast<char>(v >> (8 * i)));
+    }
+    void f32(float v) {
+        std::uint32_t bits;
+        std::memcpy(&bits, &v, sizeof bits);
+        u32(bits);
+    }
+    void f64(double v) {
+        std::uint64_t bits;
+        std::memcpy(&bits, &v, sizeof bits);
+        u64(bits);
+    }
+    std::string& bytes() { return bytes_; }
+
+private:
+    std::string bytes_;
+};
+
+// Little-endian reads from a buffer whose size the header checks have
+// already confirmed.
+class Decoder {
+public:
+    explicit Decoder(const unsigned char* data) : data_(data) {}
+    std::uint32_t u32() { return static_cast<std::uint32_t>(take(4)); }
+    std::uint64_t u64() { return take(8); }
+    float f32() {
+        const std::uint32_t bits = u32();
+        float v;
+        std::memcpy(&v, &bits, sizeof v);
+        return v;
+    }
+    double f64() {
+        const std::uint64_t bits = u64();
+        double v;
+        std::memcpy(&v, &bits, sizeof v);
+        return v;
+    }
+    void skip(std::size_t bytes) { position_ += bytes; }
+
+private:
+    std::uint64_t take(int bytes) {
+        std::uint64_t v = 0;
+        for (int i = 0; i < bytes; ++i) v |= std::uint64_t(data_[position_ + i]) << (8 * i);
+        position_ += bytes;
+        return v;
+    }
+    const unsigned char* data_;
+    std::size_t position_ = 0;
+};
+
+[[noreturn]] void fail(const std::string& what, const std::string& problem) {
+    throw Error("checkpoint '" + what + "': " + problem);
+}
+
+std::uint64_t expectedSize(std::uint64_t particles) {
+    return kHeaderBytes + particles * kParticleBytes + kChecksumBytes;
+}
+
+// Checks what the first `available` bytes of a `fileSize`-byte file say
+// about it, and returns the particle count. Refuses before anything sized by
+// the count is allocated.
+std::uint64_t checkHeader(const unsigned char* data, std::size_t available, std::uint64_t fileSize,
+                          const std::string& what) {
+    if (available < sizeof kMagic || std::memcmp(data, kMagic, sizeof kMagic) != 0)
+        fail(what, "not a carom checkpoint (it does not start with \"CAROMCKP\")");
+    if (available < 16)
+        fail(what, "truncated: " + std::to_string(fileSize) + " bytes, shorter than the " +
+                       std::to_string(kHeaderBytes) + "-byte header");
+    Decoder header(data);
+    header.skip(sizeof kMagic);
+    const std::uint32_t mark = header.u32();
+    if (mark == kSwappedByteOrderMark)
+        fail(what, "its byte order is swapped (big-endian); carom checkpoints are little-endian on every "
+                   "machine, so this file was converted or written by another program");
+    if (mark != kByteOrderMark) fail(what, "corrupted header: bad byte order mark");
+    const std::uint32_t version = header.u32();
+    if (version != kCheckpointVersion)
+        fail(what, "format version " + std::to_string(version) + "; this carom reads version " +
+                       std::to_string(kCheckpointVersion) +
+                       (version > kCheckpointVersion ? " (written by a newer carom?)" : ""));
+    if (available < kHeaderBytes)
+        fail(what, "truncated: " + std::to_string(fileSize) + " bytes, shorter than the " +
+                       std::to_string(kHeaderBytes) + "-byte header");
+    const std::uint64_t count = header.u64();
+    if (count < 1 || count > kMaxParticles)
+        fail(what, "corrupted header: particle count " + std::to_string(count) + " is outside 1.." +
+                       std::to_string(kMaxParticles));
+    const std::uint64_t expected = expectedSize(count);
+    if (fileSize < expected)
+        fail(what, "truncated: " + std::to_string(fileSize) + " bytes, but " + std::to_string(count) +
+                       " particles need " + std::to_string(expected));
+    if (fileSize > expected)
+        fail(what, std::to_string(fileSize) + " bytes, but " + std::to_string(count) + " particles need " +
+                       std::to_string(expected) + ": trailing bytes (corrupted?)");
+    return count;
+}
+
+}  // namespace
+
+std::string encodeCheckpoint(const Checkpoint& c) {
+    Encoder out;
+    out.bytes().reserve(expectedSize(c.particles.size()));
+    out.bytes().append(kMagic, sizeof kMagic);
+    out.u32(kByteOrderMark);
+    out.u32(kCheckpointVersion);
+    out.u64(c.particles.size());
+    for (float v : {c.world.width, c.world.height, c.world.dt, c.world.gravity.x, c.world.gravity.y}) out.f32(v);
+    out.u32(kReflectiveWalls);
+    out.u64(c.step);
+    out.f64(c.time);
+    out.u64(c.collisions);
+    for (const Particle& p : c.particles)
+        for (float v : {p.position.x, p.position.y, p.velocity.x, p.velocity.y, p.mass, p.radius}) out.f32(v);
+    const std::string& bytes = out.bytes();
+    out.u32(crc32(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size()));
+    return std::move(out.bytes());
+}
+
+Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& what) {
+    const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+    const std::uint64_t count = checkHeader(data, bytes.size(), bytes.size(), what);
+    const std::size_t checked = bytes.size() - kChecksumBytes;
+    Decoder trailer(data + checked);
+    if (trailer.u32() != crc32(data, checked))
+        fail(what, "checksum mismatch: the file is corrupted (a flipped bit or a partial copy)");
+
+    Decoder in(data);
+    in.skip(24);  // magic, byte order mark, version, count
+    Checkpoint c;
+    c.world.width = in.f32();
+    c.world.height = in.f32();
+    c.world.dt = in.f32();
+    c.world.gravity.x = in.f32();
+    c.world.gravity.y = in.f32();
+    const std::uint32_t boundary = in.u32();
+    c.step = in.u64();
+    c.time = in.f64();
+    c.collisions = in.u64();
+    c.particles.resize(count);
+    for (Particle& p : c.particles) {
+        p = Particle{};
+        p.position.x = in.f32();
+        p.position.y = in.f32();
+        p.velocity.x = in.f32();
+        p.velocity.y = in.f32();
+        p.mass = in.f32();
+        p.radius = in.f32();
+    }
+
+    // A valid checksum over invalid values: written by something other than carom.
+    if (boundary != kReflectiveWalls)
+        fail(what, "boundary code " + std::to_string(boundary) + " is unknown; allowed: 0 (reflective walls)");
+    if (!std::isfinite(c.time) || c.time < 0) fail(what, "time must be a finite number >= 0");
+    try {
+        validateParticles(c.particles, c.world, "particles");
+    } catch (const Error& e) {
+        fail(what, e.what());
+    }
+    return c;
+}
+
+void writeCheckpoint(const std::string& path, const Checkpoint& checkpoint) {
+    const std::string bytes = encodeCheckpoint(checkpoint);
+    AtomicFile file(path);
+    file.stream().write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    file.commit();
+}
+
+Checkpoint readCheckpoint(const std::string& path) {
+    std::error_code error;
+    if (!std::filesystem::is_regular_file(path, error))
+        throw Error("cannot read checkpoint '" + path + "': " +
+                    (std::filesystem::exists(path, error) ? "not a regular file" : "no such file"));
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    if (!in) throw Error("cannot read checkpoint '" + path + "': " + std::strerror(errno));
+    const std::streamoff size = in.tellg();
+    in.seekg(0);
+    unsigned char header[kHeaderBytes];
+    in.read(reinterpret_cast<char*>(header), kHeaderBytes);
+    checkHeader(header, static_cast<std::size_t>(in.gcount()), static_cast<std::uint64_t>(size), path);
+
+    std::string bytes(static_cast<std::size_t>(size), '\0');
+    in.clear();
+    in.seekg(0);
+    if (!in.read(bytes.data(), size)) throw Error("reading checkpoint '" + path + "' failed");
+    return decodeCheckpoint(bytes, path);
+}
+
+}  // namespace carom

@@ -1,0 +1,52 @@
+// Checkpoints: everything a run needs to continue bit for bit, in a versioned
+// binary file with a checksum.
+//
+// Layout (version 1), every field little-endian whatever the machine:
+//
+//   offset  bytes  field
+//        0      8  magic "CAROMCKP"
+//        8      4  byte order mark 0x01020304 (reads 0x04030201 if byte-swapped)
+//       12      4  format version, 1
+//       16      8  particle count N, 1..kMaxParticles
+//       24     20  box width, box height, dt, gravity x, gravity y (float32)
+//       44      4  boundary: 0 = reflective walls (the only one so far)
+//       48      8  step: steps taken since the scene began
+//       56      8  time (float64) = step * dt
+//       64      8  collisions since the scene began
+//       72    24N  per particle, in id order: x, y, vx, vy, mass, radius (float32)
+//   72+24N      4  CRC-32 (IEEE, as zlib's crc32) of every byte before it
+//
+// A reader refuses anything else with a message saying what is wrong.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/carom.h"
+
+namespace carom {
+
+struct Checkpoint {
+    WorldDef world;                    // box, dt, gravity
+    std::uint64_t step = 0;            // steps taken since the scene began
+    double time = 0.0;                 // simulated time [time], step * dt
+    std::uint64_t collisions = 0;      // pairs that received an impulse since the scene began
+    std::vector<Particle> particles;   // in id order
+};
+
+constexpr std::uint32_t kCheckpointVersion = 1;
+
+// The file's bytes, and back. decodeCheckpoint validates the header, the
+// size, the checksum, the world and every particle; `what` names the source.
+std::string encodeCheckpoint(const Checkpoint& checkpoint);
+Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& what);
+
+// Writes through a temporary file renamed into place.
+void writeCheckpoint(const std::string& path, const Checkpoint& checkpoint);
+
+// Reads and validates; checks the header and the file size before reading
+// the particles, so a corrupt count cannot make it allocate.
+Checkpoint readCheckpoint(const std::string& path);
+
+}  // namespace carom

@@ -1,0 +1,24 @@
+/* Kernels for `carom bench` only: the all-pairs baseline and the copy that
+ * measures the device's memory bandwidth. */
+#include "physics.h"
+
+/* resolveCollisions against every other particle, O(N^2); integrate follows
+ * as in the seed pipeline. */
+__kernel void resolveAllPairs(__global const Particle* in,
+                              uint count,
+                              __global Particle* out,
+                              __global uint* collisionCounts)
+{
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    const Particle self = in[i];
+    const CaromResponse sum = carom_collect_response_all_pairs(i, self, in, count);
+    out[i] = carom_apply_response(self, sum);
+    collisionCounts[i] += sum.impulses;
+}
+
+__kernel void copyFloat4(__global const float4* from, __global float4* to, uint count)
+{
+    const uint i = get_global_id(0);
+    if (i < count) to[i] = from[i];
+}

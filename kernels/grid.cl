@@ -1,0 +1,207 @@
+/* The grid built on the device, for the resident pipeline: the same cells and
+ * the same sortedIndices as the shared host builder (engine/grid.cpp).
+ *
+ * The pipeline stores its particles in slots: slot s holds particle ids[s],
+ * in the cell order of the step before (so neighbours sit close together in
+ * memory, however far apart their ids are). cellOrder[k] is the slot of
+ * particle sortedIndices[k].
+ *
+ *   countCells           the cell of each slot's particle, and its arrival
+ *                        rank in that cell (atomic_inc on the cell's count)
+ *   scanCountsIntoCells, exclusive prefix sum of the counts into the cells'
+ *   scanTiles,           starts, tile by tile, with the tile sums scanned
+ *   addTileOffsets       level by level; the cells' own level gets its tile
+ *                        offsets added by the next two kernels, saving a pass
+ *   scatterToCells       each slot to start + rank of its cell
+ *   sortCellSegments     each cell's slots into ascending particle id, and
+ *                        their ids in that order: sortedIndices
+ *
+ * Arrival ranks depend on thread scheduling; sorting each cell's few slots by
+ * id makes the result deterministic and equal to the host's ascending-id
+ * scatter.
+ * Only OpenCL C 1.2 core features: 32-bit global atomics, local memory,
+ * barriers. */
+#include "physics.h"
+
+/* Values each work-item scans in a tile; a tile is get_local_size(0) times
+ * this. The host sizes the local buffers to match (backends/opencl_grid.cpp). */
+#define CAROM_SCAN_ITEMS 16
+
+static inline GridGeometry carom_grid(float cellsPerLengthX, float cellsPerLengthY, int cols, int rows)
+{
+    GridGeometry grid;
+    grid.cellsPerLengthX = cellsPerLengthX;
+    grid.cellsPerLengthY = cellsPerLengthY;
+    grid.cols = cols;
+    grid.rows = rows;
+    return grid;
+}
+
+/* Counts the particle in slot i into its cell. `counts` must start at zero. */
+static inline void carom_count_into_cell(uint i, float2 position, GridGeometry grid, __global uint* counts,
+                                         __global uint* cellOf, __global uint* rankInCell)
+{
+    const uint cell = (uint)carom_cell_index(position, grid);
+    cellOf[i] = cell;
+    rankInCell[i] = atomic_inc(&counts[cell]);
+}
+
+__kernel void countCells(__global const Particle* particles,
+                         uint count,
+                         float cellsPerLengthX,
+                         float cellsPerLengthY,
+                         int cols,
+                         int rows,
+                         __global uint* counts,
+                         __global uint* cellOf,
+                         __global uint* rankInCell)
+{
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    const GridGeometry grid = carom_grid(cellsPerLengthX, cellsPerLengthY, cols, rows);
+    carom_count_into_cell(i, particles[i].position, grid, counts, cellOf, rankInCell);
+}
+
+/* Where tile value k lives in local memory: one word of padding every 32
+ * puts the runs of neighbouring work-items in different memory banks. */
+static inline uint carom_padded(uint k)
+{
+    return k + k / 32;
+}
+
+/* The exclusive prefix sum of this work-group's tile of `values` (n in all),
+ * left in `tile` (padded); returns the tile's total. The local size must be a
+ * power of two. */
+static inline uint carom_scan_tile(__global const uint* values, uint n, __local uint* tile, __local uint* runSums)
+{
+    const uint lid = get_local_id(0);
+    const uint size = get_local_size(0);
+    const uint tileLength = size * CAROM_SCAN_ITEMS;
+    const uint first = get_group_id(0) * tileLength;
+    for (uint k = lid; k < tileLength; k += size) tile[carom_padded(k)] = first + k < n ? values[first + k] : 0u;
+    barrier(CLK_LOCAL_MEM_FENCE);
+
+    /* Each work-item owns a run of CAROM_SCAN_ITEMS consecutive values. */
+    const uint runStart = lid * CAROM_SCAN_ITEMS;
+    uint run = 0;
+    for (uint k = 0; k < CAROM_SCAN_ITEMS; ++k) run += tile[carom_padded(runStart + k)];
+    runSums[lid] = run;
+    barrier(CLK_LOCAL_MEM_FENCE);
+
+    /* Inclusive scan of the run sums (Hillis-Steele). */
+    for (uint offset = 1; offset < size; offset <<= 1) {
+        const uint before = lid >= offset ? runSums[lid - offset] : 0u;
+        barrier(CLK_LOCAL_MEM_FENCE);
+        runSums[lid] += before;
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+
+    uint prefix = runSums[lid] - run;
+    for (uint k = 0; k < CAROM_SCAN_ITEMS; ++k) {
+        const uint at = carom_padded(runStart + k);
+        const uint value = tile[at];
+        tile[at] = prefix;
+        prefix += value;
+    }
+    const uint total = runSums[size - 1];
+    barrier(CLK_LOCAL_MEM_FENCE);
+    return total;
+}
+
+/* The cells' level: each cell gets its start within its tile and its count;
+ * the tile's total goes to tileSums. */
+__kernel void scanCountsIntoCells(__global const uint* counts,
+                                  uint n,
+                                  __global GridCell* cells,
+                                  __global uint* tileSums,
+                                  __local uint* tile,
+                                  __local uint* runSums)
+{
+    const uint total = carom_scan_tile(counts, n, tile, runSums);
+    const uint lid = get_local_id(0);
+    const uint size = get_local_size(0);
+    const uint tileLength = size * CAROM_SCAN_ITEMS;
+    const uint first = get_group_id(0) * tileLength;
+    for (uint k = lid; k < tileLength && first + k < n; k += size) {
+        GridCell cell;
+        cell.start = tile[carom_padded(k)];
+        cell.count = (k + 1 < tileLength ? tile[carom_padded(k + 1)] : total) - cell.start;
+        cells[first + k] = cell;
+    }
+    if (lid == 0) tileSums[get_group_id(0)] = total;
+}
+
+/* The levels above: tile sums scanned in place, their totals one level up. */
+__kernel void scanTiles(__global uint* values, uint n, __global uint* tileSums, __local uint* tile,
+                        __local uint* runSums)
+{
+    const uint total = carom_scan_tile(values, n, tile, runSums);
+    const uint lid = get_local_id(0);
+    const uint size = get_local_size(0);
+    const uint tileLength = size * CAROM_SCAN_ITEMS;
+    const uint first = get_group_id(0) * tileLength;
+    for (uint k = lid; k < tileLength && first + k < n; k += size) values[first + k] = tile[carom_padded(k)];
+    if (lid == 0) tileSums[get_group_id(0)] = total;
+}
+
+/* Adds to each value the scanned sum of the tiles before its tile. */
+__kernel void addTileOffsets(__global uint* values, uint n, uint tileLength, __global const uint* tileOffsets)
+{
+    const uint index = get_global_id(0);
+    if (index < n) values[index] += tileOffsets[index / tileLength];
+}
+
+/* The start of cell c: its start within its scan tile plus the tile's offset. */
+static inline uint carom_cell_start(__global const GridCell* cells, uint c, __global const uint* tileOffsets,
+                                    uint tileLength)
+{
+    return cells[c].start + tileOffsets[c / tileLength];
+}
+
+__kernel void scatterToCells(__global const uint* cellOf,
+                             __global const uint* rankInCell,
+                             __global const GridCell* cells,
+                             __global const uint* tileOffsets,
+                             uint tileLength,
+                             uint count,
+                             __global uint* cellOrder)
+{
+    const uint slot = get_global_id(0);
+    if (slot >= count) return;
+    cellOrder[carom_cell_start(cells, cellOf[slot], tileOffsets, tileLength) + rankInCell[slot]] = slot;
+}
+
+/* Per cell: completes the cell's start (adds its tile's offset); zeroes the
+ * cell's count in `nextCounts`, which the step counts the new positions
+ * into; sorts the cell's slots by particle id (insertion sort: a cell is
+ * about one diameter wide, so it holds a handful of disks); and writes their
+ * ids in that order to sortedIds. */
+__kernel void sortCellSegments(__global GridCell* cells,
+                               __global const uint* tileOffsets,
+                               uint tileLength,
+                               uint cellCount,
+                               __global uint* cellOrder,
+                               __global const uint* ids,
+                               __global uint* sortedIds,
+                               __global uint* nextCounts)
+{
+    const uint c = get_global_id(0);
+    if (c >= cellCount) return;
+    nextCounts[c] = 0u;
+    GridCell cell = cells[c];
+    cell.start = carom_cell_start(cells, c, tileOffsets, tileLength);
+    cells[c] = cell;
+    __global uint* slots = cellOrder + cell.start;
+    __global uint* sorted = sortedIds + cell.start;
+    for (uint a = 0; a < cell.count; ++a) {
+        const uint slot = slots[a];
+        const uint id = ids[slot];
+        uint b = a;
+        for (; b > 0 && sorted[b - 1] > id; --b) {
+            slots[b] = slots[b - 1];
+            sorted[b] = sorted[b - 1];
+        }
+        slots[b] = slot;
+        sorted[b] = id;
+    }
+}

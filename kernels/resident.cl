@@ -1,0 +1,44 @@
+/* The step of the resident pipeline: resolveCollisions and integrate fused per
+ * particle (as the CPU backend does: integrate only reads the particle that
+ * resolveCollisions just produced, so this equals the two kernels bit for
+ * bit), then the new position is counted into the next step's grid, which
+ * saves reading the state again.
+ *
+ * Work-item k handles particle sortedIds[k], stored in slot cellOrder[k] of
+ * `state` (kernels/grid.cl), and writes it to slot k of `next`: the new
+ * state comes out in this step's cell order, which the next step starts
+ * from. */
+#include "grid.cl"
+
+__kernel void resolveIntegrateAndCount(__global const Particle* state,
+                                       __global const uint* cellOrder,
+                                       __global const uint* sortedIds,
+                                       __global const GridCell* cells,
+                                       float cellsPerLengthX,
+                                       float cellsPerLengthY,
+                                       int cols,
+                                       int rows,
+                                       uint count,
+                                       float dt,
+                                       float gravityX,
+                                       float gravityY,
+                                       float width,
+                                       float height,
+                                       __global Particle* next,
+                                       __global uint* collisionCounts,
+                                       __global uint* nextCounts,
+                                       __global uint* cellOf,
+                                       __global uint* rankInCell)
+{
+    const uint k = get_global_id(0);
+    if (k >= count) return;
+    const GridGeometry grid = carom_grid(cellsPerLengthX, cellsPerLengthY, cols, rows);
+    const uint i = sortedIds[k];
+    const Particle self = state[cellOrder[k]];
+    const CaromResponse sum = carom_collect_response_from(i, self, state, sortedIds, cellOrder, cells, grid);
+    const Particle moved = carom_integrate(carom_apply_response(self, sum), dt, gravityX, gravityY, width, height);
+    next[k] = moved;
+    /* Most particles receive no impulse in a step: skip the read-modify-write. */
+    if (sum.impulses != 0u) collisionCounts[i] += sum.impulses;
+    carom_count_into_cell(k, moved.position, grid, nextCounts, cellOf, rankInCell);
+}

@@ -1,0 +1,60 @@
+# Scene files, trajectories, statistics and checkpoints from the command line
+# (included by tests/CMakeLists.txt, whose carom_cli_test, run, data and out it uses).
+
+# Every shipped scene runs from the command line (a few steps; the doctest
+# suite runs them whole on each backend).
+file(GLOB scenes ${CMAKE_SOURCE_DIR}/scenes/*.toml)
+foreach(scene IN LISTS scenes)
+    get_filename_component(name ${scene} NAME_WE)
+    carom_cli_test(scene_${name} pass "\"escaped\": 0" "run|--backend|cpu|--scene|${scene}|--steps|20|--json")
+endforeach()
+
+# Refusals: a message naming file, line, key and value, a non-zero exit, and
+# no output file left behind (${out} is also the trajectory here).
+set(traj "--trajectory|${out}")
+carom_cli_test(scene_typo fail "scene_typo.toml:5: unknown key 'group\\[1\\].raduis'; allowed in group\\[1\\]: count"
+               "run|--backend|cpu|--scene|${data}/scene_typo.toml|${traj}")
+carom_cli_test(scene_missing fail "cannot read scene file '.*no-such.toml': no such file"
+               "run|--backend|cpu|--scene|${data}/no-such.toml|--output-state|${out}")
+carom_cli_test(scene_group_option_ambiguous fail
+               "--particles sets the particle group of a scene, but '.*two_groups.toml' has 2 \\[\\[group\\]\\] tables"
+               "run|--backend|cpu|--scene|${data}/two_groups.toml|--particles|5|--output-state|${out}")
+carom_cli_test(scene_bad_override fail "dt must be a finite number > 0, got 0"
+               "run|--backend|cpu|--scene|${data}/two_groups.toml|--dt|0|--output-state|${out}")
+carom_cli_test(scene_with_input_state fail "--input-state excludes --scene"
+               "run|--scene|${data}/two_groups.toml|--input-state|${data}/two_disks.csv|--box|10|10")
+carom_cli_test(scene_two_groups_run pass "\"particles\": 40"
+               "run|--backend|cpu|--scene|${data}/two_groups.toml|--steps|5|--json")
+carom_cli_test(resume_missing fail "cannot read checkpoint '.*no-such.ckpt': no such file"
+               "run|--backend|cpu|--resume|${data}/no-such.ckpt|--output-state|${out}")
+carom_cli_test(resume_not_a_checkpoint fail "checkpoint '.*two_disks.csv': not a carom checkpoint"
+               "run|--backend|cpu|--resume|${data}/two_disks.csv|${traj}")
+carom_cli_test(resume_with_scene_option fail "--dt excludes --resume"
+               "run|--backend|cpu|--resume|${data}/two_disks.csv|--dt|0.1")
+carom_cli_test(every_zero fail "--every: Value 0 not in range" "${run}|--every|0")
+carom_cli_test(too_many_particles fail "--particles: 500000001 particles; allowed: 1 to 500000000"
+               "${run}|--particles|500000001")
+carom_cli_test(unwritable_trajectory fail "cannot write '/nonexistent-dir/t.xyz'"
+               "${run}|--trajectory|/nonexistent-dir/t.xyz")
+carom_cli_test(same_file_twice fail "--stats and --output-state name the same file"
+               "${run}|--stats|${out}")
+carom_cli_test(unwritable_checkpoint fail "cannot write '/nonexistent-dir/c.ckpt'"
+               "${run}|--checkpoint|/nonexistent-dir/c.ckpt")
+
+# The output files read back by the tools users read them with (ASE for the
+# trajectory), resumed runs put end to end, and Ctrl-C.
+find_package(Python3 COMPONENTS Interpreter)
+if(NOT Python3_Interpreter_FOUND)
+    message(WARNING "python3 not found (./install-deps.sh --test installs it): the output file tests are not run")
+    return()
+endif()
+set(backends cpu)
+if(OpenCL_FOUND)
+    set(backends cpu,opencl)
+endif()
+foreach(test IN ITEMS trajectory_reads_in_ase stats_csv checkpoint_layout resume_continues_bit_for_bit
+                      interrupt_writes_everything scene_outputs_and_overrides json_and_quiet_print_no_progress)
+    add_test(NAME outputs.${test}
+             COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/outputs_test.py --carom $<TARGET_FILE:carom>
+                     --work ${CMAKE_CURRENT_BINARY_DIR}/outputs --backends ${backends} ${test})
+endforeach()

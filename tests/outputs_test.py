@@ -1,0 +1,235 @@
+#!/usr/bin/env python3
+"""`carom run`'s output files, read back by the tools users read them with.
+
+    outputs_test.py --carom BUILD/carom --work DIR --backends cpu,opencl TEST
+
+TEST is one of the functions named test_* below; ctest runs each as its own
+test. The trajectory is read with ASE's extended XYZ reader (pip install ase,
+which ./install-deps.sh --test does).
+"""
+import argparse
+import csv
+import json
+import os
+import shutil
+import signal
+import struct
+import subprocess
+import sys
+import time
+import zlib
+
+ARGS = None
+
+
+def carom(*args, check=True):
+    """Runs carom; returns (stdout, stderr). Fails the test on an unexpected status."""
+    done = subprocess.run([ARGS.carom, *map(str, args)], capture_output=True, text=True, timeout=600)
+    if check and done.returncode != 0:
+        sys.exit(f"carom {' '.join(map(str, args))} failed ({done.returncode}):\n{done.stderr}")
+    return done.stdout, done.stderr
+
+
+def work(name):
+    """A fresh directory for one test."""
+    path = os.path.join(ARGS.work, name)
+    shutil.rmtree(path, ignore_errors=True)
+    os.makedirs(path)
+    return path
+
+
+def read_bytes(path):
+    with open(path, "rb") as f:
+        return f.read()
+
+
+def no_partial_files(directory):
+    leftovers = [f for f in os.listdir(directory) if f.endswith(".partial")]
+    assert not leftovers, f"temporary files left behind: {leftovers}"
+
+
+SCENE = ["--particles", 40, "--box", 30, 30, "--radius-min", 0.5, "--radius-max", 1.25,
+         "--mass-min", 1, "--mass-max", 3, "--speed", 2, "--seed", 3]
+
+
+def test_trajectory_reads_in_ase():
+    from ase.io import read  # pip install ase
+
+    d = work("ase")
+    xyz, end = os.path.join(d, "t.xyz"), os.path.join(d, "end.csv")
+    carom("run", "--backend", "cpu", *SCENE, "--steps", 50, "--every", 10, "--dt", 0.01,
+          "--trajectory", xyz, "--output-state", end)
+    frames = read(xyz, index=":", format="extxyz")
+    assert len(frames) == 6, len(frames)
+    with open(end) as f:
+        final = list(csv.DictReader(f))
+    for k, atoms in enumerate(frames):
+        assert len(atoms) == 40
+        assert atoms.info["step"] == 10 * k, atoms.info
+        assert abs(atoms.info["time"] - 0.1 * k) < 1e-6, atoms.info  # dt is a float32
+        assert list(atoms.pbc) == [False, False, False]
+        cell = atoms.cell.array
+        assert cell[0][0] == 30 and cell[1][1] == 30 and abs(cell[2][2] - 2 * max(atoms.arrays["radius"])) < 1e-6, cell
+        assert (atoms.positions[:, 2] == 0).all()
+        assert atoms.arrays["velo"].shape == (40, 3) and (atoms.arrays["velo"][:, 2] == 0).all()
+        assert list(atoms.arrays["id"]) == list(range(40))
+        masses, radii = atoms.arrays["mass"], atoms.arrays["radius"]  # OVITO's column names
+        assert ((1 <= masses) & (masses <= 3)).all() and ((0.5 <= radii) & (radii <= 1.25)).all()
+    last = frames[-1]
+    for i, row in enumerate(final):  # the same floats, to the last bit
+        assert last.positions[i][0] == float(row["x"]) and last.positions[i][1] == float(row["y"])
+        assert last.arrays["velo"][i][0] == float(row["vx"]) and last.arrays["velo"][i][1] == float(row["vy"])
+        assert last.arrays["mass"][i] == float(row["mass"]) and last.arrays["radius"][i] == float(row["radius"])
+    no_partial_files(d)
+
+
+def test_stats_csv():
+    d = work("stats")
+    stats = os.path.join(d, "s.csv")
+    out, _ = carom("run", "--backend", "cpu", "--particles", 300, "--packing", 0.4, "--steps", 100,
+                   "--every", 25, "--stats", stats, "--json")
+    summary = json.loads(out)
+    with open(stats) as f:
+        rows = list(csv.DictReader(f))
+    assert list(rows[0].keys()) == ["step", "time", "kinetic_energy", "momentum_x", "momentum_y",
+                                    "collisions", "max_overlap", "escaped"], rows[0].keys()
+    assert [int(r["step"]) for r in rows] == [0, 25, 50, 75, 100]
+    collisions = [int(r["collisions"]) for r in rows]
+    assert collisions == sorted(collisions) and collisions[0] == 0
+    assert collisions[-1] == summary["collisions"]
+    assert float(rows[0]["kinetic_energy"]) == summary["kinetic_energy"]["initial"]
+    assert float(rows[-1]["kinetic_energy"]) == summary["kinetic_energy"]["final"]
+    assert abs(float(rows[-1]["time"]) - 100 * 0.01) < 1e-6
+    assert summary["step"] == 100 and summary["interrupted"] is False
+
+
+def test_checkpoint_layout():
+    d = work("layout")
+    ckpt = os.path.join(d, "c.ckpt")
+    carom("run", "--backend", "cpu", "--particles", 5, "--box", 20, 20, "--steps", 30, "--dt", 0.02,
+          "--gravity", 0, -1, "--checkpoint", ckpt)
+    data = read_bytes(ckpt)
+    magic, mark, version, count = struct.unpack_from("<8sIIQ", data, 0)
+    width, height, dt, gx, gy, boundary, step, sim_time, collisions = struct.unpack_from("<5fIQdQ", data, 24)
+    assert (magic, mark, version, count) == (b"CAROMCKP", 0x01020304, 1, 5)
+    assert (width, height, gx, gy, boundary, step) == (20, 20, 0, -1, 0, 30)
+    assert abs(dt - 0.02) < 1e-7 and abs(sim_time - 30 * dt) < 1e-12
+    assert len(data) == 72 + 24 * count + 4
+    assert struct.unpack_from("<I", data, len(data) - 4)[0] == zlib.crc32(data[:-4])
+
+
+def run_with_outputs(d, backend, tag, *args):
+    """carom run with every output named after `tag` in `d`; returns their paths."""
+    paths = {k: os.path.join(d, f"{tag}.{k}") for k in ("xyz", "csv", "ckpt", "state")}
+    carom("run", "--backend", backend, *args, "--every", 20, "--trajectory", paths["xyz"], "--stats", paths["csv"],
+          "--checkpoint", paths["ckpt"], "--output-state", paths["state"], "--quiet")
+    return paths
+
+
+def test_resume_continues_bit_for_bit():
+    """200 steps in one run equal 100 steps, a checkpoint and 100 resumed steps: the final
+    state, the checkpoint, and the trajectory and statistics put end to end."""
+    scene = ["--particles", 800, "--packing", 0.5, "--radius-min", 0.6, "--radius-max", 1.2,
+             "--mass-min", 0.5, "--mass-max", 5, "--gravity", 0, -0.3, "--dt", 0.01]
+    backends = ARGS.backends.split(",")
+    pairs = [(b, b) for b in backends] + [(a, b) for a in backends for b in backends if a != b]
+    for first, second in pairs:
+        d = work(f"resume-{first}-{second}")
+        whole = run_with_outputs(d, first, "whole", *scene, "--steps", 200)
+        one = run_with_outputs(d, first, "one", *scene, "--steps", 100)
+        two = run_with_outputs(d, second, "two", "--resume", one["ckpt"], "--steps", 100)
+        label = f"{first} then {second}"
+        assert read_bytes(whole["state"]) == read_bytes(two["state"]), label
+        assert read_bytes(whole["ckpt"]) == read_bytes(two["ckpt"]), label
+        assert read_bytes(whole["xyz"]) == read_bytes(one["xyz"]) + read_bytes(two["xyz"]), label
+        header, rest = read_bytes(two["csv"]).split(b"\n", 1)
+        assert read_bytes(whole["csv"]) == read_bytes(one["csv"]) + rest, label
+        no_partial_files(d)
+
+
+def checkpoint_step(path):
+    """The step a checkpoint holds, 0 when there is none yet (it is replaced whole, never half-written)."""
+    return struct.unpack_from("<Q", read_bytes(path), 48)[0] if os.path.exists(path) else 0
+
+
+def test_interrupt_writes_everything():
+    """Ctrl-C stops the run cleanly: status 130, every output complete, and the checkpoint
+    continues exactly as an uninterrupted run would."""
+    d = work("interrupt")
+    ckpt, state = os.path.join(d, "c.ckpt"), os.path.join(d, "end.csv")
+    scene = ["--backend", "cpu", "--particles", 500, "--packing", 0.4, "--seed", 9]
+    arguments = [*scene, "--steps", 10 ** 9, "--every", 50, "--checkpoint", ckpt, "--trajectory",
+                 os.path.join(d, "t.xyz"), "--stats", os.path.join(d, "s.csv"), "--output-state", state]
+    process = subprocess.Popen([ARGS.carom, "run", *map(str, arguments)],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 300
+    while checkpoint_step(ckpt) == 0:  # a checkpoint after step 0: the run is under way
+        assert process.poll() is None and time.monotonic() < deadline, "carom wrote no checkpoint after step 0"
+        time.sleep(0.05)
+    process.send_signal(signal.SIGINT)
+    _, err = process.communicate(timeout=300)
+    assert process.returncode == 130, (process.returncode, err)
+    assert "interrupted at step" in err and "carom run --resume" in err, err
+    step = checkpoint_step(ckpt)
+    with open(os.path.join(d, "s.csv")) as f:
+        assert int(list(csv.DictReader(f))[-1]["step"]) <= step
+    no_partial_files(d)
+
+    resumed, fresh = os.path.join(d, "resumed.csv"), os.path.join(d, "fresh.csv")
+    carom("run", "--backend", "cpu", "--resume", ckpt, "--steps", 30, "--output-state", resumed)
+    carom("run", *scene, "--steps", step + 30, "--output-state", fresh)
+    assert read_bytes(resumed) == read_bytes(fresh)
+    carom("run", *scene, "--steps", step, "--output-state", fresh)
+    assert read_bytes(state) == read_bytes(fresh)
+
+
+def test_scene_outputs_and_overrides():
+    """A scene's [output] files are written; command-line options override the scene."""
+    d = work("scene")
+    scene = os.path.join(d, "s.toml")
+    with open(scene, "w") as f:
+        f.write(f"""box = [40, 40]
+dt = 0.02
+steps = 60
+[[group]]
+count = 50
+temperature = 2
+[output]
+stats = "{os.path.join(d, 'scene.csv')}"
+every = 20
+""")
+    out, _ = carom("run", "--backend", "cpu", "--scene", scene, "--json")
+    summary = json.loads(out)
+    assert (summary["steps"], summary["particles"], summary["box"]) == (60, 50, [40, 40]), summary
+    assert abs(summary["dt"] - 0.02) < 1e-7
+    with open(os.path.join(d, "scene.csv")) as f:
+        assert [int(r["step"]) for r in csv.DictReader(f)] == [0, 20, 40, 60]
+    out, _ = carom("run", "--backend", "cpu", "--scene", scene, "--steps", 10, "--dt", 0.005, "--particles", 20,
+                   "--box", 30, 50, "--every", 5, "--stats", os.path.join(d, "cli.csv"), "--json")
+    summary = json.loads(out)
+    assert (summary["steps"], summary["particles"], summary["box"]) == (10, 20, [30, 50]), summary
+    assert abs(summary["dt"] - 0.005) < 1e-9
+    with open(os.path.join(d, "cli.csv")) as f:
+        assert [int(r["step"]) for r in csv.DictReader(f)] == [0, 5, 10]
+
+
+def test_json_and_quiet_print_no_progress():
+    for flag in ("--json", "--quiet"):
+        _, err = carom("run", "--backend", "cpu", "--particles", 100, "--steps", 20, flag)
+        assert "ETA" not in err and "\r" not in err, err
+
+
+def main():
+    global ARGS
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--carom", required=True)
+    parser.add_argument("--work", required=True)
+    parser.add_argument("--backends", default="cpu")
+    parser.add_argument("test")
+    ARGS = parser.parse_args()
+    globals()["test_" + ARGS.test]()
+    print(f"outputs_test.py {ARGS.test}: passed")
+
+
+if __name__ == "__main__":
+    main()

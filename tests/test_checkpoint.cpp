@@ -1,0 +1,223 @@
+// Checkpoints: a resumed run continues bit for bit, on each backend and
+// across backends; damaged files are refused with a message, never a crash.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+
+#include "engine/checkpoint.h"
+#include "support.h"
+
+using namespace carom;
+using namespace carom::test;
+
+namespace {
+
+struct Run {
+    WorldDef world;
+    std::vector<Particle> particles;
+};
+
+// Polydisperse, unequal masses, under gravity: every field of the state matters.
+Run polydisperseRun() {
+    SceneDef scene;
+    scene.particles = 1500;
+    scene.packing = 0.4f;
+    scene.radiusMin = 0.5f;
+    scene.radiusMax = 1.2f;
+    scene.massMin = 0.5f;
+    scene.massMax = 4.0f;
+    scene.speed = 1.5f;
+    const InitialState s = makeInitialState(scene);
+    WorldDef world = box(s.width, s.height, 0.005f);
+    world.gravity = float2{0.0f, -0.5f};
+    return Run{world, s.particles};
+}
+
+bool sameBits(const std::vector<Particle>& a, const std::vector<Particle>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Particle)) == 0;
+}
+
+// Runs `steps` steps of `start` on `kind` and checkpoints the result.
+Checkpoint runAndCheckpoint(const std::string& kind, const Checkpoint& start, std::uint64_t steps) {
+    auto backend = makeTestBackend(kind, start.world);
+    backend->setParticles(start.particles);
+    backend->step(steps);
+    Checkpoint end;
+    end.world = start.world;
+    end.step = start.step + steps;
+    end.time = double(end.step) * start.world.dt;
+    end.collisions = start.collisions + backend->collisions();
+    backend->readParticles(end.particles);
+    return end;
+}
+
+std::string errorOf(const std::string& bytes) {
+    try {
+        decodeCheckpoint(bytes, "c.ckpt");
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+std::string small() {
+    Checkpoint c;
+    c.world = box(10, 10);
+    c.step = 7;
+    c.time = 0.07;
+    c.collisions = 3;
+    c.particles = {disk(2, 2, 1, 0), disk(5, 5, 0, -1, 2, 0.5f), disk(8, 8, 0.25f, 0.5f, 3, 1.5f)};
+    return encodeCheckpoint(c);
+}
+
+void putU32(std::string& bytes, std::size_t offset, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) bytes[offset + i] = static_cast<char>(v >> (8 * i));
+}
+
+}  // namespace
+
+TEST_CASE("checkpoint: every field reads back bit for bit") {
+    const Run run = polydisperseRun();
+    Checkpoint c;
+    c.world = run.world;
+    c.step = 123456789012ull;
+    c.time = 617283.945060;
+    c.collisions = 98765;
+    c.particles = run.particles;
+    writeCheckpoint("roundtrip.ckpt", c);
+    const Checkpoint back = readCheckpoint("roundtrip.ckpt");
+    CHECK(back.world.width == c.world.width);
+    CHECK(back.world.height == c.world.height);
+    CHECK(back.world.dt == c.world.dt);
+    CHECK(back.world.gravity.y == c.world.gravity.y);
+    CHECK(back.step == c.step);
+    CHECK(back.time == c.time);
+    CHECK(back.collisions == c.collisions);
+    CHECK(sameBits(back.particles, c.particles));
+    std::ifstream file("roundtrip.ckpt", std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    CHECK(bytes.size() == 72 + 24 * c.particles.size() + 4);
+    CHECK(bytes.substr(0, 8) == "CAROMCKP");
+    std::remove("roundtrip.ckpt");
+}
+
+TEST_CASE("checkpoint: 2000 steps in one run equal 1000, a checkpoint and 1000 resumed, on each backend") {
+    const Run run = polydisperseRun();
+    const Checkpoint start{run.world, 0, 0.0, 0, run.particles};
+    for (const std::string& kind : backendKinds()) {
+        CAPTURE(kind);
+        const Checkpoint whole = runAndCheckpoint(kind, start, 2000);
+        writeCheckpoint("half.ckpt", runAndCheckpoint(kind, start, 1000));
+        const Checkpoint resumed = runAndCheckpoint(kind, readCheckpoint("half.ckpt"), 1000);
+        CHECK(resumed.step == 2000);
+        CHECK(resumed.time == whole.time);
+        CHECK(resumed.collisions == whole.collisions);
+        CHECK(whole.collisions > 0);
+        CHECK(sameBits(resumed.particles, whole.particles));
+    }
+    std::remove("half.ckpt");
+}
+
+TEST_CASE("checkpoint: a run resumed on another backend continues bit for bit where the backends agree") {
+    const auto kinds = backendKinds();
+    if (std::find(kinds.begin(), kinds.end(), "opencl") == kinds.end()) {
+        MESSAGE("this build has no OpenCL backend: nothing to compare");
+        return;
+    }
+    const Run run = polydisperseRun();
+    if (!makeTestBackend("opencl", run.world)->exactArithmetic()) {
+        MESSAGE("the OpenCL device lacks correctly rounded divide/sqrt: the backends do not agree bitwise");
+        return;
+    }
+    const Checkpoint start{run.world, 0, 0.0, 0, run.particles};
+    const Checkpoint whole = runAndCheckpoint("cpu", start, 2000);
+    for (const auto& [first, second] : {std::pair{"cpu", "opencl"}, std::pair{"opencl", "cpu"}}) {
+        CAPTURE(first);
+        writeCheckpoint("cross.ckpt", runAndCheckpoint(first, start, 1000));
+        const Checkpoint resumed = runAndCheckpoint(second, readCheckpoint("cross.ckpt"), 1000);
+        CHECK(resumed.collisions == whole.collisions);
+        CHECK(sameBits(resumed.particles, whole.particles));
+    }
+    std::remove("cross.ckpt");
+}
+
+TEST_CASE("checkpoint: every truncation is refused") {
+    const std::string bytes = small();
+    for (std::size_t length = 0; length < bytes.size(); ++length) {
+        CAPTURE(length);
+        const std::string message = errorOf(bytes.substr(0, length));
+        CHECK_MESSAGE(message.rfind("checkpoint 'c.ckpt': ", 0) == 0, message);
+        if (length >= 8) CHECK_MESSAGE(message.find("truncated") != std::string::npos, message);
+    }
+    CHECK(errorOf(bytes).empty());
+}
+
+TEST_CASE("checkpoint: every flipped bit is refused") {
+    const std::string bytes = small();
+    for (std::size_t bit = 0; bit < bytes.size() * 8; ++bit) {
+        std::string damaged = bytes;
+        damaged[bit / 8] = static_cast<char>(damaged[bit / 8] ^ (1 << (bit % 8)));
+        CAPTURE(bit);
+        CHECK_FALSE(errorOf(damaged).empty());
+    }
+    std::string payload = bytes;
+    payload[100] ^= 0x10;
+    CHECK(errorOf(payload).find("checksum mismatch: the file is corrupted") != std::string::npos);
+}
+
+TEST_CASE("checkpoint: wrong files are refused with what is wrong") {
+    const std::string bytes = small();
+    std::string version = bytes;
+    putU32(version, 12, 2);
+    CHECK(errorOf(version).find("format version 2; this carom reads version 1 (written by a newer carom?)") !=
+          std::string::npos);
+
+    std::string swapped = bytes;
+    putU32(swapped, 8, 0x04030201);
+    CHECK(errorOf(swapped).find("byte order is swapped (big-endian)") != std::string::npos);
+
+    CHECK(errorOf("id,x,y,vx,vy,mass,radius\n0,1,1,0,0,1,1\n").find("not a carom checkpoint") != std::string::npos);
+    CHECK(errorOf(bytes + "x").find("trailing bytes") != std::string::npos);
+
+    std::string count = bytes;
+    count[16 + 7] = 0x7f;  // a particle count of about 9e18
+    CHECK(errorOf(count).find("corrupted header: particle count") != std::string::npos);
+    count = bytes;
+    putU32(count, 16, 0);
+    CHECK(errorOf(count).find("particle count 0 is outside 1..") != std::string::npos);
+
+    CHECK_THROWS_WITH_AS(readCheckpoint("no-such.ckpt"), doctest::Contains("no such file"), Error);
+    CHECK_THROWS_WITH_AS(readCheckpoint("."), doctest::Contains("not a regular file"), Error);
+}
+
+TEST_CASE("checkpoint: a valid checksum over invalid values is still refused") {
+    Checkpoint c;
+    c.world = box(10, 10);
+    c.particles = {disk(5, 5, 0, 0)};
+    c.particles[0].position.x = NAN;
+    CHECK(errorOf(encodeCheckpoint(c)).find("particle 0: position (nan, 5) puts the disk outside the box") !=
+          std::string::npos);
+    c.particles = {disk(5, 5, 0, 0)};
+    c.world.dt = 0;
+    CHECK(errorOf(encodeCheckpoint(c)).find("dt must be a finite number > 0") != std::string::npos);
+    c.world.dt = 0.01f;
+    c.time = -1;
+    CHECK(errorOf(encodeCheckpoint(c)).find("time must be a finite number >= 0") != std::string::npos);
+}
+
+TEST_CASE("checkpoint: a failed write leaves the previous checkpoint in place") {
+    Checkpoint c;
+    c.world = box(10, 10);
+    c.particles = {disk(5, 5, 0, 0)};
+    CHECK_THROWS_WITH_AS(writeCheckpoint("no-such-dir/c.ckpt", c), doctest::Contains("cannot write"), Error);
+    writeCheckpoint("keep.ckpt", c);
+    c.step = 5;
+    writeCheckpoint("keep.ckpt", c);  // replaces the old one whole
+    CHECK(readCheckpoint("keep.ckpt").step == 5);
+    std::ifstream partial("keep.ckpt.partial");
+    CHECK_FALSE(partial.good());
+    std::remove("keep.ckpt");
+}

@@ -1,0 +1,227 @@
+// The resident pipeline's grid, built on the OpenCL device, against the
+// shared host builder; the resident state across calls; and the all-pairs
+// baselines of `carom bench` against the grid search.
+#include <algorithm>
+#include <cstdlib>
+#include <cstring>
+#include <numeric>
+#include <random>
+
+#include "bench/all_pairs_cpu.h"
+#include "engine/grid.h"
+#include "support.h"
+#ifdef CAROM_HAVE_OPENCL
+#include "backends/opencl_backend.h"
+#endif
+
+using namespace carom;
+using carom::test::box;
+using carom::test::disk;
+
+namespace {
+
+// Random disks in the box: a crowded patch where cells hold many disks
+// (overlapping), the rest uniform, and disks touching the walls and lying on
+// cell boundaries.
+std::vector<Particle> randomDisks(unsigned seed, std::size_t count, const WorldDef& world, float radius) {
+    std::mt19937 rng(seed);
+    const float w = world.width, h = world.height;
+    std::uniform_real_distribution<float> x(radius, w - radius), y(radius, h - radius), v(-1, 1);
+    std::uniform_real_distribution<float> patchX(radius, radius + 0.1f * (w - 2 * radius));
+    std::vector<Particle> ps;
+    for (std::size_t i = 0; i < count; ++i)
+        ps.push_back(disk(i % 4 == 0 ? patchX(rng) : x(rng), y(rng), v(rng), v(rng), 1, radius));
+    const GridGeometry g = gridGeometryFor(w, h, radius, count + 6);
+    const float cellWidth = w / g.cols;
+    for (float edgeX : {radius, w - radius, cellWidth, 2 * cellWidth, 3 * cellWidth})
+        ps.push_back(disk(edgeX, y(rng), 0, 0, 1, radius));
+    ps.push_back(disk(w - radius, h - radius, 0, 0, 1, radius));
+    return ps;
+}
+
+std::vector<Particle> read(Backend& backend) {
+    std::vector<Particle> ps;
+    backend.readParticles(ps);
+    return ps;
+}
+
+}  // namespace
+
+#ifdef CAROM_HAVE_OPENCL
+
+namespace {
+
+Grid hostGrid(const std::vector<Particle>& ps, const WorldDef& world, float maxRadius) {
+    Grid grid;
+    grid.geometry = gridGeometryFor(world.width, world.height, maxRadius, ps.size());
+    buildGrid(ps.data(), ps.size(), grid);
+    return grid;
+}
+
+void checkSameGrid(const Grid& device, const Grid& host) {
+    REQUIRE(device.cells.size() == host.cells.size());
+    std::size_t differingCells = 0;
+    for (std::size_t c = 0; c < host.cells.size(); ++c)
+        if (device.cells[c].start != host.cells[c].start || device.cells[c].count != host.cells[c].count)
+            ++differingCells;
+    CHECK_MESSAGE(differingCells == 0, differingCells << " of " << host.cells.size() << " cells differ");
+    CHECK(device.sortedIndices == host.sortedIndices);
+}
+
+bool bitwiseEqual(const std::vector<Particle>& a, const std::vector<Particle>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Particle)) == 0;
+}
+
+std::unique_ptr<OpenClBackend> makeOpenCl(const WorldDef& world, Pipeline pipeline) {
+    const char* device = std::getenv("CAROM_TEST_DEVICE");
+    return std::make_unique<OpenClBackend>(world, device ? device : "", pipeline);
+}
+
+}  // namespace
+
+TEST_CASE("resident grid: the device builds the shared builder's cells and sortedIndices") {
+    struct Case {
+        unsigned seed;
+        std::size_t count;
+        float width, height, radius;
+    };
+    // From one disk (a single scan tile) to grids whose scan needs two levels;
+    // crowded, dilute, and a narrow box.
+    for (const Case c : {Case{1, 1, 10, 10, 1.0f}, Case{2, 3000, 80, 60, 0.7f}, Case{3, 20000, 300, 250, 1.0f},
+                         Case{4, 50000, 5000, 5000, 0.5f}, Case{5, 2000, 400, 4, 1.0f}}) {
+        CAPTURE(c.seed);
+        const WorldDef world = box(c.width, c.height);
+        const std::vector<Particle> ps = randomDisks(c.seed, c.count, world, c.radius);
+        auto backend = makeOpenCl(world, Pipeline::Resident);
+        backend->setParticles(ps);
+        checkSameGrid(backend->readDeviceGrid(), hostGrid(ps, world, c.radius));
+    }
+}
+
+TEST_CASE("resident grid: the scan gives the same grid with one to four levels") {
+    using namespace opencl;
+    const char* selector = std::getenv("CAROM_TEST_DEVICE");
+    const DeviceInfo device = selectDevice(selector ? selector : "");
+    cl_int status = CL_SUCCESS;
+    const Context context(clCreateContext(nullptr, 1, &device.id, nullptr, nullptr, &status));
+    check(status, "clCreateContext");
+    const Queue queue(clCreateCommandQueue(context.get(), device.id, 0, &status));
+    check(status, "clCreateCommandQueue");
+    const Program program = buildProgram(context.get(), device, false);
+
+    const WorldDef world = box(400, 300);
+    const std::vector<Particle> ps = randomDisks(11, 20000, world, 1.0f);
+    const Grid host = hostGrid(ps, world, 1.0f);
+    const auto upload = [&](const void* data, std::size_t bytes) {
+        Buffer buffer = createBuffer(context.get(), bytes, "test data");
+        check(clEnqueueWriteBuffer(queue.get(), buffer.get(), CL_TRUE, 0, bytes, data, 0, nullptr, nullptr),
+              "clEnqueueWriteBuffer");
+        return buffer;
+    };
+    std::vector<cl_uint> ids(ps.size());
+    std::iota(ids.begin(), ids.end(), cl_uint{0});
+    const Buffer state = upload(ps.data(), ps.size() * sizeof(Particle));
+    const Buffer idBuffer = upload(ids.data(), ids.size() * sizeof(cl_uint));
+    const Buffer sortedIds = createBuffer(context.get(), ps.size() * sizeof(cl_uint), "sorted ids");
+    // Small scan groups make small tiles, so ~30 000 cells need several levels.
+    std::size_t mostLevels = 0;
+    for (std::size_t group : {1, 2, 8, 512}) {
+        DeviceGrid grid(context.get(), device, program.get(), host.geometry, ps.size(), nullptr, group);
+        grid.count(queue.get(), state.get());
+        grid.build(queue.get(), idBuffer.get(), sortedIds.get());
+        CAPTURE(grid.scanLevels());
+        checkSameGrid(grid.read(queue.get(), sortedIds.get()), host);
+        mostLevels = std::max(mostLevels, grid.scanLevels());
+    }
+    CHECK(mostLevels >= 4);
+}
+
+TEST_CASE("resident grid: stays the shared builder's as the state evolves") {
+    SceneDef scene;
+    scene.particles = 5000;
+    scene.packing = 0.45f;
+    scene.radiusMin = 0.4f;
+    scene.radiusMax = 1.0f;
+    scene.speed = 3.0f;
+    const InitialState s = makeInitialState(scene);
+    const WorldDef world = box(s.width, s.height);
+    auto backend = makeOpenCl(world, Pipeline::Resident);
+    backend->setParticles(s.particles);
+    for (int round = 0; round < 4; ++round) {
+        CAPTURE(round);
+        backend->step(37);
+        checkSameGrid(backend->readDeviceGrid(), hostGrid(read(*backend), world, scene.radiusMax));
+    }
+}
+
+TEST_CASE("resident pipeline: steps in several calls, with reads between, equal the CPU bitwise") {
+    SceneDef scene;
+    scene.particles = 4000;
+    scene.packing = 0.5f;
+    const InitialState s = makeInitialState(scene);
+    const WorldDef world = box(s.width, s.height);
+    auto resident = makeOpenCl(world, Pipeline::Resident);
+    if (!resident->exactArithmetic()) {
+        MESSAGE("the device lacks correctly rounded divide/sqrt: no bitwise comparison");
+        return;
+    }
+    auto cpu = makeBackend(BackendDef{"cpu", "", "seed"}, world);
+    resident->setParticles(s.particles);
+    cpu->setParticles(s.particles);
+    for (std::uint64_t steps : {1, 63, 64, 65, 7}) {  // around the backend's sync interval
+        CAPTURE(steps);
+        resident->step(steps);
+        cpu->step(steps);
+        CHECK(bitwiseEqual(read(*resident), read(*cpu)));
+        CHECK(resident->collisions() == cpu->collisions());
+    }
+    // A new state replaces the old one entirely.
+    resident->setParticles(s.particles);
+    cpu->setParticles(s.particles);
+    resident->step(10);
+    cpu->step(10);
+    CHECK(bitwiseEqual(read(*resident), read(*cpu)));
+    CHECK(resident->collisions() == cpu->collisions());
+}
+
+TEST_CASE("pipelines: resident needs the OpenCL backend, unknown names are refused") {
+    const WorldDef world = box(10, 10);
+    CHECK_THROWS_WITH_AS(makeBackend(BackendDef{"cpu", "", "resident"}, world),
+                         doctest::Contains("--pipeline resident needs --backend opencl"), Error);
+    CHECK_THROWS_WITH_AS(makeBackend(BackendDef{"opencl", "", "fast"}, world),
+                         doctest::Contains("unknown pipeline 'fast'; allowed: seed, resident"), Error);
+    CHECK_THROWS_WITH_AS(makeOpenCl(world, Pipeline::Seed)->readDeviceGrid(),
+                         doctest::Contains("resident pipeline"), Error);
+}
+
+#endif  // CAROM_HAVE_OPENCL
+
+// One step from overlapping disks: every method must find the same pairs
+// (equal collision counts); all pairs sums them in another order, so the
+// positions agree to rounding only.
+TEST_CASE("all pairs: the naive baselines find the grid search's collisions") {
+    const WorldDef world = box(60, 50);
+    const std::vector<Particle> ps = randomDisks(9, 2500, world, 0.8f);
+    std::vector<std::unique_ptr<Backend>> naive;
+    naive.push_back(std::make_unique<bench::AllPairsCpuBackend>(world));
+#ifdef CAROM_HAVE_OPENCL
+    naive.push_back(makeOpenCl(world, Pipeline::AllPairs));
+#endif
+    auto grid = makeBackend(BackendDef{"cpu", "", "seed"}, world);
+    grid->setParticles(ps);
+    grid->step(1);
+    const std::vector<Particle> expected = read(*grid);
+    REQUIRE(grid->collisions() > 500);
+    for (auto& backend : naive) {
+        CAPTURE(backend->device());
+        backend->setParticles(ps);
+        backend->step(1);
+        CHECK(backend->collisions() == grid->collisions());
+        const std::vector<Particle> got = read(*backend);
+        REQUIRE(got.size() == expected.size());
+        for (std::size_t i = 0; i < got.size(); ++i) {
+            CHECK(std::abs(got[i].position.x - expected[i].position.x) < 1e-4f);
+            CHECK(std::abs(got[i].velocity.y - expected[i].velocity.y) < 1e-4f);
+        }
+    }
+}

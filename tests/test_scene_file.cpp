@@ -1,0 +1,389 @@
+// Scene files: parsing, the refusal of every bad value with file, line, key,
+// value and what is allowed, placement of groups and disks, and every scene
+// in scenes/ run on each backend.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+
+#include "engine/diagnostics.h"
+#include "engine/scene_file.h"
+#include "support.h"
+
+using namespace carom;
+using namespace carom::test;
+
+namespace {
+
+std::string parseError(const std::string& text) {
+    try {
+        makeInitialState(parseSceneFile(text, "s.toml"));
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+WorldDef worldOf(const SceneFile& scene, const InitialState& s) {
+    WorldDef w = scene.world;
+    w.width = s.width;
+    w.height = s.height;
+    return w;
+}
+
+bool inside(const Particle& p, const Region& r) {
+    return p.position.x - p.radius >= r.xMin && p.position.x + p.radius <= r.xMax &&
+           p.position.y - p.radius >= r.yMin && p.position.y + p.radius <= r.yMax;
+}
+
+std::vector<std::filesystem::path> shippedScenes() {
+    std::vector<std::filesystem::path> scenes;
+    for (const auto& entry : std::filesystem::directory_iterator(CAROM_SCENES_DIR))
+        if (entry.path().extension() == ".toml") scenes.push_back(entry.path());
+    std::sort(scenes.begin(), scenes.end());
+    return scenes;
+}
+
+}  // namespace
+
+TEST_CASE("scene file: every key is read") {
+    const SceneFile s = parseSceneFile(R"(
+box = [100, 60.5]
+boundary = "walls"
+dt = 0.005
+steps = 250
+gravity = [0, -9.81]
+seed = 42
+
+[[group]]
+name = "heavy"
+count = 20
+radius = [0.5, 1.5]
+mass = 10
+temperature = 2.5
+region = [0, 0, 50, 60.5]
+
+[[group]]
+count = 30
+speed = 3
+region = [50, 0, 100, 30]
+
+[[disk]]
+position = [80, 45]
+velocity = [-1, 0.5]
+mass = 4
+radius = 2
+
+[output]
+trajectory = "t.xyz"
+stats = "s.csv"
+checkpoint = "c.ckpt"
+state = "f.csv"
+every = 25
+)",
+                                       "s.toml");
+    CHECK(s.world.width == 100.0f);
+    CHECK(s.world.height == 60.5f);
+    CHECK(s.world.dt == 0.005f);
+    CHECK(s.world.gravity.y == -9.81f);
+    CHECK(s.steps == 250);
+    CHECK(s.seed == 42);
+    REQUIRE(s.groups.size() == 2);
+    CHECK(s.groups[0].name == "group[1] 'heavy'");
+    CHECK(s.groups[0].line == 9);
+    CHECK(s.groups[0].count == 20);
+    CHECK(s.groups[0].radiusMin == 0.5f);
+    CHECK(s.groups[0].radiusMax == 1.5f);
+    CHECK(s.groups[0].massMin == 10.0f);
+    CHECK(s.groups[0].massMax == 10.0f);
+    CHECK(s.groups[0].temperature == 2.5f);
+    REQUIRE(s.groups[0].region);
+    CHECK(s.groups[0].region->yMax == 60.5f);
+    CHECK(s.groups[1].name == "group[2]");
+    CHECK(s.groups[1].speed == 3.0f);
+    CHECK(s.groups[1].region->xMin == 50.0f);
+    REQUIRE(s.disks.size() == 1);
+    CHECK(s.disks[0].position.y == 45.0f);
+    CHECK(s.disks[0].velocity.y == 0.5f);
+    CHECK(s.disks[0].mass == 4.0f);
+    CHECK(s.disks[0].radius == 2.0f);
+    CHECK(s.output.trajectory == "t.xyz");
+    CHECK(s.output.stats == "s.csv");
+    CHECK(s.output.checkpoint == "c.ckpt");
+    CHECK(s.output.state == "f.csv");
+    CHECK(s.output.every == 25);
+
+    const InitialState placed = makeInitialState(s);
+    REQUIRE(placed.particles.size() == 51);
+    for (std::size_t i = 0; i < 20; ++i) CHECK(inside(placed.particles[i], *s.groups[0].region));
+    CHECK(placed.particles[50].position.x == 80.0f);
+    CHECK(placed.particles[50].radius == 2.0f);
+    CHECK_NOTHROW(validateParticles(placed.particles, worldOf(s, placed), "scene"));
+    CHECK(measure(placed.particles, worldOf(s, placed)).maxOverlap == 0.0);
+}
+
+TEST_CASE("scene file: defaults") {
+    const SceneFile s = parseSceneFile("box = [10, 10]\n[[disk]]\nposition = [5, 5]\n", "s.toml");
+    CHECK(s.world.dt == 0.01f);
+    CHECK(s.world.gravity.x == 0.0f);
+    CHECK(s.world.gravity.y == 0.0f);
+    CHECK(s.steps == 1000);
+    CHECK(s.seed == 1);
+    CHECK(s.output.every == 100);
+    CHECK(s.output.trajectory.empty());
+    REQUIRE(s.disks.size() == 1);
+    CHECK(s.disks[0].mass == 1.0f);
+    CHECK(s.disks[0].radius == 1.0f);
+    CHECK(s.disks[0].velocity.x == 0.0f);
+}
+
+TEST_CASE("scene file: bad input is refused with file, line, key, value and what is allowed") {
+    struct Case {
+        std::string text;
+        const char* message;
+    };
+    const std::string g = "box = [60, 40]\n[[group]]\n";
+    for (const Case& c : std::vector<Case>{
+             // TOML syntax
+             Case{"box = [60, 40\n", "s.toml:1:"},
+             Case{"box = [60, 40]\nbox = [1, 1]\n", "s.toml:2:"},
+             Case{"box = [60, 40]\ndt = \n", "not valid TOML"},
+             Case{"\xff\xfe = 1\n", "not valid TOML"},
+             // unknown keys, at every level
+             Case{"box = [60, 40]\nradious = 2\n", "s.toml:2: unknown key 'radious'; allowed: boundary, box, disk"},
+             Case{"box = [60, 40]\n[[group]]\ncount = 3\nradious = 2\n",
+                  "s.toml:4: unknown key 'group[1].radious'; allowed in group[1]: count, mass, name"},
+             Case{"box = [60, 40]\n[[disk]]\nposition = [5, 5]\nspeed = 2\n",
+                  "s.toml:4: unknown key 'disk[1].speed'; allowed in disk[1]: mass, position, radius, velocity"},
+             Case{"box = [60, 40]\n[[disk]]\nposition = [5, 5]\n[output]\neverry = 2\n",
+                  "s.toml:5: unknown key 'output.everry'"},
+             Case{"box = [60, 40]\n[groups]\ncount = 3\n", "unknown key 'groups'"},
+             // the box
+             Case{"dt = 0.1\n[[disk]]\nposition = [5, 5]\n", "s.toml:1: the scene needs box = [W, H]"},
+             Case{"box = [60, 40]\npacking = 0.3\n", "s.toml:2: packing = 0.3: give box or packing, not both"},
+             Case{"box = [60]\n", "s.toml:1: box = [60]: must be [x, y], two numbers, each a finite number > 0"},
+             Case{"box = [60, -4]\n", "s.toml:1: box[1] = -4: must be a finite number > 0"},
+             Case{"box = [60, \"wide\"]\n", "box[1] = \"wide\": must be a finite number > 0"},
+             Case{"box = [60, inf]\n", "box[1] = inf: must be a finite number > 0"},
+             Case{"box = [60, 1e39]\n", "box[1] = 1e+39: is out of range: carom computes in 32-bit floats"},
+             Case{"box = [60, 1e-50]\n", "box[1] = 1e-50: is too small for a 32-bit float"},
+             Case{"packing = 0.8\n", "s.toml:1: packing = 0.8: must be in (0, 0.7]"},
+             Case{"packing = 0.1\n[[group]]\ncount = 2\nradius = 3e38\n",
+                  "s.toml: box width must be a finite number > 0, got inf"},
+             Case{"packing = 0\n", "packing = 0: must be a finite number > 0"},
+             Case{"box = [60, 40]\nboundary = \"periodic\"\n",
+                  "s.toml:2: boundary = \"periodic\": allowed: \"walls\""},
+             Case{"box = [60, 40]\nboundary = 3\n", "boundary = 3: must be a non-empty string"},
+             // motion and run
+             Case{"box = [60, 40]\ndt = -0.01\n", "s.toml:2: dt = -0.01: must be a finite number > 0"},
+             Case{"box = [60, 40]\ndt = nan\n", "dt = nan: must be a finite number > 0"},
+             Case{"box = [60, 40]\ndt = \"fast\"\n", "dt = \"fast\": must be a finite number > 0"},
+             Case{"box = [60, 40]\ngravity = [0, -inf]\n", "gravity[1] = -inf: must be a finite number"},
+             Case{"box = [60, 40]\ngravity = 9.81\n", "gravity = 9.81: must be [x, y]"},
+             Case{"box = [60, 40]\nsteps = -1\n", "s.toml:2: steps = -1: must be an integer in [0, "},
+             Case{"box = [60, 40]\nsteps = 1.5\n", "steps = 1.5: must be an integer"},
+             Case{"box = [60, 40]\nseed = -7\n", "seed = -7: must be an integer in [0, "},
+             // groups
+             Case{"box = [60, 40]\ngroup = 3\n", "group = 3: must be tables: write each as [[group]]"},
+             Case{"box = [60, 40]\ngroup = []\n", "group = []: must be tables"},
+             Case{g + "name = \"x\"\n", "s.toml:2: group[1] needs 'count'"},
+             Case{g + "count = 0\n", "s.toml:3: group[1].count = 0: must be an integer in [1, 500000000]"},
+             Case{g + "count = 600000000\n", "group[1].count = 600000000: must be an integer in [1, 500000000]"},
+             Case{g + "count = 2.0\n", "group[1].count = 2.0: must be an integer"},
+             Case{g + "count = 3\nradius = 0\n", "s.toml:4: group[1].radius = 0: must be a finite number > 0"},
+             Case{g + "count = 3\nradius = [2, 1]\n",
+                  "group[1].radius = [2, 1]: the range [min, max] must have min <= max"},
+             Case{g + "count = 3\nradius = [1, 2, 3]\n", "must be a number > 0 or a range [min, max]"},
+             Case{g + "count = 3\nmass = [1, -2]\n", "group[1].mass[1] = -2: must be a finite number > 0"},
+             Case{g + "count = 3\nspeed = -1\n", "group[1].speed = -1: must be a finite number >= 0"},
+             Case{g + "count = 3\ntemperature = 0\n", "group[1].temperature = 0: must be a finite number > 0"},
+             Case{g + "count = 3\nspeed = 1\ntemperature = 1\n", "give speed or temperature, not both"},
+             Case{g + "count = 3\nname = \"\"\n", "group[1].name = \"\": must be a non-empty string"},
+             Case{g + "count = 3\nregion = [0, 0, 10]\n", "must be [x_min, y_min, x_max, y_max]"},
+             Case{g + "count = 3\nregion = [10, 0, 5, 40]\n", "needs x_min < x_max and y_min < y_max"},
+             Case{g + "count = 3\nregion = [0, 0, 70, 40]\n",
+                  "s.toml:2: group[1]: region [0, 0, 70, 40] extends past the 60 x 40 box"},
+             Case{"packing = 0.3\n[[group]]\ncount = 3\nregion = [0, 0, 5, 5]\n",
+                  "group[1]: a region needs a known box"},
+             Case{g + "count = 3\nregion = [0, 0, 30, 40]\n[[group]]\ncount = 3\nregion = [20, 0, 60, 40]\n",
+                  "s.toml:5: group[2]: region [20, 0, 60, 40] overlaps region [0, 0, 30, 40] of group[1] (line 2)"},
+             Case{g + "count = 3000\n", "s.toml:2: group[1]: cannot place 3000 disks"},
+             Case{g + "count = 3\nradius = 30\n", "group[1]: a disk of radius 30 does not fit"},
+             Case{"box = [60, 40]\n" + [] {
+                      std::string many;
+                      for (int k = 0; k < 10001; ++k) many += "[[group]]\ncount = 1\n";
+                      return many;
+                  }(),
+                  "s.toml:2: 10001 [[group]] tables; allowed: at most 10000"},
+             // disks
+             Case{"box = [60, 40]\n[[disk]]\nvelocity = [1, 0]\n", "s.toml:2: disk[1] needs 'position'"},
+             Case{"box = [60, 40]\n[[disk]]\nposition = [0.5, 5]\n",
+                  "s.toml:2: disk[1]: position (0.5, 5) with radius 1 puts the disk outside the 60 x 40 box"},
+             Case{"box = [60, 40]\n[[disk]]\nposition = [5, 5]\nvelocity = [nan, 0]\n",
+                  "disk[1].velocity[0] = nan: must be a finite number"},
+             Case{"box = [60, 40]\n[[disk]]\nposition = [5, 5]\n[[disk]]\nposition = [6, 5]\n",
+                  "s.toml:4: disk[2] (line 4) at (6, 5) overlaps disk[1] (line 2) at (5, 5)"},
+             Case{"box = [10, 10]\n[[group]]\ncount = 20\n[[disk]]\nposition = [5, 5]\n", "overlaps particle"},
+             Case{"packing = 0.3\n[[disk]]\nposition = [5, 5]\n", "disk[1]: a disk needs a known box"},
+             // outputs
+             Case{"box = [60, 40]\noutput = 3\n", "output = 3: must be a table"},
+             Case{"box = [60, 40]\n[output]\nevery = 0\n", "s.toml:3: output.every = 0: must be an integer in [1, "},
+             Case{"box = [60, 40]\n[output]\ntrajectory = 7\n", "output.trajectory = 7: must be a non-empty string"},
+             // nothing to simulate
+             Case{"box = [60, 40]\n", "s.toml: the scene has no particles"},
+         }) {
+        CAPTURE(c.text);
+        const std::string message = parseError(c.text);
+        CHECK_MESSAGE(message.find(c.message) != std::string::npos, message);
+    }
+}
+
+TEST_CASE("scene file: values in messages are cut short and made printable") {
+    const std::string message = parseError("box = [60, 40]\nboundary = \"" + std::string(200, 'w') + "\\u0007\"\n");
+    CHECK(message.find(std::string(30, 'w')) != std::string::npos);
+    CHECK(message.find(std::string(60, 'w')) == std::string::npos);
+    CHECK(message.find("...") != std::string::npos);
+}
+
+TEST_CASE("scene file: a missing or oversized file is refused") {
+    CHECK_THROWS_WITH_AS(readSceneFile("no-such-scene.toml"), doctest::Contains("cannot read scene file"), Error);
+    CHECK_THROWS_WITH_AS(readSceneFile("."), doctest::Contains("cannot read scene file '.'"), Error);
+}
+
+TEST_CASE("scene file: one group filling the box is makeInitialState(SceneDef)") {
+    SceneFile file = parseSceneFile("packing = 0.45\n[[group]]\ncount = 700\nradius = [0.5, 1]\nmass = [1, 3]\n"
+                                    "speed = 2\n",
+                                    "s.toml");
+    SceneDef def;
+    def.particles = 700;
+    def.packing = 0.45f;
+    def.radiusMin = 0.5f;
+    def.massMax = 3.0f;
+    def.speed = 2.0f;
+    const InitialState a = makeInitialState(file), b = makeInitialState(def);
+    CHECK(a.width == b.width);
+    REQUIRE(a.particles.size() == b.particles.size());
+    CHECK(std::memcmp(a.particles.data(), b.particles.data(), a.particles.size() * sizeof(Particle)) == 0);
+
+    const SceneFile demo = readSceneFile(std::string(CAROM_SCENES_DIR) + "/demo.toml");
+    const InitialState c = makeInitialState(demo), d = makeInitialState(SceneDef{});
+    REQUIRE(c.particles.size() == d.particles.size());
+    CHECK(std::memcmp(c.particles.data(), d.particles.data(), c.particles.size() * sizeof(Particle)) == 0);
+}
+
+TEST_CASE("scene file: groups sharing a region are mixed; each stays in its region") {
+    const SceneFile s = parseSceneFile(R"(
+box = [120, 40]
+[[group]]
+count = 300
+mass = 1
+region = [0, 0, 60, 40]
+[[group]]
+count = 300
+mass = 10
+radius = 0.5
+region = [0, 0, 60, 40]
+[[group]]
+count = 100
+radius = [0.5, 2]
+region = [60, 0, 120, 40]
+)",
+                                       "s.toml");
+    const InitialState placed = makeInitialState(s);
+    REQUIRE(placed.particles.size() == 700);
+    const Diagnostics d = measure(placed.particles, worldOf(s, placed));
+    CHECK(d.maxOverlap == 0.0);
+    CHECK(d.escaped == 0);
+    int heavyOnLeft = 0, heavyOnRight = 0;
+    for (std::size_t i = 0; i < 700; ++i) {
+        const Particle& p = placed.particles[i];
+        const GroupDef& g = s.groups[i < 300 ? 0 : i < 600 ? 1 : 2];
+        CHECK(inside(p, *g.region));
+        CHECK(p.mass == (i < 300 ? 1.0f : i < 600 ? 10.0f : 1.0f));
+        if (i >= 300 && i < 600) (p.position.x < 30 ? heavyOnLeft : heavyOnRight)++;
+    }
+    // Shuffled over one lattice: both halves of the shared region hold heavy disks.
+    CHECK(heavyOnLeft > 100);
+    CHECK(heavyOnRight > 100);
+}
+
+TEST_CASE("scene file: temperature gives Maxwell-Boltzmann velocities") {
+    const SceneFile s = parseSceneFile(R"(
+box = [300, 300]
+[[group]]
+count = 4000
+mass = 2
+temperature = 1.5
+[[group]]
+count = 4000
+mass = 8
+temperature = 1.5
+)",
+                                       "s.toml");
+    const InitialState placed = makeInitialState(s);
+    // Equipartition in 2D: each disk's mean kinetic energy is k_B T, for either mass.
+    for (int group = 0; group < 2; ++group) {
+        double energy = 0.0, momentumX = 0.0;
+        for (int i = 0; i < 4000; ++i) {
+            const Particle& p = placed.particles[group * 4000 + i];
+            energy += 0.5 * p.mass * (double(p.velocity.x) * p.velocity.x + double(p.velocity.y) * p.velocity.y);
+            momentumX += p.mass * p.velocity.x;
+        }
+        CAPTURE(group);
+        CHECK(energy / 4000 == doctest::Approx(1.5).epsilon(0.05));
+        CHECK(std::fabs(momentumX / 4000) < 0.1);
+    }
+}
+
+TEST_CASE("scene file: the seed decides, bit for bit") {
+    const char* text = "box = [80, 80]\n[[group]]\ncount = 200\ntemperature = 1\n[[group]]\ncount = 100\nmass = 3\n";
+    SceneFile s = parseSceneFile(text, "s.toml");
+    const InitialState a = makeInitialState(s), b = makeInitialState(s);
+    CHECK(std::memcmp(a.particles.data(), b.particles.data(), a.particles.size() * sizeof(Particle)) == 0);
+    s.seed = 2;
+    const InitialState c = makeInitialState(s);
+    CHECK(std::memcmp(a.particles.data(), c.particles.data(), a.particles.size() * sizeof(Particle)) != 0);
+}
+
+TEST_CASE("scenes/: every shipped scene runs, stays in its box, and agrees across backends") {
+    const auto scenes = shippedScenes();
+    CHECK(scenes.size() >= 6);
+    for (const auto& path : scenes) {
+        CAPTURE(path.string());
+        const SceneFile scene = readSceneFile(path.string());
+        const InitialState initial = makeInitialState(scene);
+        const WorldDef world = worldOf(scene, initial);
+
+        // The whole run on the CPU backend.
+        const std::vector<Particle> end = simulate("cpu", world, initial.particles, scene.steps);
+        const Diagnostics d = measure(end, world);
+        CHECK(d.escaped == 0);
+        CHECK(std::isfinite(d.kineticEnergy));
+        CHECK(d.maxOverlap < 0.1);
+
+        // Every other backend, bit for bit over the first steps where it can be.
+        for (const std::string& kind : backendKinds()) {
+            if (kind == "cpu") continue;
+            CAPTURE(kind);
+            auto backend = makeTestBackend(kind, world);
+            if (!backend->exactArithmetic()) continue;
+            const std::uint64_t steps = std::min<std::uint64_t>(scene.steps, 200);
+            const auto a = simulate("cpu", world, initial.particles, steps);
+            const auto b = simulate(kind, world, initial.particles, steps);
+            CHECK(std::memcmp(a.data(), b.data(), a.size() * sizeof(Particle)) == 0);
+        }
+    }
+}
+
+TEST_CASE("scenes/newtons_cradle.toml: the striker stops and the last disk leaves") {
+    const SceneFile scene = readSceneFile(std::string(CAROM_SCENES_DIR) + "/newtons_cradle.toml");
+    const InitialState initial = makeInitialState(scene);
+    for (const std::string& kind : backendKinds()) {
+        CAPTURE(kind);
+        const auto end = simulate(kind, worldOf(scene, initial), initial.particles, scene.steps);
+        REQUIRE(end.size() == 6);
+        CHECK(std::fabs(end[0].velocity.x) < 1e-3);
+        for (int i = 1; i < 5; ++i) CHECK(std::fabs(end[i].velocity.x) < 1e-3);
+        CHECK(end[5].velocity.x == doctest::Approx(2.0).epsilon(1e-4));
+    }
+}

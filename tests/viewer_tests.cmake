@@ -1,0 +1,30 @@
+# `carom view`: headless renders under Xvfb with Mesa's software OpenGL,
+# checked pixel by pixel by view_check.cpp; and the refusals.
+if(NOT CAROM_HAVE_VIEWER)
+    return()
+endif()
+find_path(STB_IMAGE_DIR stb/stb_image.h REQUIRED)
+
+add_executable(carom_view_check view_check.cpp ${CMAKE_SOURCE_DIR}/app/viewer/renderer.cpp)
+target_include_directories(carom_view_check PRIVATE ${CMAKE_SOURCE_DIR} ${STB_IMAGE_DIR})
+target_link_libraries(carom_view_check PRIVATE doctest::doctest OpenGL::GL ${STB_LIBRARY})
+
+set(view_out ${CMAKE_CURRENT_BINARY_DIR}/view)
+set(view_scene "view|--backend|cpu|--input-state|${CMAKE_CURRENT_SOURCE_DIR}/data/view_disks.csv|--box|100|50|--window|400|300|--hide-panels|--color|id")
+add_test(NAME view.screenshot
+         COMMAND ${CMAKE_COMMAND} -DCAROM=$<TARGET_FILE:carom> -DOUT_DIR=${view_out}/screenshot
+                 "-DARGS=${view_scene}|--frames|1|--screenshot|view.png" -P ${CMAKE_CURRENT_SOURCE_DIR}/run_viewer.cmake)
+add_test(NAME view.record
+         COMMAND ${CMAKE_COMMAND} -DCAROM=$<TARGET_FILE:carom> -DOUT_DIR=${view_out}/record
+                 "-DARGS=${view_scene}|--frames|5|--record|frames" -P ${CMAKE_CURRENT_SOURCE_DIR}/run_viewer.cmake)
+set_tests_properties(view.screenshot PROPERTIES FIXTURES_SETUP view_screenshot)
+set_tests_properties(view.record PROPERTIES FIXTURES_SETUP view_record)
+add_test(NAME view.check_screenshot COMMAND carom_view_check -tc=screenshot*)
+add_test(NAME view.check_record COMMAND carom_view_check -tc=record*)
+set_tests_properties(view.check_screenshot PROPERTIES FIXTURES_REQUIRED view_screenshot ENVIRONMENT CAROM_VIEW_OUTPUT=${view_out})
+set_tests_properties(view.check_record PROPERTIES FIXTURES_REQUIRED view_record ENVIRONMENT CAROM_VIEW_OUTPUT=${view_out})
+
+carom_cli_test(view_without_display fail "carom view needs a display" "view|--backend|cpu" DISPLAY=)
+carom_cli_test(view_bad_window fail "--window 10 10: each side must be in \\[64, 16384\\] pixels" "view|--window|10|10")
+carom_cli_test(view_bad_colouring fail "--color 'rainbow' is not a colouring" "view|--color|rainbow|--frames|1")
+carom_cli_test(view_screenshot_needs_frames fail "--screenshot requires --frames" "view|--screenshot|x.png")
