@@ -2,17 +2,12 @@
 // over a sweep of N on one scene, against the measured memory bandwidths.
 #include <algorithm>
 #include <cmath>
-#include <ctime>
-#include <fstream>
 #include <iostream>
 #include <optional>
 #include <sstream>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 #include "app/commands.h"
+#include "app/host_info.h"
 #include "bench/report.h"
 #include "engine/atomic_file.h"
 #include "engine/grid.h"
@@ -74,35 +69,6 @@ TimingPlan timingPlan(const BenchOptions& o) {
     if (o.samples > 0) plan.samples = o.samples;
     plan.budgetSeconds = o.budgetMs / 1e3;
     return plan;
-}
-
-std::string utcNow() {
-    const std::time_t now = std::time(nullptr);
-    char text[32];
-    std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
-    return text;
-}
-
-std::string hostCpu() {
-    std::ifstream cpuinfo("/proc/cpuinfo");
-    for (std::string line; std::getline(cpuinfo, line);)
-        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-    return "unknown CPU";
-}
-
-double hostLoad() {
-    std::ifstream loadavg("/proc/loadavg");
-    double load = -1;
-    loadavg >> load;
-    return loadavg ? load : -1;
-}
-
-int hostThreads() {
-#ifdef _OPENMP
-    return omp_get_max_threads();
-#else
-    return 1;
-#endif
 }
 
 SceneDef sceneFor(const BenchOptions& o, std::uint32_t particles) {

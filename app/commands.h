@@ -56,6 +56,24 @@ void addBenchOptions(CLI::App& command, BenchOptions& options);
 // against the measured memory bandwidth.
 int benchCommand(const BenchOptions& options);
 
+struct ValidateOptions {
+    bool quick = false;  // the reduced suite for CI
+    std::string report = "validation-report";  // folder for README.md and the SVG plots
+    std::string json;          // every check and measurement as JSON; empty = none
+    std::string backend = "cpu";  // runs the equation of state, convergence, relaxation and exact cases
+    std::string device;           // OpenCL device selector (also for the conservation runs)
+    std::string pipeline = "seed";
+    std::uint64_t seed = 1;
+    float dt = 0.0f;               // 0 = the suite's default (app/validate/checks.h)
+    std::uint32_t particles = 0;   // N of the equation-of-state runs; 0 = the suite's default
+};
+
+void addValidateOptions(CLI::App& command, ValidateOptions& options);
+
+// `carom validate`: the physics validation suite against the published
+// hard-disk results; writes the report and exits 1 if any check fails.
+int validateCommand(const ValidateOptions& options);
+
 // Registers `carom view` and returns what runs it once parsed: the viewer,
 // or a clear refusal in a build without SDL2/OpenGL/ImGui.
 std::function<int()> addViewCommand(CLI::App& app);

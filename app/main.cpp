@@ -19,6 +19,10 @@ int main(int argc, char** argv) {
     BenchOptions benchOptions;
     CLI::App* bench = app.add_subcommand("bench", "Compare the speed of the methods over a sweep of N");
     addBenchOptions(*bench, benchOptions);
+    ValidateOptions validateOptions;
+    CLI::App* validate =
+        app.add_subcommand("validate", "Check the physics against published hard-disk results and write a report");
+    addValidateOptions(*validate, validateOptions);
 
     try {
         app.parse(argc, argv);
@@ -29,6 +33,7 @@ int main(int argc, char** argv) {
         if (*run) return runCommand(runOptions);
         if (*devices) return devicesCommand();
         if (*bench) return benchCommand(benchOptions);
+        if (*validate) return validateCommand(validateOptions);
         if (app.got_subcommand("view")) return runView();
     } catch (const carom::Error& e) {
         std::cerr << "carom: error: " << e.what() << '\n';

@@ -46,7 +46,7 @@ void addRunOptions(CLI::App& command, RunOptions& o) {
                                       "Continue from this checkpoint for --steps more steps, bit for bit");
     for (const char* scene : {"--scene", "--input-state", "--particles", "--packing", "--box", "--radius",
                               "--radius-min", "--radius-max", "--mass", "--mass-min", "--mass-max", "--speed",
-                              "--seed", "--dt", "--gravity"})
+                              "--seed", "--dt", "--gravity", "--boundary"})
         resume->excludes(command.get_option(scene));
     command.add_flag("--quiet", o.quiet, "No progress line on stderr");
 }
@@ -104,6 +104,7 @@ Start planRun(const RunOptions& o) {
         start.step = c.step;
         start.collisions = c.collisions;
         start.resumed = true;
+        start.world.maxTravel = o.scene.world.maxTravel;  // a run option, not part of the checkpoint
     } else {
         Setup setup = makeSetup(o.scene);
         start.world = setup.world;
@@ -300,7 +301,15 @@ struct Result {
     double seconds = 0.0;
     Diagnostics initial, final;
     std::uint64_t collisions = 0;  // during this run
+    ContactTotals contacts;        // during this run
+    double initialTemperature = 0.0, finalTemperature = 0.0;
     bool interrupted = false;
+
+    // Pressure and rates over the run, at the mean of the first and last kT.
+    Thermodynamics thermodynamics(const Backend& backend) const {
+        return carom::thermodynamics(contacts, 0.5 * (initialTemperature + finalTemperature),
+                                     backend.particleCount(), backend.world());
+    }
 };
 
 void printSummary(const Backend& backend, const Result& r, const std::string& resumedFrom, const Outputs& outputs) {
@@ -309,8 +318,11 @@ void printSummary(const Backend& backend, const Result& r, const std::string& re
     const double energyChange = r.initial.kineticEnergy > 0
                                     ? (r.final.kineticEnergy - r.initial.kineticEnergy) / r.initial.kineticEnergy
                                     : 0.0;
-    std::printf("carom run: %zu disks, %llu steps of dt %g in a %g x %g box\n", backend.particleCount(),
-                static_cast<unsigned long long>(steps), w.dt, w.width, w.height);
+    std::printf("carom run: %zu disks, %llu steps of dt %g in a %g x %g box, %s\n", backend.particleCount(),
+                static_cast<unsigned long long>(steps), w.dt, w.width, w.height, boundaryName(w.boundary));
+    if (w.maxTravel > 0)
+        std::printf("  substeps     %llu (at most %g x the smallest radius per substep)\n",
+                    static_cast<unsigned long long>(r.contacts.substeps), w.maxTravel);
     if (!resumedFrom.empty())
         std::printf("  resumed      from %s at step %llu, now at step %llu\n", resumedFrom.c_str(),
                     static_cast<unsigned long long>(r.firstStep), static_cast<unsigned long long>(r.lastStep));
@@ -323,6 +335,15 @@ void printSummary(const Backend& backend, const Result& r, const std::string& re
                 r.final.momentum[0], r.final.momentum[1]);
     std::printf("  collisions   %llu, max overlap %.3g, escaped %zu\n",
                 static_cast<unsigned long long>(r.collisions), r.final.maxOverlap, r.final.escaped);
+    const Thermodynamics t = r.thermodynamics(backend);
+    std::printf("  temperature  kT %.6g, %.4g collisions per disk per unit time\n", r.finalTemperature,
+                t.collisionRate);
+    if (w.boundary == Boundary::Periodic)
+        std::printf("  pressure     %.6g (collision virial), Z = PA/NkT = %.5g\n", t.virialPressure, t.virialZ);
+    else
+        std::printf("  pressure     %.6g on the walls (left %.4g, right %.4g, bottom %.4g, top %.4g), Z = %.5g\n",
+                    t.wallPressureMean, t.wallPressure[0], t.wallPressure[1], t.wallPressure[2], t.wallPressure[3],
+                    t.wallZ);
     const std::string written = outputs.written();
     if (!written.empty()) std::printf("  wrote        %s\n", written.c_str());
 }
@@ -331,7 +352,8 @@ void printJson(const Backend& backend, const Result& r) {
     const WorldDef& w = backend.world();
     const std::uint64_t steps = r.lastStep - r.firstStep;
     const double n = double(backend.particleCount());
-    const nlohmann::json summary = {
+    const Thermodynamics t = r.thermodynamics(backend);
+    nlohmann::json summary = {
         {"backend", backend.name()},
         {"device", backend.device()},
         {"exact_arithmetic", backend.exactArithmetic()},
@@ -341,6 +363,9 @@ void printJson(const Backend& backend, const Result& r) {
         {"time", double(r.lastStep) * w.dt},
         {"interrupted", r.interrupted},
         {"dt", w.dt},
+        {"max_travel", w.maxTravel},
+        {"substeps", r.contacts.substeps},
+        {"boundary", boundaryName(w.boundary)},
         {"box", pair(w.width, w.height)},
         {"gravity", pair(w.gravity.x, w.gravity.y)},
         {"wall_seconds", r.seconds},
@@ -352,7 +377,16 @@ void printJson(const Backend& backend, const Result& r) {
         {"collisions", r.collisions},
         {"max_overlap", r.final.maxOverlap},
         {"escaped", r.final.escaped},
+        {"temperature", r.finalTemperature},
+        {"collision_rate", t.collisionRate},
     };
+    if (w.boundary == Boundary::Periodic) {
+        summary["pressure"] = {{"virial", t.virialPressure}, {"Z", t.virialZ}};
+    } else {
+        summary["wall_pressure"] = {{"mean", t.wallPressureMean}, {"left", t.wallPressure[0]},
+                                    {"right", t.wallPressure[1]}, {"bottom", t.wallPressure[2]},
+                                    {"top", t.wallPressure[3]},   {"Z", t.wallZ}};
+    }
     std::cout << summary.dump(2) << '\n';
 }
 
@@ -415,6 +449,7 @@ int runCommand(const RunOptions& o) {
     Result r;
     r.firstStep = start.step;
     r.initial = measure(start.particles, start.world);
+    r.initialTemperature = temperature(start.particles, start.world.boundary);
     const std::uint64_t last = start.step + start.steps;
     const InterruptHandler interruptHandler;
     Progress progress(!o.quiet && !o.json && stderrIsTerminal(), start.step, last);
@@ -423,7 +458,9 @@ int runCommand(const RunOptions& o) {
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
     r.interrupted = interrupted != 0;
     r.final = measure(start.particles, start.world);
-    r.collisions = backend->collisions();
+    r.finalTemperature = temperature(start.particles, start.world.boundary);
+    r.contacts = backend->contacts();
+    r.collisions = r.contacts.collisions;
     outputs.finish(r.lastStep, start.world, start.particles, start.collisions + r.collisions);
 
     if (r.final.escaped > 0)

@@ -4,6 +4,8 @@
 #include <unistd.h>
 #endif
 
+#include <cstdlib>
+
 #include "backends/backend.h"
 #include "engine/resources.h"
 #include "engine/state_csv.h"
@@ -36,7 +38,10 @@ void applyOverrides(const SceneOptions& o, SceneFile& scene) {
         scene.packing = o.scene.packing;
         scene.world.width = scene.world.height = 0.0f;
     }
-    if (given("--dt")) scene.world.dt = o.world.dt;
+    if (given("--dt") && !o.dtAuto) scene.world.dt = o.world.dt;
+    if (given("--max-travel")) scene.world.maxTravel = o.world.maxTravel;
+    if (o.dtAuto && scene.world.maxTravel == 0.0f) scene.world.maxTravel = kDefaultMaxTravel;
+    if (given("--boundary")) scene.world.boundary = o.world.boundary;
     if (given("--gravity")) scene.world.gravity = float2{o.gravity[0], o.gravity[1]};
     if (given("--seed")) scene.seed = o.scene.seed;
     for (const char* option : kGroupOptions) {
@@ -126,7 +131,27 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
     auto* speed = command.add_option("--speed", o.scene.speed, "Initial speed of every disk, random directions")
                       ->capture_default_str();
     auto* seed = command.add_option("--seed", o.scene.seed, "Random seed")->capture_default_str();
-    auto* dt = command.add_option("--dt", o.world.dt, "Time step")->capture_default_str();
+    auto* dt = command.add_option_function<std::string>(
+        "--dt",
+        [&o](const std::string& text) {
+            if (text == "auto") {
+                o.dtAuto = true;
+                return;
+            }
+            char* end = nullptr;
+            o.world.dt = std::strtof(text.c_str(), &end);
+            if (text.empty() || *end != '\0')
+                throw CLI::ValidationError("--dt", "must be a number > 0 or auto, got '" + text + "'");
+        },
+        "Time step, or auto: the default step (0.01), split into substeps of at most --max-travel radii");
+    auto* maxTravel = command.add_option(
+        "--max-travel", o.world.maxTravel,
+        "Split each step into substeps so that no disk moves more than this fraction of the smallest radius in "
+        "one (0 = off; --dt auto uses 0.2)");
+    auto* boundary = command.add_option_function<std::string>(
+        "--boundary", [&o](const std::string& name) { o.world.boundary = parseBoundary(name); },
+        "walls (reflective, the default) or periodic (the box repeats)")
+        ->check(CLI::IsMember({"walls", "periodic"}));
     auto* gravity = command.add_option("--gravity", o.gravity, "Constant acceleration GX GY (default off)")->expected(2);
 
     auto* input = command.add_option("--input-state", o.inputState,
@@ -139,7 +164,8 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
                        "Start from this TOML scene file; the options above that are given override its values")
         ->excludes(input);
     for (CLI::Option* overriding :
-         {particles, packing, box, radius, radiusMin, radiusMax, mass, massMin, massMax, speed, seed, dt, gravity})
+         {particles, packing, box, radius, radiusMin, radiusMax, mass, massMin, massMax, speed, seed, dt, gravity,
+          maxTravel, boundary})
         tracked(overriding, o.given);
 }
 
@@ -147,6 +173,7 @@ Setup makeSetup(const SceneOptions& o) {
     if (!o.sceneFile.empty()) return setupFromSceneFile(o);
     Setup setup;
     setup.world = o.world;
+    if (o.dtAuto && setup.world.maxTravel == 0.0f) setup.world.maxTravel = kDefaultMaxTravel;
     if (!o.gravity.empty()) setup.world.gravity = float2{o.gravity[0], o.gravity[1]};
     if (!o.inputState.empty()) {
         setup.world.width = o.box[0];

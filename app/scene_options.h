@@ -21,6 +21,7 @@ struct SceneOptions {
     BackendDef backend;
     std::vector<float> box;      // W H, when given
     std::vector<float> gravity;  // GX GY, when given
+    bool dtAuto = false;         // --dt auto: substeps of at most --max-travel (default 0.2) radii
     std::string inputState;
     std::string sceneFile;        // --scene: a TOML scene file (engine/scene_file.h)
     std::set<std::string> given;  // the options given on the command line ("--dt", ...):
@@ -28,7 +29,8 @@ struct SceneOptions {
 };
 
 // Adds --backend, --device, --pipeline, --particles, --packing, --box, --radius...,
-// --mass..., --speed, --seed, --dt, --gravity, --input-state and --scene.
+// --mass..., --speed, --seed, --dt, --max-travel, --gravity, --boundary,
+// --input-state and --scene.
 void addSceneOptions(CLI::App& command, SceneOptions& options);
 
 // Records `option`'s name in `given` when it appears on the command line.

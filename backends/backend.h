@@ -2,7 +2,9 @@
 //
 // A step is always: build the grid (engine/grid.h) -> resolveCollisions ->
 // integrate, with the per-particle physics of kernels/physics.h. Backends
-// differ only in where those loops run.
+// differ only in where those loops run. The base class owns what is the same
+// for all: splitting steps into substeps (WorldDef::maxTravel) and summing
+// the per-particle contact tallies into ContactTotals.
 #pragma once
 
 #include <cstdint>
@@ -12,6 +14,7 @@
 
 #include "engine/carom.h"
 #include "engine/grid.h"
+#include "engine/observables.h"
 
 namespace carom {
 
@@ -29,14 +32,23 @@ public:
     virtual bool exactArithmetic() const = 0;
 
     // Validates the particles against the world, sizes the grid for their
-    // largest radius, loads them and resets the collision counter.
+    // largest radius, loads them and resets the contact totals.
     void setParticles(const std::vector<Particle>& particles);
-    // Advances the simulation by `steps` steps of world().dt.
-    virtual void step(std::uint64_t steps) = 0;
+    // Advances the simulation by `steps` steps of world().dt, each split into
+    // substeps when world().maxTravel > 0. Throws Error if a step would need
+    // more than kMaxSubsteps substeps.
+    void step(std::uint64_t steps);
     // Copies the current state into `particles` (in id order).
     virtual void readParticles(std::vector<Particle>& particles) = 0;
-    // Pairs that received an impulse, summed over all steps since setParticles.
-    virtual std::uint64_t collisions() = 0;
+    // Collisions, virial and wall impulses since setParticles or the last
+    // resetContacts().
+    const ContactTotals& contacts();
+    void resetContacts();
+    // Pairs that received an impulse since setParticles or resetContacts().
+    std::uint64_t collisions() { return contacts().collisions; }
+    // The largest speed |v| of the current state (a reduction where the
+    // state lives); the same on every backend, bit for bit.
+    float maxSpeed();
 
     // Changes dt and gravity between steps (the box stays fixed); throws
     // Error for values out of range.
@@ -47,11 +59,33 @@ public:
 
 protected:
     virtual void load(const std::vector<Particle>& particles) = 0;
+    // Takes `substeps` steps of `dt` with world_'s gravity and boundary.
+    virtual void advance(std::uint64_t substeps, float dt) = 0;
+    // The largest v.x^2 + v.y^2 of the current state.
+    virtual float maxSpeedSquared() = 0;
+    // Adds the per-particle tallies (kernels/particle.h ContactTally) to
+    // `totals` in id order, in double, and zeroes them. Called often enough
+    // that a float tally never sums more than kTallySubsteps substeps.
+    virtual void drainTallies(ContactTotals& totals) = 0;
 
     WorldDef world_;
     Grid grid_;  // geometry fixed by setParticles, contents rebuilt each step
     std::size_t particleCount_ = 0;
+    float minRadius_ = 0.0f;
+
+private:
+    void advanceCounted(std::uint64_t substeps, float dt);
+
+    ContactTotals totals_;
+    std::uint64_t substepsSinceDrain_ = 0;
 };
+
+// For implementations: adds tallies[0..count) to `totals` in id order, in
+// double (the sum is the same whatever device produced the tallies).
+void addTallies(const ContactTally* tallies, std::size_t count, ContactTotals& totals);
+// For implementations holding the state on the host: the largest
+// v.x^2 + v.y^2 (an OpenMP max reduction; max is exact in any order).
+float maxSpeedSquaredOf(const Particle* particles, std::size_t count);
 
 // Creates the backend `def.kind` for the world; throws Error for an unknown
 // kind or device, or when OpenCL is unavailable.

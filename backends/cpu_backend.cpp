@@ -1,7 +1,7 @@
 #include "backends/cpu_backend.h"
 
 #include <cstdint>
-#include <numeric>
+#include <algorithm>
 #include <utility>
 
 #ifdef _OPENMP
@@ -25,34 +25,37 @@ std::string CpuBackend::device() const {
 void CpuBackend::load(const std::vector<Particle>& particles) {
     state_ = particles;
     next_.resize(particles.size());
-    collisionCounts_.assign(particles.size(), 0);
+    tallies_.assign(particles.size(), ContactTally{});
 }
 
-void CpuBackend::step(std::uint64_t steps) {
+void CpuBackend::advance(std::uint64_t substeps, float dt) {
     const auto count = static_cast<std::int64_t>(state_.size());
     const WorldDef& w = world_;
-    for (std::uint64_t s = 0; s < steps; ++s) {
+    const CaromBox box = carom_box(w.width, w.height, w.boundary == Boundary::Periodic ? 1 : 0);
+    for (std::uint64_t s = 0; s < substeps; ++s) {
         buildGrid(state_.data(), state_.size(), grid_);
         const Particle* in = state_.data();
         Particle* out = next_.data();
         const unsigned int* sorted = grid_.sortedIndices.data();
         const GridCell* cells = grid_.cells.data();
-        unsigned int* counts = collisionCounts_.data();
+        ContactTally* tallies = tallies_.data();
         const GridGeometry geometry = grid_.geometry;
         // resolveCollisions and integrate fused per particle: integrate only
         // reads the particle that resolveCollisions just wrote, so this equals
         // two separate passes bit for bit.
 #pragma omp parallel for schedule(static)
         for (std::int64_t i = 0; i < count; ++i) {
-            carom_resolve_collisions(static_cast<unsigned int>(i), in, sorted, cells, geometry, out, counts);
-            out[i] = carom_integrate(out[i], w.dt, w.gravity.x, w.gravity.y, w.width, w.height);
+            const auto id = static_cast<unsigned int>(i);
+            carom_resolve_collisions(id, in, sorted, cells, geometry, box, out, tallies);
+            carom_integrate_into(id, out, dt, w.gravity.x, w.gravity.y, box, tallies);
         }
         std::swap(state_, next_);
     }
 }
 
-std::uint64_t CpuBackend::collisions() {
-    return std::accumulate(collisionCounts_.begin(), collisionCounts_.end(), std::uint64_t{0});
+void CpuBackend::drainTallies(ContactTotals& totals) {
+    addTallies(tallies_.data(), tallies_.size(), totals);
+    std::fill(tallies_.begin(), tallies_.end(), ContactTally{});
 }
 
 }  // namespace carom

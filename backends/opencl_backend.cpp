@@ -14,6 +14,10 @@ namespace {
 // on a long run, while one wait per batch costs the GPU almost no idle time.
 constexpr std::uint64_t kStepsPerSync = 64;
 
+// Work-groups of the max-speed reduction: enough to fill a GPU, few enough
+// for the host to finish the reduction at once.
+constexpr std::size_t kReductionGroups = 256;
+
 }  // namespace
 
 Pipeline parsePipeline(const std::string& name) {
@@ -38,8 +42,13 @@ OpenClBackend::OpenClBackend(const WorldDef& world, const std::string& device, P
     integrateKernel_ = createKernel(program_.get(), "integrate");
     fusedKernel_ = createKernel(program_.get(), "resolveIntegrateAndCount");
     allPairsKernel_ = createKernel(program_.get(), "resolveAllPairs");
+    maxSpeedKernel_ = createKernel(program_.get(), "maxSpeedSquared");
     for (cl_kernel kernel : {resolveKernel_.get(), integrateKernel_.get(), fusedKernel_.get(), allPairsKernel_.get()})
         workGroupSize_ = std::min(workGroupSize_, kernelWorkGroupLimit(kernel, device_.id));
+    const std::size_t reductionLimit = std::min<std::size_t>(256, kernelWorkGroupLimit(maxSpeedKernel_.get(), device_.id));
+    while (reductionGroupSize_ * 2 <= reductionLimit) reductionGroupSize_ *= 2;
+    while (reductionGroupSize_ > reductionLimit) reductionGroupSize_ /= 2;
+    groupMax_ = createBuffer(context_.get(), kReductionGroups * sizeof(cl_float), "max speed per group");
 }
 
 std::string OpenClBackend::device() const {
@@ -54,7 +63,7 @@ void OpenClBackend::load(const std::vector<Particle>& particles) {
     hostState_.clear();
     state_.reset();
     next_.reset();
-    collisionCounts_.reset();
+    tallies_.reset();
     sortedIndices_.reset();
     cells_.reset();
     deviceGrid_ = DeviceGrid();
@@ -63,11 +72,11 @@ void OpenClBackend::load(const std::vector<Particle>& particles) {
 
     state_ = createBuffer(context_.get(), n * sizeof(Particle), "particle state");
     next_ = createBuffer(context_.get(), n * sizeof(Particle), "next particle state");
-    collisionCounts_ = createBuffer(context_.get(), n * sizeof(cl_uint), "collision counts");
+    tallies_ = createBuffer(context_.get(), n * sizeof(ContactTally), "contact tallies");
     check(clEnqueueWriteBuffer(queue_.get(), state_.get(), CL_TRUE, 0, n * sizeof(Particle), particles.data(), 0,
                                nullptr, nullptr),
           "clEnqueueWriteBuffer(particle state)");
-    enqueueZero(queue_.get(), collisionCounts_.get(), n * sizeof(cl_uint), "collision counts");
+    enqueueZero(queue_.get(), tallies_.get(), n * sizeof(ContactTally), "contact tallies");
     switch (pipeline_) {
         case Pipeline::Seed:
             hostState_ = particles;
@@ -104,17 +113,17 @@ void OpenClBackend::finish() {
     if (profiler_) profiler_->collect();
 }
 
-void OpenClBackend::step(std::uint64_t steps) {
+void OpenClBackend::advance(std::uint64_t steps, float dt) {
     for (std::uint64_t s = 0; s < steps; ++s) {
         switch (pipeline_) {
             case Pipeline::Seed:
-                stepSeed();
+                stepSeed(dt);
                 break;
             case Pipeline::Resident:
-                stepResident();
+                stepResident(dt);
                 break;
             case Pipeline::AllPairs:
-                stepAllPairs();
+                stepAllPairs(dt);
                 break;
         }
         if ((s + 1) % kStepsPerSync == 0) finish();
@@ -122,7 +131,7 @@ void OpenClBackend::step(std::uint64_t steps) {
     finish();
 }
 
-void OpenClBackend::stepSeed() {
+void OpenClBackend::stepSeed(float dt) {
     const cl_uint count = static_cast<cl_uint>(particleCount_);
     const GridGeometry& g = grid_.geometry;
     cl_command_queue queue = queue_.get();
@@ -142,10 +151,11 @@ void OpenClBackend::stepSeed() {
                                grid_.cells.data(), 0, nullptr, eventSlot(profiler, "upload grid")),
           "clEnqueueWriteBuffer(grid cells)");
     setKernelArgs(resolveKernel_.get(), state_.get(), sortedIndices_.get(), cells_.get(), g.cellsPerLengthX,
-                  g.cellsPerLengthY, g.cols, g.rows, count, next_.get(), collisionCounts_.get());
+                  g.cellsPerLengthY, g.cols, g.rows, count, world_.width, world_.height, periodic(), next_.get(),
+                  tallies_.get());
     enqueue1d(queue, resolveKernel_.get(), count, workGroupSize_, "resolveCollisions", profiler);
-    setKernelArgs(integrateKernel_.get(), next_.get(), count, world_.dt, world_.gravity.x, world_.gravity.y,
-                  world_.width, world_.height);
+    setKernelArgs(integrateKernel_.get(), next_.get(), count, dt, world_.gravity.x, world_.gravity.y, world_.width,
+                  world_.height, periodic(), tallies_.get());
     enqueue1d(queue, integrateKernel_.get(), count, workGroupSize_, "integrate", profiler);
     check(clEnqueueReadBuffer(queue, next_.get(), CL_TRUE, 0, count * sizeof(Particle), hostState_.data(), 0,
                               nullptr, eventSlot(profiler, "download state")),
@@ -153,14 +163,14 @@ void OpenClBackend::stepSeed() {
     std::swap(state_, next_);
 }
 
-void OpenClBackend::stepResident() {
+void OpenClBackend::stepResident(float dt) {
     const cl_uint count = static_cast<cl_uint>(particleCount_);
     const GridGeometry& g = grid_.geometry;
     deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get());
     // next_ receives the new state in this step's cell order: slot k holds particle sortedIds_[k].
     setKernelArgs(fusedKernel_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), deviceGrid_.cells(),
-                  g.cellsPerLengthX, g.cellsPerLengthY, g.cols, g.rows, count, world_.dt, world_.gravity.x,
-                  world_.gravity.y, world_.width, world_.height, next_.get(), collisionCounts_.get(),
+                  g.cellsPerLengthX, g.cellsPerLengthY, g.cols, g.rows, count, dt, world_.gravity.x,
+                  world_.gravity.y, world_.width, world_.height, periodic(), next_.get(), tallies_.get(),
                   deviceGrid_.nextCounts(), deviceGrid_.cellOf(), deviceGrid_.rankInCell());
     enqueue1d(queue_.get(), fusedKernel_.get(), count, workGroupSize_, "resolveIntegrateAndCount", profiler_.get());
     std::swap(state_, next_);
@@ -168,12 +178,13 @@ void OpenClBackend::stepResident() {
     deviceGrid_.advance();
 }
 
-void OpenClBackend::stepAllPairs() {
+void OpenClBackend::stepAllPairs(float dt) {
     const cl_uint count = static_cast<cl_uint>(particleCount_);
-    setKernelArgs(allPairsKernel_.get(), state_.get(), count, next_.get(), collisionCounts_.get());
+    setKernelArgs(allPairsKernel_.get(), state_.get(), count, world_.width, world_.height, periodic(), next_.get(),
+                  tallies_.get());
     enqueue1d(queue_.get(), allPairsKernel_.get(), count, workGroupSize_, "resolveAllPairs", profiler_.get());
-    setKernelArgs(integrateKernel_.get(), next_.get(), count, world_.dt, world_.gravity.x, world_.gravity.y,
-                  world_.width, world_.height);
+    setKernelArgs(integrateKernel_.get(), next_.get(), count, dt, world_.gravity.x, world_.gravity.y, world_.width,
+                  world_.height, periodic(), tallies_.get());
     enqueue1d(queue_.get(), integrateKernel_.get(), count, workGroupSize_, "integrate", profiler_.get());
     std::swap(state_, next_);
 }
@@ -202,12 +213,31 @@ void OpenClBackend::readParticles(std::vector<Particle>& particles) {
     for (std::size_t s = 0; s < particleCount_; ++s) particles[ids[s]] = slots[s];
 }
 
-std::uint64_t OpenClBackend::collisions() {
-    std::vector<cl_uint> counts(particleCount_);
-    check(clEnqueueReadBuffer(queue_.get(), collisionCounts_.get(), CL_TRUE, 0, counts.size() * sizeof(cl_uint),
-                              counts.data(), 0, nullptr, nullptr),
-          "clEnqueueReadBuffer(collision counts)");
-    return std::accumulate(counts.begin(), counts.end(), std::uint64_t{0});
+float OpenClBackend::maxSpeedSquared() {
+    if (pipeline_ == Pipeline::Seed) return maxSpeedSquaredOf(hostState_.data(), hostState_.size());
+    const cl_uint count = static_cast<cl_uint>(particleCount_);
+    const std::size_t groups =
+        std::min(kReductionGroups, (particleCount_ + reductionGroupSize_ - 1) / reductionGroupSize_);
+    setKernelArgs(maxSpeedKernel_.get(), state_.get(), count);
+    setLocalArg(maxSpeedKernel_.get(), 2, reductionGroupSize_ * sizeof(cl_float));
+    const cl_mem groupMaxBuffer = groupMax_.get();
+    check(clSetKernelArg(maxSpeedKernel_.get(), 3, sizeof(cl_mem), &groupMaxBuffer), "clSetKernelArg");
+    enqueue1d(queue_.get(), maxSpeedKernel_.get(), groups * reductionGroupSize_, reductionGroupSize_,
+              "maxSpeedSquared", profiler_.get());
+    std::vector<cl_float> groupMax(groups);
+    check(clEnqueueReadBuffer(queue_.get(), groupMax_.get(), CL_TRUE, 0, groups * sizeof(cl_float), groupMax.data(), 0,
+                              nullptr, nullptr),
+          "clEnqueueReadBuffer(max speed per group)");
+    return *std::max_element(groupMax.begin(), groupMax.end());
+}
+
+void OpenClBackend::drainTallies(ContactTotals& totals) {
+    std::vector<ContactTally> tallies(particleCount_);
+    check(clEnqueueReadBuffer(queue_.get(), tallies_.get(), CL_TRUE, 0, tallies.size() * sizeof(ContactTally),
+                              tallies.data(), 0, nullptr, nullptr),
+          "clEnqueueReadBuffer(contact tallies)");
+    addTallies(tallies.data(), tallies.size(), totals);
+    enqueueZero(queue_.get(), tallies_.get(), tallies.size() * sizeof(ContactTally), "contact tallies");
 }
 
 Grid OpenClBackend::readDeviceGrid() {

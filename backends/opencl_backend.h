@@ -38,9 +38,7 @@ public:
     Pipeline pipeline() const { return pipeline_; }
     const opencl::DeviceInfo& deviceInfo() const { return device_; }
 
-    void step(std::uint64_t steps) override;
     void readParticles(std::vector<Particle>& particles) override;
-    std::uint64_t collisions() override;
 
     // Resident pipeline only: the grid of the current state as the device
     // builds it, read back (tests compare it with the shared builder's).
@@ -52,11 +50,15 @@ public:
 
 private:
     void load(const std::vector<Particle>& particles) override;
+    void advance(std::uint64_t substeps, float dt) override;
+    float maxSpeedSquared() override;
+    void drainTallies(ContactTotals& totals) override;
     void loadResident(std::size_t particleCount);
     void finish();  // waits for the queue; collects the profile
-    void stepSeed();
-    void stepResident();
-    void stepAllPairs();
+    void stepSeed(float dt);
+    void stepResident(float dt);
+    void stepAllPairs(float dt);
+    cl_int periodic() const { return world_.boundary == Boundary::Periodic ? 1 : 0; }
 
     Pipeline pipeline_;
     std::unique_ptr<opencl::Profiler> profiler_;
@@ -68,14 +70,17 @@ private:
     opencl::Kernel integrateKernel_;
     opencl::Kernel fusedKernel_;     // resident: resolveIntegrateAndCount
     opencl::Kernel allPairsKernel_;  // all-pairs: resolveAllPairs
+    opencl::Kernel maxSpeedKernel_;  // resident and all-pairs: maxSpeedSquared
     std::size_t workGroupSize_ = 64;
+    std::size_t reductionGroupSize_ = 64;  // a power of two
 
     std::vector<Particle> hostState_;  // seed: the state the host builds the grid from
     opencl::Buffer state_;             // the state before the step (resident: in slots)
     opencl::Buffer next_;              // written by the step, then swapped in
     opencl::Buffer sortedIndices_;     // seed: uploaded each step
     opencl::Buffer cells_;             // seed: uploaded each step
-    opencl::Buffer collisionCounts_;   // by particle id
+    opencl::Buffer tallies_;           // ContactTally by particle id
+    opencl::Buffer groupMax_;          // maxSpeedSquared's per-group results
     opencl::DeviceGrid deviceGrid_;    // resident
     opencl::Buffer ids_;               // resident: the particle id in each slot of state_
     opencl::Buffer sortedIds_;         // resident: sortedIndices, then the ids of next_'s slots

@@ -1,6 +1,6 @@
 #include "bench/all_pairs_cpu.h"
 
-#include <numeric>
+#include <algorithm>
 #include <utility>
 
 #ifdef _OPENMP
@@ -22,31 +22,34 @@ std::string AllPairsCpuBackend::device() const {
 void AllPairsCpuBackend::load(const std::vector<Particle>& particles) {
     state_ = particles;
     next_.resize(particles.size());
-    collisionCounts_.assign(particles.size(), 0);
+    tallies_.assign(particles.size(), ContactTally{});
 }
 
-void AllPairsCpuBackend::step(std::uint64_t steps) {
+void AllPairsCpuBackend::advance(std::uint64_t substeps, float dt) {
     const auto count = static_cast<std::int64_t>(state_.size());
     const WorldDef& w = world_;
-    for (std::uint64_t s = 0; s < steps; ++s) {
+    const CaromBox box = carom_box(w.width, w.height, w.boundary == Boundary::Periodic ? 1 : 0);
+    for (std::uint64_t s = 0; s < substeps; ++s) {
         const Particle* in = state_.data();
         Particle* out = next_.data();
-        unsigned int* counts = collisionCounts_.data();
+        ContactTally* tallies = tallies_.data();
         // Rows of the N x N pair matrix cost the same: a static schedule balances them.
 #pragma omp parallel for schedule(static)
         for (std::int64_t i = 0; i < count; ++i) {
             const auto id = static_cast<unsigned int>(i);
-            const CaromResponse sum = carom_collect_response_all_pairs(id, in[i], in, static_cast<unsigned int>(count));
-            out[i] = carom_integrate(carom_apply_response(in[i], sum), w.dt, w.gravity.x, w.gravity.y, w.width,
-                                     w.height);
-            counts[i] += sum.impulses;
+            const CaromResponse sum =
+                carom_collect_response_all_pairs(id, in[i], in, static_cast<unsigned int>(count), box);
+            out[i] = carom_apply_response(in[i], sum);
+            carom_record_collisions(&tallies[i], sum);
+            carom_integrate_into(id, out, dt, w.gravity.x, w.gravity.y, box, tallies);
         }
         std::swap(state_, next_);
     }
 }
 
-std::uint64_t AllPairsCpuBackend::collisions() {
-    return std::accumulate(collisionCounts_.begin(), collisionCounts_.end(), std::uint64_t{0});
+void AllPairsCpuBackend::drainTallies(ContactTotals& totals) {
+    addTallies(tallies_.data(), tallies_.size(), totals);
+    std::fill(tallies_.begin(), tallies_.end(), ContactTally{});
 }
 
 }  // namespace carom::bench

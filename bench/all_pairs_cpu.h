@@ -16,16 +16,17 @@ public:
     std::string device() const override;
     bool exactArithmetic() const override { return true; }
 
-    void step(std::uint64_t steps) override;
     void readParticles(std::vector<Particle>& particles) override { particles = state_; }
-    std::uint64_t collisions() override;
 
 private:
     void load(const std::vector<Particle>& particles) override;
+    void advance(std::uint64_t substeps, float dt) override;
+    float maxSpeedSquared() override { return maxSpeedSquaredOf(state_.data(), state_.size()); }
+    void drainTallies(ContactTotals& totals) override;
 
     std::vector<Particle> state_;
     std::vector<Particle> next_;
-    std::vector<unsigned int> collisionCounts_;
+    std::vector<ContactTally> tallies_;
 };
 
 }  // namespace carom::bench

@@ -26,14 +26,36 @@ public:
 // particle must stay countable in an int.
 constexpr std::uint64_t kMaxParticles = 500'000'000;
 
-// The box and the rules of motion. The world is [0,width] x [0,height] with
-// reflective walls on all four sides.
+// What happens at the edges of the box.
+enum class Boundary {
+    Walls,     // reflective walls on all four sides (the default)
+    Periodic,  // the box repeats: a disk leaving one side enters the opposite
+               //   one, and disks interact with the nearest image of each other
+};
+
+// "walls" or "periodic"; throws Error naming the value otherwise.
+Boundary parseBoundary(const std::string& name);
+const char* boundaryName(Boundary boundary);
+
+// The box and the rules of motion. The world is [0,width] x [0,height].
 struct WorldDef {
     float width = 0.0f;    // box width [length], > 0; no default: derived from the scene
     float height = 0.0f;   // box height [length], > 0
     float dt = 0.01f;      // time step [time], > 0
     float2 gravity{0, 0};  // constant acceleration [length/time^2]; off by default
+    Boundary boundary = Boundary::Walls;
+    // Adaptive substeps against tunnelling: when > 0, each step of dt is split
+    // into the fewest equal substeps in which no disk moves more than
+    // maxTravel x the smallest radius, judged from the fastest disk at the
+    // start of the step (plus what gravity adds over the step). 0 = off
+    // (every step is one substep) [fraction of the smallest radius], >= 0.
+    float maxTravel = 0.0f;
 };
+
+// The fraction `--dt auto` uses when no --max-travel is given.
+constexpr float kDefaultMaxTravel = 0.2f;
+// The most substeps one step may take before the run is refused as runaway.
+constexpr std::uint64_t kMaxSubsteps = 1'000'000;
 
 // Initial conditions: N disks placed without overlap on a jittered hexagonal
 // lattice, radii and masses fixed or uniform in a range, velocities of one

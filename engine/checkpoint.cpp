@@ -16,6 +16,7 @@ constexpr char kMagic[8] = {'C', 'A', 'R', 'O', 'M', 'C', 'K', 'P'};
 constexpr std::uint32_t kByteOrderMark = 0x01020304;
 constexpr std::uint32_t kSwappedByteOrderMark = 0x04030201;
 constexpr std::uint32_t kReflectiveWalls = 0;
+constexpr std::uint32_t kPeriodic = 1;
 constexpr std::size_t kHeaderBytes = 72;
 constexpr std::size_t kParticleBytes = 24;
 constexpr std::size_t kChecksumBytes = 4;
@@ -149,7 +150,7 @@ std::string encodeCheckpoint(const Checkpoint& c) {
     out.u32(kCheckpointVersion);
     out.u64(c.particles.size());
     for (float v : {c.world.width, c.world.height, c.world.dt, c.world.gravity.x, c.world.gravity.y}) out.f32(v);
-    out.u32(kReflectiveWalls);
+    out.u32(c.world.boundary == Boundary::Periodic ? kPeriodic : kReflectiveWalls);
     out.u64(c.step);
     out.f64(c.time);
     out.u64(c.collisions);
@@ -192,8 +193,10 @@ Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& what) {
     }
 
     // A valid checksum over invalid values: written by something other than carom.
-    if (boundary != kReflectiveWalls)
-        fail(what, "boundary code " + std::to_string(boundary) + " is unknown; allowed: 0 (reflective walls)");
+    if (boundary != kReflectiveWalls && boundary != kPeriodic)
+        fail(what, "boundary code " + std::to_string(boundary) +
+                       " is unknown; allowed: 0 (reflective walls), 1 (periodic)");
+    c.world.boundary = boundary == kPeriodic ? Boundary::Periodic : Boundary::Walls;
     if (!std::isfinite(c.time) || c.time < 0) fail(what, "time must be a finite number >= 0");
     try {
         validateParticles(c.particles, c.world, "particles");

@@ -9,7 +9,7 @@
 //       12      4  format version, 1
 //       16      8  particle count N, 1..kMaxParticles
 //       24     20  box width, box height, dt, gravity x, gravity y (float32)
-//       44      4  boundary: 0 = reflective walls (the only one so far)
+//       44      4  boundary: 0 = reflective walls, 1 = periodic
 //       48      8  step: steps taken since the scene began
 //       56      8  time (float64) = step * dt
 //       64      8  collisions since the scene began
@@ -28,7 +28,7 @@
 namespace carom {
 
 struct Checkpoint {
-    WorldDef world;                    // box, dt, gravity
+    WorldDef world;                    // box, dt, gravity, boundary (not maxTravel: give it again)
     std::uint64_t step = 0;            // steps taken since the scene began
     double time = 0.0;                 // simulated time [time], step * dt
     std::uint64_t collisions = 0;      // pairs that received an impulse since the scene began

@@ -22,13 +22,20 @@ Diagnostics measure(const std::vector<Particle>& particles, const WorldDef& worl
     }
 
     Grid grid;
-    grid.geometry = gridGeometryFor(world.width, world.height, maxRadius, particles.size());
+    grid.geometry = gridGeometryFor(world.width, world.height, maxRadius, particles.size(), world.boundary);
     buildGrid(particles.data(), particles.size(), grid);
-    forEachOverlappingPair(particles.data(), particles.size(), grid, [&](std::uint32_t i, std::uint32_t j) {
+    const bool periodic = world.boundary == Boundary::Periodic;
+    const CaromBox box = carom_box(world.width, world.height, periodic ? 1 : 0);
+    // The separation along one axis, to the nearest image in a periodic box.
+    const auto separation = [&](double d, double extent) {
+        if (!periodic) return d;
+        return d - extent * std::round(d / extent);
+    };
+    forEachOverlappingPair(particles.data(), particles.size(), grid, box, [&](std::uint32_t i, std::uint32_t j) {
         const Particle& a = particles[i];
         const Particle& b = particles[j];
-        const double distance = std::hypot(double(a.position.x) - b.position.x,
-                                           double(a.position.y) - b.position.y);
+        const double distance = std::hypot(separation(double(a.position.x) - b.position.x, world.width),
+                                           separation(double(a.position.y) - b.position.y, world.height));
         d.maxOverlap = std::max(d.maxOverlap, double(a.radius) + b.radius - distance);
     });
     return d;

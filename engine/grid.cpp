@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "kernels/physics.h"
 
 namespace carom {
 
-GridGeometry gridGeometryFor(float width, float height, float maxRadius, std::size_t particleCount) {
+GridGeometry gridGeometryFor(float width, float height, float maxRadius, std::size_t particleCount,
+                             Boundary boundary) {
     // A hair more than the diameter: float rounding of position * cellsPerLength
     // must never put two touching disks two cells apart.
     const double diameter = 2.0 * maxRadius * (1.0 + 1e-5);
@@ -16,6 +18,13 @@ GridGeometry gridGeometryFor(float width, float height, float maxRadius, std::si
     GridGeometry g;
     g.cols = static_cast<int>(std::clamp(std::floor(width / cellSize), 1.0, maxCells));
     g.rows = static_cast<int>(std::clamp(std::floor(height / cellSize), 1.0, maxCells));
+    if (boundary == Boundary::Periodic) {
+        if (width < 3.0 * diameter || height < 3.0 * diameter)
+            throw Error("a periodic box must be at least 3 largest diameters (3 x " + std::to_string(2.0 * maxRadius) +
+                        ") wide and high, got " + std::to_string(width) + " x " + std::to_string(height));
+        g.cols = std::max(g.cols, 3);
+        g.rows = std::max(g.rows, 3);
+    }
     g.cellsPerLengthX = static_cast<float>(g.cols / double(width));
     g.cellsPerLengthY = static_cast<float>(g.rows / double(height));
     return g;

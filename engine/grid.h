@@ -11,7 +11,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "kernels/particle.h"
+#include "engine/carom.h"
+#include "kernels/physics.h"
 
 namespace carom {
 
@@ -24,17 +25,21 @@ struct Grid {
 // The cell layout for a box and the largest radius. Cells are as small as the
 // largest diameter allows, but never more than about 4 per particle, so a
 // dilute system does not allocate a huge empty grid (larger cells are still
-// correct, only slower).
-GridGeometry gridGeometryFor(float width, float height, float maxRadius, std::size_t particleCount);
+// correct, only slower). A periodic box gets at least 3 x 3 cells, so the
+// 3x3 search around a disk never meets one cell twice; throws Error if the
+// box is too small for that.
+GridGeometry gridGeometryFor(float width, float height, float maxRadius, std::size_t particleCount,
+                             Boundary boundary = Boundary::Walls);
 
 // Fills grid.cells and grid.sortedIndices for the particles, keeping
 // grid.geometry. Reuses the vectors' storage from step to step.
 void buildGrid(const Particle* particles, std::size_t count, Grid& grid);
 
 // Calls visit(i, j) for every pair i < j whose disks overlap, found with the
-// same 3x3 search the collision kernel uses.
+// same 3x3 search the collision kernel uses (across the edges of a periodic
+// box, to the nearest image).
 template <class Visit>
-void forEachOverlappingPair(const Particle* particles, std::size_t count, const Grid& grid,
+void forEachOverlappingPair(const Particle* particles, std::size_t count, const Grid& grid, CaromBox box,
                             Visit&& visit);
 
 }  // namespace carom

@@ -99,12 +99,24 @@ struct Lattice {
 
 }  // namespace
 
+Boundary parseBoundary(const std::string& name) {
+    if (name == "walls") return Boundary::Walls;
+    if (name == "periodic") return Boundary::Periodic;
+    fail("unknown boundary '", name, "'; allowed: walls, periodic");
+}
+
+const char* boundaryName(Boundary boundary) { return boundary == Boundary::Periodic ? "periodic" : "walls"; }
+
 void validate(const WorldDef& world) {
     requirePositive("box width", world.width);
     requirePositive("box height", world.height);
     requirePositive("dt", world.dt);
     if (!std::isfinite(world.gravity.x) || !std::isfinite(world.gravity.y))
         fail("gravity must be finite, got (", world.gravity.x, ", ", world.gravity.y, ")");
+    if (world.boundary != Boundary::Walls && world.boundary != Boundary::Periodic)
+        fail("boundary code ", static_cast<int>(world.boundary), " is unknown; allowed: walls, periodic");
+    if (!(std::isfinite(world.maxTravel) && world.maxTravel >= 0.0f))
+        fail("max-travel must be a finite number >= 0 (0 = fixed dt), got ", world.maxTravel);
 }
 
 void validate(const SceneDef& scene) {
@@ -202,8 +214,15 @@ void validateParticles(const std::vector<Particle>& particles, const WorldDef& w
         if (2.0f * r > world.width || 2.0f * r > world.height)
             fail(what, ": particle ", i, ": radius ", r, " does not fit in the ", world.width,
                  " x ", world.height, " box");
-        // The same bounds the walls clamp to, so a saved final state reads back.
         const float2 x = p.position;
+        if (world.boundary == Boundary::Periodic) {
+            // Where the wrap in integrate keeps centres.
+            if (!(x.x >= 0.0f && x.x < world.width && x.y >= 0.0f && x.y < world.height))
+                fail(what, ": particle ", i, ": position (", x.x, ", ", x.y, ") is outside the periodic box; ",
+                     "the centre must lie in [0, ", world.width, ") x [0, ", world.height, ")");
+            continue;
+        }
+        // The same bounds the walls clamp to, so a saved final state reads back.
         if (!(x.x >= r && x.x <= world.width - r && x.y >= r && x.y <= world.height - r))
             fail(what, ": particle ", i, ": position (", x.x, ", ", x.y,
                  ") puts the disk outside the box; the centre must lie in [", r, ", ",

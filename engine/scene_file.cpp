@@ -45,8 +45,8 @@ public:
     SceneFile parse(const toml::table& root) const {
         SceneFile scene;
         scene.path = path_;
-        requireKnownKeys(root, "", {"boundary", "box", "disk", "dt", "gravity", "group", "output", "packing",
-                                    "seed", "steps"});
+        requireKnownKeys(root, "", {"boundary", "box", "disk", "dt", "gravity", "group", "max_travel", "output",
+                                    "packing", "seed", "steps"});
         const toml::node* box = root.get("box");
         const toml::node* packing = root.get("packing");
         if (box && packing) fail(*packing, "packing", "give box or packing, not both");
@@ -63,11 +63,21 @@ public:
                 fail(*packing, "packing", "must be in (0, 0.7]: the lattice placement reaches no higher");
         }
         if (const toml::node* boundary = root.get("boundary")) {
-            if (text(*boundary, "boundary") != "walls")
-                fail(*boundary, "boundary", "allowed: \"walls\" (reflective walls; periodic boundaries are not "
-                                            "implemented yet)");
+            const std::string name = text(*boundary, "boundary");
+            if (name == "walls") scene.world.boundary = Boundary::Walls;
+            else if (name == "periodic") scene.world.boundary = Boundary::Periodic;
+            else fail(*boundary, "boundary", "allowed: \"walls\" (reflective) or \"periodic\"");
         }
-        if (const toml::node* dt = root.get("dt")) scene.world.dt = real(*dt, "dt", Bound::Positive);
+        if (const toml::node* dt = root.get("dt")) {
+            if (dt->is_string()) {
+                if (text(*dt, "dt") != "auto") fail(*dt, "dt", "must be a finite number > 0 or \"auto\"");
+                if (scene.world.maxTravel == 0.0f) scene.world.maxTravel = kDefaultMaxTravel;
+            } else {
+                scene.world.dt = real(*dt, "dt", Bound::Positive);
+            }
+        }
+        if (const toml::node* maxTravel = root.get("max_travel"))
+            scene.world.maxTravel = real(*maxTravel, "max_travel", Bound::Positive);
         if (const toml::node* gravity = root.get("gravity"))
             scene.world.gravity = pair(*gravity, "gravity", Bound::Any);
         if (const toml::node* steps = root.get("steps")) scene.steps = integer(*steps, "steps", 0, INT64_MAX);
@@ -471,7 +481,10 @@ void requireNoOverlap(const SceneFile& scene, const std::vector<Particle>& parti
         }
         return text.str();
     };
-    forEachOverlappingPair(particles.data(), particles.size(), grid, [&](std::uint32_t i, std::uint32_t j) {
+    // Disks are placed inside the box, so an overlap across a periodic edge is
+    // not possible: the walled search finds every one.
+    forEachOverlappingPair(particles.data(), particles.size(), grid, carom_box(width, height, 0),
+                           [&](std::uint32_t i, std::uint32_t j) {
         const DiskDef& d = scene.disks[j - firstDisk];  // j > i, so j is a [[disk]]
         fail(scene.path, ':', d.line, ": ", name(j), " at (", d.position.x, ", ", d.position.y, ") overlaps ",
              name(i), " at (", particles[i].position.x, ", ", particles[i].position.y,

@@ -2,8 +2,9 @@
 // "Scene files" section is the user's reference; in short:
 //
 //   box = [100, 60]          # or packing = 0.3 for a square box (one group, no regions, no disks)
-//   boundary = "walls"       # reflective walls, the only boundary so far
-//   dt = 0.01                # steps = 1000, gravity = [0, 0], seed = 1 are the other defaults
+//   boundary = "walls"       # reflective walls, or "periodic"
+//   dt = 0.01                # or "auto": substeps of at most max_travel = 0.2 radii
+//                            # steps = 1000, gravity = [0, 0], seed = 1 are the other defaults
 //   [[group]]                # disks placed on a jittered lattice, without overlap
 //   count = 500
 //   radius = 1.0             # or [min, max]; mass likewise

@@ -6,15 +6,18 @@
  * as in the seed pipeline. */
 __kernel void resolveAllPairs(__global const Particle* in,
                               uint count,
+                              float width,
+                              float height,
+                              int periodic,
                               __global Particle* out,
-                              __global uint* collisionCounts)
+                              __global ContactTally* tallies)
 {
     const uint i = get_global_id(0);
     if (i >= count) return;
     const Particle self = in[i];
-    const CaromResponse sum = carom_collect_response_all_pairs(i, self, in, count);
+    const CaromResponse sum = carom_collect_response_all_pairs(i, self, in, count, carom_box(width, height, periodic));
     out[i] = carom_apply_response(self, sum);
-    collisionCounts[i] += sum.impulses;
+    carom_record_collisions(&tallies[i], sum);
 }
 
 __kernel void copyFloat4(__global const float4* from, __global float4* to, uint count)

@@ -30,6 +30,15 @@ typedef struct CAROM_ALIGNED(32) Particle {
     float2 padding;  /* unused; keeps the size at 32 bytes */
 } Particle;
 
+/* What one particle's collisions and wall bounces delivered, summed over the
+ * substeps since the host last read and zeroed the tallies (Backend::contacts).
+ * Pair quantities count on the lower id of the pair only, so each pair once. */
+typedef struct ContactTally {
+    unsigned int collisions; /* pairs (i, j > i) that received an impulse */
+    float virial;            /* sum of r_ij . J_ij over those impulses [mass length^2/time] */
+    float wallImpulse[4];    /* momentum given to the left, right, bottom, top wall [mass length/time] */
+} ContactTally;
+
 /* The particles of one grid cell: sortedIndices[start .. start+count). */
 typedef struct GridCell {
     unsigned int start;
@@ -54,6 +63,8 @@ static_assert(offsetof(Particle, position) == 0 && offsetof(Particle, velocity) 
                   offsetof(Particle, mass) == 16 && offsetof(Particle, radius) == 20 &&
                   offsetof(Particle, padding) == 24,
               "Particle field offsets must match the OpenCL struct");
+static_assert(sizeof(ContactTally) == 24 && offsetof(ContactTally, wallImpulse) == 8,
+              "ContactTally must match the OpenCL struct");
 static_assert(sizeof(GridCell) == 8 && offsetof(GridCell, count) == 4, "GridCell is two uints");
 } /* namespace carom */
 #endif

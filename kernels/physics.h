@@ -44,27 +44,72 @@ static inline int carom_cell_index(float2 position, GridGeometry grid)
            carom_cell_coord(position.x, grid.cellsPerLengthX, grid.cols);
 }
 
+/* The box as the kernels see it (WorldDef: width, height, boundary). */
+typedef struct CaromBox {
+    float width;
+    float height;
+    int periodic; /* 0: reflective walls; 1: the box repeats */
+} CaromBox;
+
+static inline CaromBox carom_box(float width, float height, int periodic)
+{
+    CaromBox box;
+    box.width = width;
+    box.height = height;
+    box.periodic = periodic;
+    return box;
+}
+
+/* One component of the separation between the nearest images of two disks
+ * in a periodic box of this extent. The box is at least three cells wide
+ * (gridGeometryFor), so no other image can touch. */
+static inline float carom_nearest_image(float d, float extent)
+{
+    if (d > 0.5f * extent) return d - extent;
+    if (d < -0.5f * extent) return d + extent;
+    return d;
+}
+
+/* A periodic coordinate back into [0, extent). x + extent can round up to
+ * extent itself, which is 0 in a periodic box; so is anything still outside
+ * after one correction (a disk that crossed a whole box in one substep). NaN
+ * stays NaN, for the diagnostics to report. */
+static inline float carom_wrap(float x, float extent)
+{
+    if (x < 0.0f) x += extent;
+    else if (x >= extent) x -= extent;
+    if (x >= extent || x < 0.0f) return 0.0f;
+    return x;
+}
+
 /* The changes that particle i collects from its neighbours in one step. */
 typedef struct CaromResponse {
     float dvx, dvy; /* velocity change */
     float dpx, dpy; /* position change */
     unsigned int impulses; /* pairs (i, j > i) that received an impulse */
+    float virial;          /* their r_ij . J_ij, summed */
 } CaromResponse;
 
 /* Adds the response of particle i (`self`) to neighbour j (`other`), if they
  * overlap:
  *  - if the pair approaches, the elastic impulse
  *      dv_i = -(2 m_j / (m_i + m_j)) * ((v_i - v_j).(x_i - x_j) / |x_i - x_j|^2) (x_i - x_j)
- *    which needs no square root;
+ *    which needs no square root; its virial r_ij . J_ij = 2 mu_ij |(v_i - v_j).(x_i - x_j)|
+ *    (J_ij = 2 mu_ij |v_n| along x_i - x_j) needs none either;
  *  - the mass-weighted positional correction: particle i moves away from j by
  *    the share m_j / (m_i + m_j) of the overlap, so the pair separates by
  *    exactly the overlap.
+ * In a periodic box the separation is to j's nearest image.
  * Callers visit neighbours in a fixed order, so the sums are reproducible. */
 static inline void carom_add_pair_response(unsigned int i, Particle self, unsigned int j, Particle other,
-                                           CaromResponse* sum)
+                                           CaromBox box, CaromResponse* sum)
 {
-    const float dx = self.position.x - other.position.x;
-    const float dy = self.position.y - other.position.y;
+    float dx = self.position.x - other.position.x;
+    float dy = self.position.y - other.position.y;
+    if (box.periodic) {
+        dx = carom_nearest_image(dx, box.width);
+        dy = carom_nearest_image(dy, box.height);
+    }
     const float dist2 = dx * dx + dy * dy;
     const float contact = self.radius + other.radius;
     if (dist2 >= contact * contact) return;
@@ -76,7 +121,10 @@ static inline void carom_add_pair_response(unsigned int i, Particle self, unsign
         const float scale = (2.0f * share) * (approach / dist2);
         sum->dvx -= scale * dx;
         sum->dvy -= scale * dy;
-        if (j > i) ++sum->impulses;
+        if (j > i) {
+            ++sum->impulses;
+            sum->virial -= (2.0f * (self.mass * share)) * approach;
+        }
     }
 
     const float dist = carom_sqrt(dist2);
@@ -91,6 +139,18 @@ static inline void carom_add_pair_response(unsigned int i, Particle self, unsign
     }
 }
 
+/* Adds the responses to the particles sortedIndices[begin .. end). */
+static inline void carom_add_run_response(unsigned int i, Particle self, CAROM_GLOBAL const Particle* in,
+                                          CAROM_GLOBAL const unsigned int* sortedIndices,
+                                          CAROM_GLOBAL const unsigned int* slots, unsigned int begin,
+                                          unsigned int end, CaromBox box, CaromResponse* sum)
+{
+    for (unsigned int k = begin; k < end; ++k) {
+        const unsigned int j = sortedIndices[k];
+        if (j != i) carom_add_pair_response(i, self, j, in[slots[k]], box, sum);
+    }
+}
+
 /* The response of particle i (`self`) to its neighbours in the 3x3 cells
  * around it, visited in the fixed order: cell rows, then columns, then
  * ascending id within a cell. Particle sortedIndices[k] is stored at
@@ -102,26 +162,35 @@ static inline void carom_add_pair_response(unsigned int i, Particle self, unsign
  * sortedIndices (each cell starts where the one before it ends), so one run
  * over sortedIndices covers a row's three cells in exactly that order: one
  * loop per row instead of three, which keeps the work-items of a GPU
- * wavefront in step. */
+ * wavefront in step. In a periodic box the rows wrap around, and a disk in
+ * an edge column also visits the column across the edge, after the run
+ * (the grid is at least 3 x 3, so that column is never in the run). */
 static inline CaromResponse carom_collect_response_from(unsigned int i, Particle self,
                                                         CAROM_GLOBAL const Particle* in,
                                                         CAROM_GLOBAL const unsigned int* sortedIndices,
                                                         CAROM_GLOBAL const unsigned int* slots,
                                                         CAROM_GLOBAL const GridCell* cells,
-                                                        GridGeometry grid)
+                                                        GridGeometry grid, CaromBox box)
 {
     const int cellX = carom_cell_coord(self.position.x, grid.cellsPerLengthX, grid.cols);
     const int cellY = carom_cell_coord(self.position.y, grid.cellsPerLengthY, grid.rows);
     const int firstX = cellX > 0 ? cellX - 1 : cellX;
     const int lastX = cellX + 1 < grid.cols ? cellX + 1 : cellX;
-    CaromResponse sum = {0.0f, 0.0f, 0.0f, 0.0f, 0u};
-    for (int y = cellY - 1; y <= cellY + 1; ++y) {
-        if (y < 0 || y >= grid.rows) continue;
-        const unsigned int begin = cells[y * grid.cols + firstX].start;
+    int acrossX = -1;
+    if (box.periodic && cellX == 0) acrossX = grid.cols - 1;
+    if (box.periodic && cellX == grid.cols - 1) acrossX = 0;
+    CaromResponse sum = {0.0f, 0.0f, 0.0f, 0.0f, 0u, 0.0f};
+    for (int row = cellY - 1; row <= cellY + 1; ++row) {
+        int y = row;
+        if (box.periodic) y = y < 0 ? y + grid.rows : (y >= grid.rows ? y - grid.rows : y);
+        else if (y < 0 || y >= grid.rows) continue;
         const GridCell last = cells[y * grid.cols + lastX];
-        for (unsigned int k = begin; k < last.start + last.count; ++k) {
-            const unsigned int j = sortedIndices[k];
-            if (j != i) carom_add_pair_response(i, self, j, in[slots[k]], &sum);
+        carom_add_run_response(i, self, in, sortedIndices, slots, cells[y * grid.cols + firstX].start,
+                               last.start + last.count, box, &sum);
+        if (acrossX >= 0) {
+            const GridCell across = cells[y * grid.cols + acrossX];
+            carom_add_run_response(i, self, in, sortedIndices, slots, across.start, across.start + across.count,
+                                   box, &sum);
         }
     }
     return sum;
@@ -132,9 +201,9 @@ static inline CaromResponse carom_collect_response(unsigned int i, Particle self
                                                    CAROM_GLOBAL const Particle* in,
                                                    CAROM_GLOBAL const unsigned int* sortedIndices,
                                                    CAROM_GLOBAL const GridCell* cells,
-                                                   GridGeometry grid)
+                                                   GridGeometry grid, CaromBox box)
 {
-    return carom_collect_response_from(i, self, in, sortedIndices, sortedIndices, cells, grid);
+    return carom_collect_response_from(i, self, in, sortedIndices, sortedIndices, cells, grid, box);
 }
 
 /* The same response without a grid, for the all-pairs baseline of `carom
@@ -142,11 +211,11 @@ static inline CaromResponse carom_collect_response(unsigned int i, Particle self
  * pairs as the grid search, summed in another order, so not bitwise equal. */
 static inline CaromResponse carom_collect_response_all_pairs(unsigned int i, Particle self,
                                                              CAROM_GLOBAL const Particle* in,
-                                                             unsigned int count)
+                                                             unsigned int count, CaromBox box)
 {
-    CaromResponse sum = {0.0f, 0.0f, 0.0f, 0.0f, 0u};
+    CaromResponse sum = {0.0f, 0.0f, 0.0f, 0.0f, 0u, 0.0f};
     for (unsigned int j = 0; j < count; ++j)
-        if (j != i) carom_add_pair_response(i, self, j, in[j], &sum);
+        if (j != i) carom_add_pair_response(i, self, j, in[j], box, &sum);
     return sum;
 }
 
@@ -160,23 +229,39 @@ static inline Particle carom_apply_response(Particle self, CaromResponse sum)
     return self;
 }
 
+/* Adds a step's collisions and wall impulses to the particle's tally. Most
+ * particles receive no impulse and touch no wall in a step: they skip the
+ * read-modify-write. */
+static inline void carom_record_collisions(CAROM_GLOBAL ContactTally* tally, CaromResponse sum)
+{
+    if (sum.impulses == 0u) return;
+    tally->collisions += sum.impulses;
+    tally->virial += sum.virial;
+}
+
+static inline void carom_record_walls(CAROM_GLOBAL ContactTally* tally, const float* wallImpulse)
+{
+    if (wallImpulse[0] == 0.0f && wallImpulse[1] == 0.0f && wallImpulse[2] == 0.0f && wallImpulse[3] == 0.0f)
+        return;
+    for (int w = 0; w < 4; ++w) tally->wallImpulse[w] += wallImpulse[w];
+}
+
 /* resolveCollisions for particle i: reads the state from before the step
  * (`in`) and writes particle i of the new state (`out`), so no work-item reads
  * what another one writes. All neighbours' responses are summed before the
- * single write. collisionCounts[i] counts the pairs (i, j > i) that received
- * an impulse, so each pair counts once. */
+ * single write. */
 static inline void carom_resolve_collisions(unsigned int i,
                                             CAROM_GLOBAL const Particle* in,
                                             CAROM_GLOBAL const unsigned int* sortedIndices,
                                             CAROM_GLOBAL const GridCell* cells,
-                                            GridGeometry grid,
+                                            GridGeometry grid, CaromBox box,
                                             CAROM_GLOBAL Particle* out,
-                                            CAROM_GLOBAL unsigned int* collisionCounts)
+                                            CAROM_GLOBAL ContactTally* tallies)
 {
     const Particle self = in[i];
-    const CaromResponse sum = carom_collect_response(i, self, in, sortedIndices, cells, grid);
+    const CaromResponse sum = carom_collect_response(i, self, in, sortedIndices, cells, grid, box);
     out[i] = carom_apply_response(self, sum);
-    collisionCounts[i] += sum.impulses;
+    carom_record_collisions(&tallies[i], sum);
 }
 
 /* Reflective walls along one axis: the disk is clamped to
@@ -199,20 +284,56 @@ static inline float carom_wall_position(float position, float radius, float exte
     return position;
 }
 
+/* The momentum 2 m |v| a reflection of velocity component `before` gives
+ * the wall it points at: wallImpulse[low] if it pointed down the axis, else
+ * wallImpulse[low + 1]. Nothing if the wall did not reflect it. */
+static inline void carom_add_wall_impulse(float mass, float before, float after, int low, float* wallImpulse)
+{
+    if (after == before) return;
+    if (before < 0.0f) wallImpulse[low] += (2.0f * mass) * -before;
+    else wallImpulse[low + 1] += (2.0f * mass) * before;
+}
+
 /* integrate: one semi-implicit Euler step (velocity first, then position
- * with the new velocity), then the walls. */
-static inline Particle carom_integrate(Particle p, float dt, float gravityX, float gravityY,
-                                       float width, float height)
+ * with the new velocity), then the boundary: wrapped around a periodic box,
+ * or reflected by the walls, whose impulses are added to wallImpulse (left,
+ * right, bottom, top). */
+static inline Particle carom_integrate(Particle p, float dt, float gravityX, float gravityY, CaromBox box,
+                                       float* wallImpulse)
 {
     p.velocity.x += gravityX * dt;
     p.velocity.y += gravityY * dt;
     p.position.x += p.velocity.x * dt;
     p.position.y += p.velocity.y * dt;
-    p.velocity.x = carom_wall_velocity(p.position.x, p.velocity.x, p.radius, width);
-    p.velocity.y = carom_wall_velocity(p.position.y, p.velocity.y, p.radius, height);
-    p.position.x = carom_wall_position(p.position.x, p.radius, width);
-    p.position.y = carom_wall_position(p.position.y, p.radius, height);
+    if (box.periodic) {
+        p.position.x = carom_wrap(p.position.x, box.width);
+        p.position.y = carom_wrap(p.position.y, box.height);
+        return p;
+    }
+    const float vx = p.velocity.x;
+    const float vy = p.velocity.y;
+    p.velocity.x = carom_wall_velocity(p.position.x, vx, p.radius, box.width);
+    p.velocity.y = carom_wall_velocity(p.position.y, vy, p.radius, box.height);
+    carom_add_wall_impulse(p.mass, vx, p.velocity.x, 0, wallImpulse);
+    carom_add_wall_impulse(p.mass, vy, p.velocity.y, 2, wallImpulse);
+    p.position.x = carom_wall_position(p.position.x, p.radius, box.width);
+    p.position.y = carom_wall_position(p.position.y, p.radius, box.height);
     return p;
+}
+
+/* integrate for particle i, recording its wall impulses. */
+static inline void carom_integrate_into(unsigned int i, CAROM_GLOBAL Particle* particles, float dt, float gravityX,
+                                        float gravityY, CaromBox box, CAROM_GLOBAL ContactTally* tallies)
+{
+    float wallImpulse[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    particles[i] = carom_integrate(particles[i], dt, gravityX, gravityY, box, wallImpulse);
+    carom_record_walls(&tallies[i], wallImpulse);
+}
+
+/* v.x^2 + v.y^2: the quantity the max-speed reduction compares. */
+static inline float carom_speed_squared(Particle p)
+{
+    return p.velocity.x * p.velocity.x + p.velocity.y * p.velocity.y;
 }
 
 #ifndef __OPENCL_VERSION__

@@ -24,8 +24,9 @@ __kernel void resolveIntegrateAndCount(__global const Particle* state,
                                        float gravityY,
                                        float width,
                                        float height,
+                                       int periodic,
                                        __global Particle* next,
-                                       __global uint* collisionCounts,
+                                       __global ContactTally* tallies,
                                        __global uint* nextCounts,
                                        __global uint* cellOf,
                                        __global uint* rankInCell)
@@ -35,10 +36,13 @@ __kernel void resolveIntegrateAndCount(__global const Particle* state,
     const GridGeometry grid = carom_grid(cellsPerLengthX, cellsPerLengthY, cols, rows);
     const uint i = sortedIds[k];
     const Particle self = state[cellOrder[k]];
-    const CaromResponse sum = carom_collect_response_from(i, self, state, sortedIds, cellOrder, cells, grid);
-    const Particle moved = carom_integrate(carom_apply_response(self, sum), dt, gravityX, gravityY, width, height);
+    const CaromBox box = carom_box(width, height, periodic);
+    const CaromResponse sum = carom_collect_response_from(i, self, state, sortedIds, cellOrder, cells, grid, box);
+    float wallImpulse[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    const Particle moved = carom_integrate(carom_apply_response(self, sum), dt, gravityX, gravityY, box, wallImpulse);
     next[k] = moved;
-    /* Most particles receive no impulse in a step: skip the read-modify-write. */
-    if (sum.impulses != 0u) collisionCounts[i] += sum.impulses;
+    /* The tallies stay in id order, so reading them needs no slot map. */
+    carom_record_collisions(&tallies[i], sum);
+    carom_record_walls(&tallies[i], wallImpulse);
     carom_count_into_cell(k, moved.position, grid, nextCounts, cellOf, rankInCell);
 }

@@ -1,5 +1,6 @@
-/* The two kernels of one step, one work-item per particle. The physics itself
- * lives in physics.h, which the CPU backend compiles too. */
+/* The kernels of the seed pipeline's step, one work-item per particle, and
+ * the max-speed reduction that sizes substeps. The physics itself lives in
+ * physics.h, which the CPU backend compiles too. */
 #include "physics.h"
 
 __kernel void resolveCollisions(__global const Particle* in,
@@ -10,8 +11,11 @@ __kernel void resolveCollisions(__global const Particle* in,
                                 int cols,
                                 int rows,
                                 uint count,
+                                float width,
+                                float height,
+                                int periodic,
                                 __global Particle* out,
-                                __global uint* collisionCounts)
+                                __global ContactTally* tallies)
 {
     const uint i = get_global_id(0);
     if (i >= count) return;
@@ -20,7 +24,7 @@ __kernel void resolveCollisions(__global const Particle* in,
     grid.cellsPerLengthY = cellsPerLengthY;
     grid.cols = cols;
     grid.rows = rows;
-    carom_resolve_collisions(i, in, sortedIndices, cells, grid, out, collisionCounts);
+    carom_resolve_collisions(i, in, sortedIndices, cells, grid, carom_box(width, height, periodic), out, tallies);
 }
 
 __kernel void integrate(__global Particle* particles,
@@ -29,9 +33,33 @@ __kernel void integrate(__global Particle* particles,
                         float gravityX,
                         float gravityY,
                         float width,
-                        float height)
+                        float height,
+                        int periodic,
+                        __global ContactTally* tallies)
 {
     const uint i = get_global_id(0);
     if (i >= count) return;
-    particles[i] = carom_integrate(particles[i], dt, gravityX, gravityY, width, height);
+    carom_integrate_into(i, particles, dt, gravityX, gravityY, carom_box(width, height, periodic), tallies);
+}
+
+/* The largest v.x^2 + v.y^2 of each work-group's particles, into
+ * groupMax[group]: each work-item takes every (global size)-th particle,
+ * then the work-group halves its values in local memory. max is exact in any
+ * order, so the host's max over groupMax equals the CPU backend's bit for
+ * bit. The local size must be a power of two. */
+__kernel void maxSpeedSquared(__global const Particle* particles,
+                              uint count,
+                              __local float* scratch,
+                              __global float* groupMax)
+{
+    float largest = 0.0f;
+    for (uint i = get_global_id(0); i < count; i += get_global_size(0))
+        largest = fmax(largest, carom_speed_squared(particles[i]));
+    const uint lid = get_local_id(0);
+    scratch[lid] = largest;
+    for (uint stride = get_local_size(0) / 2; stride > 0; stride /= 2) {
+        barrier(CLK_LOCAL_MEM_FENCE);
+        if (lid < stride) scratch[lid] = fmax(scratch[lid], scratch[lid + stride]);
+    }
+    if (lid == 0) groupMax[get_group_id(0)] = scratch[0];
 }

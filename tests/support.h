@@ -42,13 +42,14 @@ inline WorldDef box(float width, float height, float dt = 0.01f) {
 // Runs `steps` steps of `particles` on a fresh backend and returns the result.
 inline std::vector<Particle> simulate(const std::string& kind, const WorldDef& world,
                                       const std::vector<Particle>& particles, std::uint64_t steps,
-                                      std::uint64_t* collisions = nullptr) {
+                                      std::uint64_t* collisions = nullptr, ContactTotals* contacts = nullptr) {
     auto backend = makeTestBackend(kind, world);
     backend->setParticles(particles);
     backend->step(steps);
     std::vector<Particle> result;
     backend->readParticles(result);
     if (collisions) *collisions = backend->collisions();
+    if (contacts) *contacts = backend->contacts();
     return result;
 }
 

@@ -1,6 +1,7 @@
 // CPU vs OpenCL, seed and resident pipelines: bitwise identical trajectories
-// where the OpenCL device divides and takes square roots correctly rounded
-// (PoCL and NVIDIA do).
+// and contact totals (collisions, virial, wall impulses, substeps) where the
+// OpenCL device divides and takes square roots correctly rounded (PoCL and
+// NVIDIA do), with walls and periodic boundaries, fixed and adaptive steps.
 //
 // Fallback: on a device without correctly rounded divide/sqrt, rounding
 // differences grow chaotically, so the comparison drops to a tolerance of
@@ -21,7 +22,7 @@ namespace {
 
 // One OpenCL run of the scene on the given pipeline, compared with the CPU run.
 void compareWithCpu(const std::string& pipeline, const WorldDef& world, const InitialState& s,
-                    std::uint64_t steps, const std::vector<Particle>& cpu, std::uint64_t cpuCollisions) {
+                    std::uint64_t steps, const std::vector<Particle>& cpu, const ContactTotals& cpuContacts) {
     const char* device = std::getenv("CAROM_TEST_DEVICE");
     auto opencl = makeBackend(BackendDef{"opencl", device ? device : "", pipeline}, world);
     MESSAGE("OpenCL device: " << opencl->device() << ", " << pipeline << " pipeline");
@@ -36,8 +37,14 @@ void compareWithCpu(const std::string& pipeline, const WorldDef& world, const In
             if (std::memcmp(&cpu[i], &gpu[i], sizeof(Particle)) != 0) ++differing;
         CHECK_MESSAGE(differing == 0, differing << " of " << cpu.size() << " particles differ after " << steps
                                                 << " steps on the " << pipeline << " pipeline");
-        CHECK(opencl->collisions() == cpuCollisions);
-        CHECK(cpuCollisions > cpu.size());  // the comparison covered real collisions
+        // Each particle's float tally sums in the same order on both, and the
+        // host adds them up in id order: the totals agree exactly.
+        const ContactTotals& contacts = opencl->contacts();
+        CHECK(contacts.collisions == cpuContacts.collisions);
+        CHECK(contacts.virial == cpuContacts.virial);
+        CHECK(contacts.wallImpulse == cpuContacts.wallImpulse);
+        CHECK(contacts.substeps == cpuContacts.substeps);
+        CHECK(cpuContacts.collisions > cpu.size());  // the comparison covered real collisions
     } else {
         for (std::size_t i = 0; i < cpu.size(); ++i) {
             CHECK(std::abs(cpu[i].position.x - gpu[i].position.x) < 1e-3f * world.width);
@@ -46,25 +53,36 @@ void compareWithCpu(const std::string& pipeline, const WorldDef& world, const In
     }
 }
 
-// The CPU run once, then both OpenCL pipelines against it.
-void compareBackends(const SceneDef& scene, float dt, float2 gravity, std::uint64_t steps) {
+// The CPU run once, then both OpenCL pipelines against it. `rules` gives
+// dt, gravity, boundary and maxTravel; the box comes from the scene.
+void compareBackends(const SceneDef& scene, WorldDef rules, std::uint64_t steps) {
     const auto kinds = backendKinds();
     if (std::find(kinds.begin(), kinds.end(), "opencl") == kinds.end()) {
         MESSAGE("this build has no OpenCL backend: nothing to compare");
         return;
     }
     const InitialState s = makeInitialState(scene);
-    WorldDef world = box(s.width, s.height, dt);
-    world.gravity = gravity;
+    WorldDef world = rules;
+    world.width = s.width;
+    world.height = s.height;
 
     if (!makeTestBackend("opencl", world)->exactArithmetic()) {
         MESSAGE("the device lacks correctly rounded divide/sqrt: comparing within 1e-3 over 20 steps, not bitwise");
         steps = 20;
     }
-    std::uint64_t cpuCollisions = 0;
-    const std::vector<Particle> cpu = simulate("cpu", world, s.particles, steps, &cpuCollisions);
+    ContactTotals cpuContacts;
+    const std::vector<Particle> cpu = simulate("cpu", world, s.particles, steps, nullptr, &cpuContacts);
     REQUIRE_MESSAGE(measure(cpu, world).escaped == 0, "the CPU run itself went unstable: nothing meaningful to compare");
-    for (const char* pipeline : {"seed", "resident"}) compareWithCpu(pipeline, world, s, steps, cpu, cpuCollisions);
+    for (const char* pipeline : {"seed", "resident"}) compareWithCpu(pipeline, world, s, steps, cpu, cpuContacts);
+}
+
+WorldDef rules(float dt, float2 gravity = {0, 0}, Boundary boundary = Boundary::Walls, float maxTravel = 0.0f) {
+    WorldDef world;
+    world.dt = dt;
+    world.gravity = gravity;
+    world.boundary = boundary;
+    world.maxTravel = maxTravel;
+    return world;
 }
 
 }  // namespace
@@ -74,7 +92,28 @@ TEST_CASE("differential: CPU and OpenCL (seed and resident) agree bitwise, N = 1
     scene.particles = 10000;
     scene.packing = 0.5f;
     scene.seed = 42;
-    compareBackends(scene, 0.01f, float2{0, 0}, 1000);
+    compareBackends(scene, rules(0.01f), 1000);
+}
+
+TEST_CASE("differential: a periodic box, N = 10000 at packing 0.5 over 1000 steps") {
+    SceneDef scene;
+    scene.particles = 10000;
+    scene.packing = 0.5f;
+    scene.seed = 43;
+    compareBackends(scene, rules(0.01f, {0, 0}, Boundary::Periodic), 1000);
+}
+
+TEST_CASE("differential: adaptive substeps (max travel 0.2), fast polydisperse disks in a periodic box") {
+    SceneDef scene;
+    scene.particles = 2000;
+    scene.packing = 0.3f;
+    scene.radiusMin = 0.5f;
+    scene.radiusMax = 1.0f;
+    scene.massMin = 0.5f;
+    scene.massMax = 4.0f;
+    scene.speed = 20.0f;
+    scene.seed = 5;
+    compareBackends(scene, rules(0.02f, {0, 0}, Boundary::Periodic, 0.2f), 100);
 }
 
 TEST_CASE("differential: polydisperse disks with unequal masses under gravity") {
@@ -89,5 +128,5 @@ TEST_CASE("differential: polydisperse disks with unequal masses under gravity") 
     scene.seed = 7;
     // dt small enough that the pile forming at the floor stays stable (at
     // dt = 0.01 the explicit scheme blows up here: ARCHITECTURE.md, known weaknesses).
-    compareBackends(scene, 0.002f, float2{0.5f, -3.0f}, 2000);
+    compareBackends(scene, rules(0.002f, float2{0.5f, -3.0f}), 2000);
 }

@@ -14,23 +14,28 @@ namespace {
 
 using PairSet = std::set<std::pair<std::uint32_t, std::uint32_t>>;
 
-PairSet bruteForcePairs(const std::vector<Particle>& ps) {
+// With a periodic `box`, the separation is to the nearest image.
+PairSet bruteForcePairs(const std::vector<Particle>& ps, CaromBox box) {
     PairSet pairs;
     for (std::uint32_t i = 0; i < ps.size(); ++i)
         for (std::uint32_t j = i + 1; j < ps.size(); ++j) {
-            const float dx = ps[i].position.x - ps[j].position.x;
-            const float dy = ps[i].position.y - ps[j].position.y;
+            float dx = ps[i].position.x - ps[j].position.x;
+            float dy = ps[i].position.y - ps[j].position.y;
+            if (box.periodic) {
+                dx = carom_nearest_image(dx, box.width);
+                dy = carom_nearest_image(dy, box.height);
+            }
             const float contact = ps[i].radius + ps[j].radius;
             if (dx * dx + dy * dy < contact * contact) pairs.insert({i, j});
         }
     return pairs;
 }
 
-Grid gridFor(const std::vector<Particle>& ps, float width, float height) {
+Grid gridFor(const std::vector<Particle>& ps, float width, float height, Boundary boundary = Boundary::Walls) {
     float maxRadius = 0;
     for (const Particle& p : ps) maxRadius = std::max(maxRadius, p.radius);
     Grid grid;
-    grid.geometry = gridGeometryFor(width, height, maxRadius, ps.size());
+    grid.geometry = gridGeometryFor(width, height, maxRadius, ps.size(), boundary);
     buildGrid(ps.data(), ps.size(), grid);
     return grid;
 }
@@ -95,7 +100,7 @@ TEST_CASE("grid: every particle appears once, in its own cell, ascending by id")
     CHECK(std::all_of(seen.begin(), seen.end(), [](int n) { return n == 1; }));
 }
 
-TEST_CASE("grid: the 3x3 search finds exactly the overlapping pairs of brute force") {
+TEST_CASE("grid: the 3x3 search finds exactly the overlapping pairs of brute force, with walls and periodic") {
     struct Case {
         unsigned seed;
         float width, height, rmin, rmax;
@@ -103,15 +108,26 @@ TEST_CASE("grid: the 3x3 search finds exactly the overlapping pairs of brute for
     for (const Case c : {Case{1, 80, 60, 0.1f, 1.3f}, Case{2, 50, 50, 0.5f, 0.5f}, Case{3, 200, 20, 0.05f, 2.0f},
                          Case{4, 30, 120, 1.0f, 1.0f}}) {
         CAPTURE(c.seed);
-        const std::vector<Particle> ps = randomConfiguration(c.seed, c.width, c.height, c.rmin, c.rmax);
-        const Grid grid = gridFor(ps, c.width, c.height);
-        PairSet found;
-        forEachOverlappingPair(ps.data(), ps.size(), grid, [&](std::uint32_t i, std::uint32_t j) {
-            CHECK(found.insert({i, j}).second);  // each pair once
-        });
-        const PairSet expected = bruteForcePairs(ps);
-        CHECK(expected.size() > 100);  // the configurations do overlap
-        CHECK(found == expected);
+        const std::vector<Particle> configuration = randomConfiguration(c.seed, c.width, c.height, c.rmin, c.rmax);
+        for (const Boundary boundary : {Boundary::Walls, Boundary::Periodic}) {
+            CAPTURE(std::string(boundaryName(boundary)));
+            const CaromBox box = carom_box(c.width, c.height, boundary == Boundary::Periodic);
+            // A periodic box keeps every centre in [0, W) x [0, H) (integrate wraps them).
+            std::vector<Particle> ps = configuration;
+            if (box.periodic)
+                for (Particle& p : ps) {
+                    p.position.x = carom_wrap(p.position.x, c.width);
+                    p.position.y = carom_wrap(p.position.y, c.height);
+                }
+            const Grid grid = gridFor(ps, c.width, c.height, boundary);
+            PairSet found;
+            forEachOverlappingPair(ps.data(), ps.size(), grid, box, [&](std::uint32_t i, std::uint32_t j) {
+                CHECK(found.insert({i, j}).second);  // each pair once
+            });
+            const PairSet expected = bruteForcePairs(ps, box);
+            CHECK(expected.size() > 100);  // the configurations do overlap
+            CHECK(found == expected);
+        }
     }
 }
 

@@ -171,8 +171,10 @@ TEST_CASE("scene file: bad input is refused with file, line, key, value and what
              Case{"packing = 0.1\n[[group]]\ncount = 2\nradius = 3e38\n",
                   "s.toml: box width must be a finite number > 0, got inf"},
              Case{"packing = 0\n", "packing = 0: must be a finite number > 0"},
-             Case{"box = [60, 40]\nboundary = \"periodic\"\n",
-                  "s.toml:2: boundary = \"periodic\": allowed: \"walls\""},
+             Case{"box = [60, 40]\nboundary = \"toroidal\"\n",
+                  "s.toml:2: boundary = \"toroidal\": allowed: \"walls\" (reflective) or \"periodic\""},
+             Case{"box = [60, 40]\ndt = \"fast\"\n", "s.toml:2: dt = \"fast\": must be a finite number > 0 or \"auto\""},
+             Case{"box = [60, 40]\nmax_travel = -1\n", "s.toml:2: max_travel = -1"},
              Case{"box = [60, 40]\nboundary = 3\n", "boundary = 3: must be a non-empty string"},
              // motion and run
              Case{"box = [60, 40]\ndt = -0.01\n", "s.toml:2: dt = -0.01: must be a finite number > 0"},

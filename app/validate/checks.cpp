@@ -1,0 +1,624 @@
+#include "app/validate/checks.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <ostream>
+#include <random>
+#include <sstream>
+
+#include "backends/backend.h"
+#include "engine/diagnostics.h"
+#include "engine/observables.h"
+
+namespace carom::validation {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDegree = kPi / 180.0;
+
+// Random numbers specified bit for bit by the C++ standard (std::mt19937_64
+// is, the std distributions are not), so a seed gives the same velocities
+// with every standard library.
+class Random {
+public:
+    explicit Random(std::uint64_t seed) : engine_(seed) {}
+    double unit() { return double(engine_() >> 11) * 0x1.0p-53; }  // [0, 1)
+    double uniform(double lo, double hi) { return lo + (hi - lo) * unit(); }
+    // Box-Muller: one standard normal number per call (the second is dropped).
+    double normal() { return std::sqrt(-2.0 * std::log1p(-unit())) * std::cos(2.0 * kPi * unit()); }
+
+private:
+    std::mt19937_64 engine_;
+};
+
+std::string format(const char* pattern, double value) {
+    char text[64];
+    std::snprintf(text, sizeof text, pattern, value);
+    return text;
+}
+
+Check makeCheck(const std::string& section, const std::string& name, double measured, double expected,
+                double deviation, double limit, const std::string& criterion) {
+    Check c{section, name, measured, expected, deviation, limit, criterion, false};
+    c.passed = deviation <= limit;  // false for NaN
+    return c;
+}
+
+// Removes the centre-of-mass velocity (a periodic box conserves it, so it
+// would carry energy that is not heat).
+void removeDrift(std::vector<Particle>& particles) {
+    double mass = 0, px = 0, py = 0;
+    for (const Particle& p : particles) {
+        mass += p.mass;
+        px += double(p.mass) * p.velocity.x;
+        py += double(p.mass) * p.velocity.y;
+    }
+    for (Particle& p : particles) {
+        p.velocity.x = float(p.velocity.x - px / mass);
+        p.velocity.y = float(p.velocity.y - py / mass);
+    }
+}
+
+// Scales the velocities so that temperature(particles, Periodic) is kT.
+void scaleToTemperature(std::vector<Particle>& particles, double kT) {
+    const double scale = std::sqrt(kT / temperature(particles, Boundary::Periodic));
+    for (Particle& p : particles) {
+        p.velocity.x = float(p.velocity.x * scale);
+        p.velocity.y = float(p.velocity.y * scale);
+    }
+}
+
+// Gaussian velocities of variance kT/m per component, zero total momentum, kT exact.
+void thermalVelocities(std::vector<Particle>& particles, double kT, std::uint64_t seed) {
+    Random random(seed);
+    for (Particle& p : particles) {
+        const double s = std::sqrt(kT / p.mass);
+        p.velocity.x = float(s * random.normal());
+        p.velocity.y = float(s * random.normal());
+    }
+    removeDrift(particles);
+    scaleToTemperature(particles, kT);
+}
+
+struct Box {
+    WorldDef world;
+    std::vector<Particle> particles;
+};
+
+// A periodic box of N disks of radius 1 and mass 1 at the packing fraction
+// (makeInitialState's hexagonal lattice) with thermal velocities at kT = 1.
+Box periodicBox(std::uint32_t particles, double packing, float dt, std::uint64_t seed) {
+    SceneDef scene;
+    scene.particles = particles;
+    scene.packing = float(packing);
+    scene.seed = seed;
+    InitialState initial = makeInitialState(scene);
+    Box box;
+    box.world.width = initial.width;
+    box.world.height = initial.height;
+    box.world.dt = dt;
+    box.world.boundary = Boundary::Periodic;
+    box.particles = std::move(initial.particles);
+    thermalVelocities(box.particles, 1.0, seed ^ 0x9e3779b97f4a7c15ull);
+    return box;
+}
+
+std::uint64_t stepsFor(double time, double dt) { return std::max<std::uint64_t>(1, std::llround(time / dt)); }
+
+// Blocks of a run at kT = 1: before each block the centre-of-mass velocity
+// is removed and the velocities are rescaled to kT = 1, because the scheme's
+// simultaneous contacts change the energy (the convergence and conservation
+// checks measure by how much), and Z's bias grows with the distance a disk
+// moves per step, so the step must stay what it is called. Z of a block is
+// the collision virial at the mean of the temperatures at its start and end.
+struct Blocks {
+    std::vector<double> z;
+    std::vector<double> energyChange;  // (E_end - E_start) / E_start per block
+    double collisionRate = 0.0;        // mean over the blocks
+    double kT = 0.0;                   // mean over the blocks
+};
+
+Blocks runBlocks(Backend& backend, std::vector<Particle>& state, int blocks, double blockTime) {
+    Blocks result;
+    const WorldDef& world = backend.world();
+    const std::uint64_t steps = stepsFor(blockTime, world.dt);
+    for (int b = 0; b < blocks; ++b) {
+        removeDrift(state);
+        scaleToTemperature(state, 1.0);
+        const double kTStart = temperature(state, Boundary::Periodic);
+        const double energyStart = measure(state, world).kineticEnergy;
+        backend.setParticles(state);
+        backend.step(steps);
+        backend.readParticles(state);
+        const double kT = 0.5 * (kTStart + temperature(state, Boundary::Periodic));
+        const Thermodynamics t = thermodynamics(backend.contacts(), kT, state.size(), world);
+        result.z.push_back(t.virialZ);
+        result.energyChange.push_back(measure(state, world).kineticEnergy / energyStart - 1.0);
+        result.collisionRate += t.collisionRate / blocks;
+        result.kT += kT / blocks;
+    }
+    return result;
+}
+
+double rootMeanSquare(const std::vector<double>& values) {
+    double sum = 0;
+    for (double v : values) sum += v * v;
+    return values.empty() ? 0.0 : std::sqrt(sum / double(values.size()));
+}
+
+// --- 1. Equation of state ---------------------------------------------------
+
+// The mean time between collisions of a disk at kT = 1, m = 1, sigma = 2:
+// the collision virial gives the rate of collisions per disk (each pair
+// once) as (Z - 1) 2 kT / (sigma <|v_n|>) with <|v_n|> = sqrt(pi kT / m)
+// over collisions, and each collision involves two disks.
+double collisionTime(double packing) { return std::sqrt(kPi) / (2.0 * (referenceZ(packing) - 1.0)); }
+
+EosResult equationOfState(const SuiteOptions& o, std::vector<Check>& checks, std::ostream& progress) {
+    EosResult result;
+    result.dt = o.dt;
+    result.blocks = 20;
+    const std::uint32_t particles = o.eosParticles ? o.eosParticles : (o.quick ? 2048u : 4096u);
+    for (const ReferenceZ& reference : referenceTable()) {
+        const double packing = reference.packing;
+        // Long enough, even at low density, for 20 collisions per disk to
+        // melt the lattice and two per block.
+        EosPoint point;
+        point.packing = packing;
+        point.particles = particles;
+        point.equilibrationTime = std::max(o.quick ? 20.0 : 50.0, 20.0 * collisionTime(packing));
+        point.blockTime = std::max(o.quick ? 5.0 : 10.0, 2.0 * collisionTime(packing));
+        Box box = periodicBox(particles, packing, o.dt, o.seed);
+        std::unique_ptr<Backend> backend = makeBackend(o.backend, box.world);
+        runBlocks(*backend, box.particles, 10, point.equilibrationTime / 10);
+        const Blocks blocks = runBlocks(*backend, box.particles, result.blocks, point.blockTime);
+        point.z = blockAverage(blocks.z);
+        point.zReference = referenceZ(packing);
+        point.kT = blocks.kT;
+        point.collisionRate = blocks.collisionRate;
+        point.energyChangeRms = rootMeanSquare(blocks.energyChange);
+        point.tolerance = packing <= 0.5 + 1e-9 ? 0.01 : 0.02;
+        result.points.push_back(point);
+        const double deviation = std::abs(point.z.mean - point.zReference) / point.zReference;
+        checks.push_back(makeCheck("equation of state", "Z at eta = " + format("%.1f", packing), point.z.mean,
+                                   point.zReference, deviation, point.tolerance,
+                                   "|Z - Z_ref| / Z_ref <= " + format("%g", point.tolerance * 100) + " %"));
+        progress << "  equation of state, eta " << packing << ": Z " << point.z.mean << " +- " << point.z.error
+                 << " (reference " << point.zReference << ")" << std::endl;
+    }
+    return result;
+}
+
+// --- 2. Convergence in dt -----------------------------------------------------
+
+ConvergenceResult convergence(const SuiteOptions& o, std::vector<Check>& checks, std::ostream& progress) {
+    ConvergenceResult result;
+    result.packing = 0.5;
+    result.particles = o.quick ? 1024 : 4096;
+    result.zReference = referenceZ(result.packing);
+    // Many short blocks: the rms energy change of 100 blocks is known to
+    // about 7 %, so that the drifts at neighbouring dt are told apart.
+    result.blocks = 100;
+    result.blockTime = 1.0;
+    result.equilibrationTime = o.quick ? 10.0 : 20.0;
+    std::vector<double> dts = {0.01, 0.005, 0.0025, 0.00125};
+    if (!o.quick) dts.push_back(0.000625);
+
+    // One melted state, continued at each dt.
+    Box box = periodicBox(result.particles, result.packing, float(dts.front()), o.seed);
+    std::unique_ptr<Backend> backend = makeBackend(o.backend, box.world);
+    runBlocks(*backend, box.particles, 10, result.equilibrationTime / 10);
+    std::vector<double> zErrors, drifts;
+    for (double dt : dts) {
+        std::vector<Particle> state = box.particles;
+        backend->setMotion(float(dt), box.world.gravity);
+        runBlocks(*backend, state, 2, result.blockTime);  // settles the contacts at this dt
+        const Blocks blocks = runBlocks(*backend, state, result.blocks, result.blockTime);
+        ConvergencePoint point;
+        point.dt = dt;
+        point.z = blockAverage(blocks.z);
+        point.zError = std::abs(point.z.mean - result.zReference);
+        point.energyDriftRate = rootMeanSquare(blocks.energyChange) / result.blockTime;
+        result.points.push_back(point);
+        zErrors.push_back(point.zError);
+        drifts.push_back(point.energyDriftRate);
+        progress << "  convergence, dt " << dt << ": Z " << point.z.mean << " +- " << point.z.error
+                 << ", energy drift " << point.energyDriftRate << " per unit time" << std::endl;
+    }
+    result.zErrorFit = observedOrder(dts, zErrors);
+    result.driftFit = observedOrder(dts, drifts);
+
+    const double ratio = drifts.back() / drifts.front();
+    checks.push_back(makeCheck("convergence",
+                               "energy drift falls from dt = " + format("%g", dts.front()) + " to " +
+                                   format("%g", dts.back()),
+                               ratio, NAN, ratio, 1.0, "drift(smallest dt) / drift(largest dt) < 1"));
+    checks.push_back(makeCheck("convergence", "observed order of the energy drift", result.driftFit.order, NAN,
+                               -result.driftFit.order, 0.0, "order of the log-log least-squares fit > 0"));
+    return result;
+}
+
+// --- 3. Relaxation to Maxwell-Boltzmann --------------------------------------
+
+std::vector<double> speedsOf(const std::vector<Particle>& particles) {
+    std::vector<double> speeds;
+    speeds.reserve(particles.size());
+    for (const Particle& p : particles) speeds.push_back(std::hypot(double(p.velocity.x), double(p.velocity.y)));
+    return speeds;
+}
+
+HEstimate hOf(const std::vector<Particle>& particles, const VelocityHistogram& histogram) {
+    std::vector<double> vx, vy;
+    for (const Particle& p : particles) {
+        vx.push_back(p.velocity.x);
+        vy.push_back(p.velocity.y);
+    }
+    return hFunction(vx, vy, histogram);
+}
+
+RelaxationSample sampleOf(const std::vector<Particle>& particles, double time, const VelocityHistogram& histogram) {
+    RelaxationSample sample;
+    sample.time = time;
+    sample.kT = temperature(particles, Boundary::Periodic);
+    sample.h = hOf(particles, histogram).value;
+    sample.ks = ksRayleigh(speedsOf(particles), sample.kT / particles.front().mass);
+    return sample;
+}
+
+RelaxationResult relaxation(const SuiteOptions& o, std::vector<Check>& checks, std::ostream& progress) {
+    RelaxationResult result;
+    result.packing = 0.3;
+    result.particles = o.quick ? 16384 : 65536;
+    result.dt = o.dt;
+    // kT = m a^2 / 3 = 1. Bins of a/4 put +-a on bin edges (the uniform start
+    // is binned exactly); +-3a is 5.2 thermal widths.
+    result.halfWidth = std::sqrt(3.0);
+    result.histogram.range = 3.0 * result.halfWidth;
+    result.histogram.binsPerAxis = 24;
+    const double sampleInterval = 0.5, duration = 20.0;
+    result.finalSnapshots = 11;  // t = 15 ... 20: several collision times after relaxation
+
+    Box box = periodicBox(result.particles, result.packing, o.dt, o.seed);
+    Random random(o.seed + 1);
+    for (Particle& p : box.particles) {
+        p.velocity.x = float(random.uniform(-result.halfWidth, result.halfWidth));
+        p.velocity.y = float(random.uniform(-result.halfWidth, result.halfWidth));
+    }
+    removeDrift(box.particles);
+    std::unique_ptr<Backend> backend = makeBackend(o.backend, box.world);
+    backend->setParticles(box.particles);
+    std::vector<Particle> state = box.particles;
+    const std::uint64_t stepsPerSample = stepsFor(sampleInterval, o.dt);
+    const int samples = int(std::lround(duration / sampleInterval));
+    for (int k = 0; k <= samples; ++k) {
+        if (k > 0) {
+            backend->step(stepsPerSample);
+            backend->readParticles(state);
+        }
+        result.samples.push_back(sampleOf(state, k * sampleInterval, result.histogram));
+    }
+
+    const std::size_t n = state.size();
+    result.hInitial = result.samples.front().h;
+    for (int k = 0; k < result.finalSnapshots; ++k) result.hFinal += result.samples[result.samples.size() - 1 - k].h;
+    result.hFinal /= result.finalSnapshots;
+    result.kTFinal = result.samples.back().kT;
+    result.ksCritical = ksCritical05(n);
+
+    // H of the uniform square exactly, and of the equilibrium at the final
+    // kT (any energy error of the scheme moves it by -ln(kT_end / kT_start)).
+    const double hUniform = -std::log(4.0 * result.halfWidth * result.halfWidth);
+    const double expectedChange = hEquilibrium(result.kTFinal) - hUniform;
+    result.hPluginBias = hOf(state, result.histogram).bias();
+    // The tolerance is the sum of the estimator's known errors: its plug-in
+    // bias, the binning of a Gaussian of variance kT/m per axis with bins of
+    // width w, -w^2 / (12 kT/m) in 2D, and three standard errors of one
+    // snapshot (the variance of ln f under a 2D Gaussian is 1).
+    const double binWidth = 2.0 * result.histogram.range / result.histogram.binsPerAxis;
+    result.hBinningBias = binWidth * binWidth / (12.0 * result.kTFinal);
+    result.hTolerance = result.hPluginBias + result.hBinningBias + 3.0 / std::sqrt(double(n));
+    const double change = result.hFinal - result.hInitial;
+    checks.push_back(makeCheck("relaxation", "H falls by ln(6/pi) - 1", change, expectedChange,
+                               std::abs(change - expectedChange), result.hTolerance,
+                               "|dH - dH_exact| <= plug-in bias + binning bias + 3 standard errors = " +
+                                   format("%.4f", result.hTolerance)));
+    const double ks = result.samples.back().ks;
+    checks.push_back(makeCheck("relaxation", "KS statistic of the final speeds against Rayleigh", ks, NAN, ks,
+                               result.ksCritical, "D < 1.358 / sqrt(n), the 5 % critical value"));
+
+    // The final speed histogram, per unit speed, over [0, 5 sqrt(kT/m)].
+    const int bins = 40;
+    const double top = 5.0 * std::sqrt(result.kTFinal);
+    for (int b = 0; b <= bins; ++b) result.speedBinEdges.push_back(top * b / bins);
+    result.speedDensity.assign(bins, 0.0);
+    for (double v : speedsOf(state)) {
+        const double bin = std::floor(v / top * bins);
+        if (bin >= 0 && bin < bins) result.speedDensity[std::size_t(bin)] += bins / (top * double(n));
+    }
+    progress << "  relaxation: dH " << change << " (exact " << expectedChange << "), final KS " << ks
+             << " (critical " << result.ksCritical << ")" << std::endl;
+    return result;
+}
+
+// --- 4. Exact cases -----------------------------------------------------------
+
+constexpr float kExactDt = 1e-4f;
+// Contact is found up to |u| dt late, which tilts the collision normal by at
+// most |u| dt / sigma (5e-5 rad here); these tolerances are 20 times that.
+constexpr double kVelocityTolerance = 1e-3;           // of the incoming relative speed
+constexpr double kAngleTolerance = 0.06;             // [degrees]
+
+struct Vector {
+    double x = 0, y = 0;
+};
+
+Vector velocity(const Particle& p) { return {p.velocity.x, p.velocity.y}; }
+double length(Vector v) { return std::hypot(v.x, v.y); }
+double angleOf(Vector v) { return std::atan2(v.y, v.x); }
+
+// The formula of the reference, at the exact moment of contact.
+std::array<Vector, 2> exactOutcome(const Particle& a, const Particle& b) {
+    const double sigma = double(a.radius) + b.radius;
+    const Vector d{double(a.position.x) - b.position.x, double(a.position.y) - b.position.y};
+    const Vector u{double(a.velocity.x) - b.velocity.x, double(a.velocity.y) - b.velocity.y};
+    const double uu = u.x * u.x + u.y * u.y, du = d.x * u.x + d.y * u.y;
+    const double t = (-du - std::sqrt(du * du - uu * (d.x * d.x + d.y * d.y - sigma * sigma))) / uu;
+    const Vector n{(d.x + u.x * t) / sigma, (d.y + u.y * t) / sigma};
+    const double un = u.x * n.x + u.y * n.y, total = double(a.mass) + b.mass;
+    const double ka = 2.0 * b.mass / total * un, kb = 2.0 * a.mass / total * un;
+    return {Vector{a.velocity.x - ka * n.x, a.velocity.y - ka * n.y},
+            Vector{b.velocity.x + kb * n.x, b.velocity.y + kb * n.y}};
+}
+
+Particle disk(double x, double y, double vx, double vy, double mass) {
+    Particle p{};
+    p.position = float2{float(x), float(y)};
+    p.velocity = float2{float(vx), float(vy)};
+    p.mass = float(mass);
+    p.radius = 1.0f;
+    return p;
+}
+
+// A projectile moving along +x at speed v towards a target at rest, at
+// impact parameter b (the projectile passes below the target's centre),
+// 0.05 short of contact.
+std::array<Particle, 2> approachingPair(double projectileMass, double targetMass, double v, double b) {
+    const double sigma = 2.0, start = 50.0 - std::sqrt(sigma * sigma - b * b) - 0.05;
+    return {disk(start, 50.0 - b, v, 0, projectileMass), disk(50, 50, 0, 0, targetMass)};
+}
+
+// Two disks in a box far larger than their paths, stepped until they have
+// collided and moved apart.
+std::array<Vector, 2> simulatePair(const BackendDef& def, const std::array<Particle, 2>& pair) {
+    WorldDef world;
+    world.width = world.height = 100.0f;
+    world.dt = kExactDt;
+    std::unique_ptr<Backend> backend = makeBackend(def, world);
+    backend->setParticles({pair[0], pair[1]});
+    std::vector<Particle> state;
+    for (int chunk = 0; chunk < 1000; ++chunk) {
+        backend->step(100);
+        backend->readParticles(state);
+        const double distance = std::hypot(double(state[0].position.x) - state[1].position.x,
+                                           double(state[0].position.y) - state[1].position.y);
+        if (backend->collisions() > 0 && distance > 2.1) break;
+    }
+    if (backend->collisions() != 1)
+        throw Error("exact case: expected one collision, the engine counted " +
+                    std::to_string(backend->collisions()));
+    return {velocity(state[0]), velocity(state[1])};
+}
+
+void addVelocityCheck(std::vector<Check>& checks, const std::string& name, double measured, double expected,
+                      double incoming) {
+    checks.push_back(makeCheck("exact cases", name, measured, expected, std::abs(measured - expected) / incoming,
+                               kVelocityTolerance, "|v - v_exact| / |u_in| <= 1e-3"));
+}
+
+void addAngleCheck(std::vector<Check>& checks, const std::string& name, double measuredDegrees,
+                   double expectedDegrees) {
+    checks.push_back(makeCheck("exact cases", name, measuredDegrees, expectedDegrees,
+                               std::abs(measuredDegrees - expectedDegrees), kAngleTolerance,
+                               "|angle - exact| <= 0.06 degrees"));
+}
+
+void headOn(const BackendDef& def, double m1, double m2, double v1, double expected1, double expected2,
+            std::vector<Check>& checks) {
+    const auto out = simulatePair(def, approachingPair(m1, m2, v1, 0));
+    const std::string name = "head-on, m = " + format("%g", m1) + " and " + format("%g", m2) + ": v";
+    addVelocityCheck(checks, name + "1' = " + format("%g", expected1), out[0].x, expected1, v1);
+    addVelocityCheck(checks, name + "2' = " + format("%g", expected2), out[1].x, expected2, v1);
+}
+
+// Equal masses, target at rest, impact parameter sigma / 2.
+void glancing(const BackendDef& def, std::vector<Check>& checks) {
+    const double v = 1.0;
+    const auto out = simulatePair(def, approachingPair(1, 1, v, 1));
+    const double projectileAngle = angleOf(out[0]) / kDegree, targetAngle = angleOf(out[1]) / kDegree;
+    addVelocityCheck(checks, "b = sigma/2: target speed = 0.866 v", length(out[1]), std::sqrt(3.0) / 2 * v, v);
+    addAngleCheck(checks, "b = sigma/2: target at 30 degrees", targetAngle, 30.0);
+    addVelocityCheck(checks, "b = sigma/2: projectile speed = 0.5 v", length(out[0]), 0.5 * v, v);
+    addAngleCheck(checks, "b = sigma/2: projectile at -60 degrees", projectileAngle, -60.0);
+    addAngleCheck(checks, "b = sigma/2: directions 90 degrees apart", targetAngle - projectileAngle, 90.0);
+}
+
+// A projectile of mass 4 on a target of mass 1 at impact parameters across
+// the disk: each deflection against the formula, and the largest against
+// the bound asin(m2 / m1).
+void heavyProjectile(const BackendDef& def, std::vector<Check>& checks) {
+    const double m1 = 4.0, m2 = 1.0, bound = std::asin(m2 / m1) / kDegree;
+    double largest = 0.0, worst = 0.0;
+    for (int k = 1; k <= 9; ++k) {
+        const double b = 0.2 * k;  // sigma = 2
+        const std::array<Particle, 2> pair = approachingPair(m1, m2, 1, b);
+        const double deflection = std::abs(angleOf(simulatePair(def, pair)[0])) / kDegree;
+        const double exact = std::abs(angleOf(exactOutcome(pair[0], pair[1])[0])) / kDegree;
+        largest = std::max(largest, deflection);
+        worst = std::max(worst, std::abs(deflection - exact));
+    }
+    checks.push_back(makeCheck("exact cases", "m = 4 on 1: deflections at b = 0.1 ... 0.9 sigma", worst, 0.0,
+                               worst, kAngleTolerance, "largest |angle - exact| <= 0.06 degrees"));
+    checks.push_back(makeCheck("exact cases", "m = 4 on 1: largest deflection <= asin(1/4) = 14.48 degrees",
+                               largest, bound, largest - bound, kAngleTolerance,
+                               "deflection - asin(m2/m1) <= 0.06 degrees"));
+}
+
+// One disk between walls: the period of its x motion from the times it
+// leaves the left wall (vx turning positive), against 2 (L - 2r) / |v_x|.
+void wallBounce(const BackendDef& def, std::vector<Check>& checks) {
+    WorldDef world;
+    world.width = 10.0f;
+    world.height = 7.0f;
+    world.dt = 1e-3f;
+    const double vx = 3.0;
+    std::unique_ptr<Backend> backend = makeBackend(def, world);
+    backend->setParticles({disk(5, 3.5, vx, 0.4, 1)});
+    const double period = 2.0 * (world.width - 2.0) / vx;
+    std::vector<double> bounces;
+    std::vector<Particle> state;
+    float previous = float(vx);
+    const std::uint64_t steps = stepsFor(3.5 * period, world.dt);
+    for (std::uint64_t s = 1; s <= steps; ++s) {
+        backend->step(1);
+        backend->readParticles(state);
+        if (previous < 0.0f && state[0].velocity.x > 0.0f) bounces.push_back(double(s) * world.dt);
+        previous = state[0].velocity.x;
+    }
+    const double measured = bounces.size() >= 2 ? (bounces.back() - bounces.front()) / double(bounces.size() - 1)
+                                                : NAN;
+    // Each bounce time is known to a step, and the wall clamps a disk that
+    // went through it back to the wall, which shortens a period by less than 2 dt.
+    checks.push_back(makeCheck("exact cases", "wall bounce period 2 (L - 2r) / |v_x|", measured, period,
+                               std::abs(measured - period), 3.0 * world.dt, "|T - T_exact| <= 3 dt"));
+}
+
+void exactCases(const SuiteOptions& o, std::vector<Check>& checks, std::ostream& progress) {
+    headOn(o.backend, 1, 3, 2, -1, 1, checks);
+    headOn(o.backend, 3, 1, 1, 0.5, 1.5, checks);
+    glancing(o.backend, checks);
+    heavyProjectile(o.backend, checks);
+    wallBounce(o.backend, checks);
+    progress << "  exact cases: done" << std::endl;
+}
+
+// --- 5. Conservation per backend -----------------------------------------------
+
+constexpr double kMomentumTolerance = 1e-5;  // of sum m|v|
+constexpr double kEnergyTolerance = 0.01;    // relative, over the run
+
+std::vector<BackendDef> everyBackend(const BackendDef& chosen) {
+    std::vector<BackendDef> defs;
+    for (const std::string& kind : availableBackends()) {
+        if (kind != "opencl") {
+            defs.push_back(BackendDef{kind, "", "seed"});
+            continue;
+        }
+        for (const char* pipeline : {"seed", "resident"}) defs.push_back(BackendDef{kind, chosen.device, pipeline});
+    }
+    return defs;
+}
+
+std::vector<ConservationRun> conservation(const SuiteOptions& o, std::vector<Check>& checks,
+                                          std::ostream& progress) {
+    std::vector<ConservationRun> runs;
+    const double packing = 0.3, duration = 10.0;
+    const std::uint32_t particles = o.quick ? 1024 : 4096;
+    for (const BackendDef& def : everyBackend(o.backend)) {
+        const Box box = periodicBox(particles, packing, o.dt, o.seed);
+        std::unique_ptr<Backend> backend = makeBackend(def, box.world);
+        backend->setParticles(box.particles);
+        const Diagnostics start = measure(box.particles, box.world);
+        ConservationRun run;
+        run.backend = def.kind == "opencl" ? "opencl " + def.pipeline : def.kind;
+        run.device = backend->device();
+        run.particles = particles;
+        run.packing = packing;
+        run.dt = o.dt;
+        run.steps = stepsFor(duration, o.dt);
+        backend->step(run.steps);
+        std::vector<Particle> state;
+        backend->readParticles(state);
+        const Diagnostics end = measure(state, box.world);
+        double scale = 0;
+        for (const Particle& p : state) scale += p.mass * std::hypot(double(p.velocity.x), double(p.velocity.y));
+        const double dpx = end.momentum[0] - start.momentum[0], dpy = end.momentum[1] - start.momentum[1];
+        run.momentumError = std::hypot(dpx, dpy) / scale;
+        run.energyChange = end.kineticEnergy / start.kineticEnergy - 1.0;
+        runs.push_back(run);
+        checks.push_back(makeCheck("conservation", run.backend + ": total momentum", run.momentumError, 0.0,
+                                   run.momentumError, kMomentumTolerance, "|P_end - P_start| / sum m|v| <= 1e-5"));
+        checks.push_back(makeCheck("conservation", run.backend + ": kinetic energy", run.energyChange, 0.0,
+                                   std::abs(run.energyChange), kEnergyTolerance,
+                                   "|E_end - E_start| / E_start <= 1 % over 10 time units"));
+        progress << "  conservation, " << run.backend << ": momentum " << run.momentumError << ", energy "
+                 << run.energyChange << std::endl;
+    }
+    return runs;
+}
+
+}  // namespace
+
+void validate(const SuiteOptions& o) {
+    std::ostringstream message;
+    if (!(std::isfinite(o.dt) && o.dt > 0.0f && o.dt <= kMaxDt)) {
+        message << "--dt must be in (0, " << kMaxDt << "], got " << o.dt;
+        throw Error(message.str());
+    }
+    if (o.eosParticles != 0 && (o.eosParticles < kMinEosParticles || o.eosParticles > kMaxEosParticles)) {
+        message << "--particles must be in [" << kMinEosParticles << ", " << kMaxEosParticles << "], got "
+                << o.eosParticles;
+        throw Error(message.str());
+    }
+}
+
+bool SuiteResult::passed() const {
+    return std::all_of(checks.begin(), checks.end(), [](const Check& c) { return c.passed; });
+}
+
+std::string describeBackend(const BackendDef& def) {
+    WorldDef world;
+    world.width = world.height = 10.0f;
+    const std::unique_ptr<Backend> backend = makeBackend(def, world);
+    return backend->name() + (def.kind == "opencl" ? " (" + def.pipeline + " pipeline)" : "") + ": " +
+           backend->device();
+}
+
+namespace {
+
+// Runs one part; an error of the engine in it (a state gone non-finite at
+// too large a dt, say) fails the part with its message instead of ending
+// the suite without a report.
+template <class Part>
+void runPart(const std::string& section, std::vector<Check>& checks, std::ostream& progress, Part part) {
+    try {
+        part();
+    } catch (const Error& e) {
+        checks.push_back(makeCheck(section, "the runs complete", NAN, NAN, NAN, 0.0,
+                                   std::string("no engine error; got: ") + e.what()));
+        progress << "  " << section << ": failed: " << e.what() << std::endl;
+    }
+}
+
+}  // namespace
+
+SuiteResult runSuite(const SuiteOptions& o, std::ostream& progress) {
+    validate(o);
+    const auto start = std::chrono::steady_clock::now();
+    SuiteResult result;
+    result.options = o;
+    result.device = describeBackend(o.backend);
+    std::vector<Check>& checks = result.checks;
+    runPart("equation of state", checks, progress, [&] { result.eos = equationOfState(o, checks, progress); });
+    runPart("convergence", checks, progress, [&] { result.convergence = convergence(o, checks, progress); });
+    runPart("relaxation", checks, progress, [&] { result.relaxation = relaxation(o, checks, progress); });
+    runPart("exact cases", checks, progress, [&] { exactCases(o, checks, progress); });
+    runPart("conservation", checks, progress, [&] { result.conservation = conservation(o, checks, progress); });
+    result.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+}
+
+}  // namespace carom::validation

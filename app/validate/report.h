@@ -1,0 +1,32 @@
+// The forms of a validation run: the Markdown report with its SVG plots, the
+// JSON of every check and measurement, and the summary on stdout.
+#pragma once
+
+#include <map>
+#include <ostream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "app/validate/checks.h"
+
+namespace carom::validation {
+
+// Where and when the run was made, and how it was asked for.
+struct RunContext {
+    std::string date;     // UTC, ISO 8601
+    std::string host;     // CPU model
+    int hostThreads = 1;
+    double hostLoad = -1;  // 1-minute load average at the start, -1 if unknown
+    std::string command;   // the command line
+};
+
+// The report's files by name (README.md and the plots), with their contents.
+std::map<std::string, std::string> reportFiles(const SuiteResult& result, const RunContext& context);
+
+nlohmann::json toJson(const SuiteResult& result, const RunContext& context);
+
+// A table of the checks and the verdict.
+void printSummary(std::ostream& out, const SuiteResult& result);
+
+}  // namespace carom::validation

@@ -1,0 +1,93 @@
+// The pure mathematics of `carom validate`: block averages, the
+// Kolmogorov-Smirnov test against the 2D Maxwell-Boltzmann (Rayleigh) speed
+// distribution, the Boltzmann H-function, observed orders of convergence and
+// the hard-disk equation of state, with the formulas and the table of the
+// hard-disk reference (shared/physics/hard-disks.md).
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+namespace carom::validation {
+
+struct MeanAndError {
+    double mean = 0.0;
+    double error = 0.0;  // standard error of the mean
+};
+
+// The mean of block averages and its standard error, sqrt(var / n) with the
+// n - 1 variance. Blocks long compared with the correlation time are
+// independent, so this error is honest where the per-sample one is not.
+// Error 0 for fewer than two blocks.
+MeanAndError blockAverage(const std::vector<double>& blockMeans);
+
+// The Rayleigh distribution of speeds in 2D at kT/m = `kTOverMass`:
+// F(v) = 1 - exp(-v^2 / (2 kT/m)), f(v) = v / (kT/m) exp(-v^2 / (2 kT/m)).
+double rayleighCdf(double speed, double kTOverMass);
+double rayleighPdf(double speed, double kTOverMass);
+
+// The Kolmogorov-Smirnov statistic sup |F_n(v) - F(v)| of `speeds` against
+// the Rayleigh CDF; 0 for no speeds.
+double ksRayleigh(std::vector<double> speeds, double kTOverMass);
+
+// The KS critical statistic at significance 0.05 for n samples, 1.358 / sqrt(n)
+// (the asymptotic value, good for n above about 35).
+double ksCritical05(std::size_t n);
+
+// The square histogram of 2D velocities over [-range, range]^2 that
+// hFunction estimates from.
+struct VelocityHistogram {
+    double range = 1.0;    // half-width of the square, > 0
+    int binsPerAxis = 10;  // >= 1
+};
+
+struct HEstimate {
+    // H = integral of f ln f d^2v, from the histogram density (the plug-in
+    // estimate): biased high by about (occupied bins - 1) / (2 n).
+    double value = 0.0;
+    std::size_t samples = 0;       // n
+    std::size_t occupiedBins = 0;
+    std::size_t outside = 0;       // samples outside the square: counted in n, in no bin
+    double bias() const;           // (occupiedBins - 1) / (2 n), the expected bias of `value`
+};
+
+// The Boltzmann H-function of the velocities (vx[i], vy[i]), i < n.
+HEstimate hFunction(const std::vector<double>& vx, const std::vector<double>& vy, const VelocityHistogram& histogram);
+
+// H of the equilibrium (Gaussian) distribution, ln(m / (2 pi kT)) - 1.
+double hEquilibrium(double kTOverMass);
+
+// The power law error = coefficient * dt^order fitted by least squares to
+// (log dt, log error): `order` is the observed order of convergence.
+struct PowerLaw {
+    double order = 0.0;
+    double coefficient = 0.0;
+};
+
+// Needs at least two points, all dts and errors > 0 and two distinct dts;
+// throws Error otherwise.
+PowerLaw observedOrder(const std::vector<double>& dts, const std::vector<double>& errors);
+
+// The compressibility factor Z = PA / (N kT) of the hard-disk fluid at
+// packing fraction eta, from the closed forms of the reference.
+double hendersonZ(double packing);  // (1 + eta^2/8) / (1 - eta)^2
+double ludingZ(double packing);     // 1 + 2 eta g(sigma)
+double santosZ(double packing);     // 1 / (1 - 2 eta + (2 eta_cp - 1) eta^2 / eta_cp^2)
+
+// One row of the reference table.
+struct ReferenceZ {
+    double packing = 0.0;
+    double z = 0.0;
+    double uncertainty = 0.0;  // as published; 0 where the table gives all digits
+};
+
+// The table of the reference, eta = 0.1 ... 0.6.
+const std::vector<ReferenceZ>& referenceTable();
+
+// The best Z at any packing: the table value at its points; between them
+// Luding's form scaled by the linearly interpolated ratio table / Luding
+// (the ratio is within 0.1 % of 1, so this is far smoother than
+// interpolating Z); outside the table, Luding's form.
+double referenceZ(double packing);
+
+}  // namespace carom::validation

@@ -1,0 +1,198 @@
+#include "app/validate/svg_plot.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <sstream>
+
+namespace carom::validation {
+
+namespace {
+
+constexpr double kWidth = 760, kHeight = 440;
+constexpr double kLeft = 80, kRight = 220, kTop = 44, kBottom = 56;
+constexpr double kPlotWidth = kWidth - kLeft - kRight, kPlotHeight = kHeight - kTop - kBottom;
+
+std::string number(double value, const char* format = "%.1f") {
+    char text[64];
+    std::snprintf(text, sizeof text, format, value);
+    return text;
+}
+
+std::string escaped(const std::string& text) {
+    std::string out;
+    for (char c : text) {
+        if (c == '<') out += "&lt;";
+        else if (c == '>') out += "&gt;";
+        else if (c == '&') out += "&amp;";
+        else out += c;
+    }
+    return out;
+}
+
+// One axis mapped onto [0, 1] (0 = left or bottom), in log10 units when logarithmic.
+struct Scale {
+    bool logarithmic = false;
+    double lo = 0, hi = 1;  // in axis units (log10 of the value when logarithmic)
+
+    bool shows(double value) const { return std::isfinite(value) && (!logarithmic || value > 0); }
+    double unit(double value) const { return logarithmic ? std::log10(value) : value; }
+    double fraction(double value) const { return (unit(value) - lo) / (hi - lo); }
+};
+
+// The step of "nice" ticks (1, 2 or 5 times a power of ten) giving about `count` ticks over `span`.
+double niceStep(double span, int count) {
+    const double raw = span / count;
+    const double power = std::pow(10.0, std::floor(std::log10(raw)));
+    for (double factor : {1.0, 2.0, 5.0})
+        if (raw <= factor * power) return factor * power;
+    return 10.0 * power;
+}
+
+Scale scaleFor(const Axis& axis, const std::vector<double>& values) {
+    Scale scale;
+    scale.logarithmic = axis.logarithmic;
+    double lo = INFINITY, hi = -INFINITY;
+    for (double v : values)
+        if (scale.shows(v)) {
+            lo = std::min(lo, scale.unit(v));
+            hi = std::max(hi, scale.unit(v));
+        }
+    if (!std::isfinite(lo)) lo = 0, hi = 1;
+    if (hi - lo < 1e-12) lo -= 0.5, hi += 0.5;
+    const double margin = 0.05 * (hi - lo);
+    lo -= margin;
+    hi += margin;
+    if (std::isfinite(axis.min) && scale.shows(axis.min)) lo = scale.unit(axis.min);
+    if (std::isfinite(axis.max) && scale.shows(axis.max)) hi = scale.unit(axis.max);
+    scale.lo = lo;
+    scale.hi = hi;
+    return scale;
+}
+
+// Tick values (not units): on a log axis decades, with 2 and 5 when it spans
+// at most three decades and every digit when it spans at most one; nice
+// multiples on a linear one.
+std::vector<double> ticksFor(const Scale& scale) {
+    std::vector<double> ticks;
+    if (scale.logarithmic) {
+        const double span = scale.hi - scale.lo;
+        const std::vector<double> factors = span <= 1.0   ? std::vector<double>{1, 2, 3, 4, 5, 6, 7, 8, 9}
+                                            : span <= 3.0 ? std::vector<double>{1, 2, 5}
+                                                          : std::vector<double>{1};
+        for (double e = std::floor(scale.lo); e <= std::ceil(scale.hi); ++e)
+            for (double factor : factors) {
+                const double value = factor * std::pow(10.0, e);
+                const double u = std::log10(value);
+                if (u >= scale.lo - 1e-9 && u <= scale.hi + 1e-9) ticks.push_back(value);
+            }
+        return ticks;
+    }
+    const double step = niceStep(scale.hi - scale.lo, 6);
+    for (double v = std::ceil(scale.lo / step - 1e-9) * step; v <= scale.hi + 1e-9 * step; v += step)
+        ticks.push_back(std::abs(v) < 1e-9 * step ? 0.0 : v);
+    return ticks;
+}
+
+std::string tickLabel(double value) { return number(value, "%g"); }
+
+}  // namespace
+
+std::string renderSvg(const Plot& plot) {
+    std::vector<double> xs, ys;
+    for (const Series& s : plot.series) {
+        xs.insert(xs.end(), s.x.begin(), s.x.end());
+        for (std::size_t i = 0; i < s.y.size(); ++i) {
+            const double e = i < s.error.size() ? s.error[i] : 0.0;
+            ys.push_back(s.y[i] - e);
+            ys.push_back(s.y[i] + e);
+        }
+    }
+    const Scale sx = scaleFor(plot.x, xs), sy = scaleFor(plot.y, ys);
+    const auto px = [&](double v) { return kLeft + sx.fraction(v) * kPlotWidth; };
+    const auto py = [&](double v) { return kTop + (1.0 - sy.fraction(v)) * kPlotHeight; };
+
+    std::ostringstream svg;
+    svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << kWidth << "\" height=\"" << kHeight
+        << "\" viewBox=\"0 0 " << kWidth << ' ' << kHeight << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
+        << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+        << "<text x=\"" << kLeft << "\" y=\"26\" font-size=\"15\">" << escaped(plot.title) << "</text>\n";
+    for (double t : ticksFor(sx)) {
+        const std::string x = number(px(t));
+        svg << "<line x1=\"" << x << "\" y1=\"" << kTop << "\" x2=\"" << x << "\" y2=\"" << kTop + kPlotHeight
+            << "\" stroke=\"#e6e6e6\"/><line x1=\"" << x << "\" y1=\"" << kTop + kPlotHeight << "\" x2=\"" << x
+            << "\" y2=\"" << kTop + kPlotHeight + 5 << "\" stroke=\"black\"/><text x=\"" << x << "\" y=\""
+            << kTop + kPlotHeight + 18 << "\" text-anchor=\"middle\">" << tickLabel(t) << "</text>\n";
+    }
+    for (double t : ticksFor(sy)) {
+        const std::string y = number(py(t));
+        svg << "<line x1=\"" << kLeft << "\" y1=\"" << y << "\" x2=\"" << kLeft + kPlotWidth << "\" y2=\"" << y
+            << "\" stroke=\"#e6e6e6\"/><line x1=\"" << kLeft - 5 << "\" y1=\"" << y << "\" x2=\"" << kLeft
+            << "\" y2=\"" << y << "\" stroke=\"black\"/><text x=\"" << kLeft - 8 << "\" y=\"" << number(py(t) + 4)
+            << "\" text-anchor=\"end\">" << tickLabel(t) << "</text>\n";
+    }
+    svg << "<rect x=\"" << kLeft << "\" y=\"" << kTop << "\" width=\"" << kPlotWidth << "\" height=\"" << kPlotHeight
+        << "\" fill=\"none\" stroke=\"black\"/>\n"
+        << "<text x=\"" << kLeft + kPlotWidth / 2 << "\" y=\"" << kHeight - 14 << "\" text-anchor=\"middle\">"
+        << escaped(plot.x.label) << "</text>\n"
+        << "<text transform=\"translate(20," << kTop + kPlotHeight / 2 << ") rotate(-90)\" text-anchor=\"middle\">"
+        << escaped(plot.y.label) << "</text>\n";
+
+    // Everything drawn from data is clipped to the plot area.
+    svg << "<clipPath id=\"area\"><rect x=\"" << kLeft << "\" y=\"" << kTop << "\" width=\"" << kPlotWidth
+        << "\" height=\"" << kPlotHeight << "\"/></clipPath>\n<g clip-path=\"url(#area)\">\n";
+    for (const Series& s : plot.series) {
+        if (s.style == SeriesStyle::Line || s.style == SeriesStyle::DashedLine || s.style == SeriesStyle::Steps) {
+            std::string points;
+            const auto add = [&](double x, double y) {
+                if (sx.shows(x) && sy.shows(y)) points += number(px(x)) + ',' + number(py(y)) + ' ';
+            };
+            for (std::size_t i = 0; i < s.y.size() && i < s.x.size(); ++i) {
+                if (s.style != SeriesStyle::Steps) {
+                    add(s.x[i], s.y[i]);
+                } else if (i + 1 < s.x.size()) {
+                    add(s.x[i], s.y[i]);
+                    add(s.x[i + 1], s.y[i]);
+                }
+            }
+            svg << "<polyline fill=\"none\" stroke=\"" << s.colour << "\" stroke-width=\"1.8\""
+                << (s.style == SeriesStyle::DashedLine ? " stroke-dasharray=\"6,4\"" : "") << " points=\"" << points
+                << "\"/>\n";
+            continue;
+        }
+        for (std::size_t i = 0; i < s.y.size() && i < s.x.size(); ++i) {
+            if (!sx.shows(s.x[i]) || !sy.shows(s.y[i])) continue;
+            const std::string x = number(px(s.x[i]));
+            if (i < s.error.size() && s.error[i] > 0) {
+                const double low = s.y[i] - s.error[i], high = s.y[i] + s.error[i];
+                const std::string y0 = number(sy.shows(low) ? py(low) : kTop + kPlotHeight), y1 = number(py(high));
+                svg << "<line x1=\"" << x << "\" y1=\"" << y0 << "\" x2=\"" << x << "\" y2=\"" << y1 << "\" stroke=\""
+                    << s.colour << "\"/><line x1=\"" << number(px(s.x[i]) - 4) << "\" y1=\"" << y0 << "\" x2=\""
+                    << number(px(s.x[i]) + 4) << "\" y2=\"" << y0 << "\" stroke=\"" << s.colour
+                    << "\"/><line x1=\"" << number(px(s.x[i]) - 4) << "\" y1=\"" << y1 << "\" x2=\""
+                    << number(px(s.x[i]) + 4) << "\" y2=\"" << y1 << "\" stroke=\"" << s.colour << "\"/>\n";
+            }
+            svg << "<circle cx=\"" << x << "\" cy=\"" << number(py(s.y[i])) << "\" r=\"3.5\" fill=\"" << s.colour
+                << "\"/>\n";
+        }
+    }
+    svg << "</g>\n";
+
+    double legendY = kTop + 12;
+    for (const Series& s : plot.series) {
+        if (s.label.empty()) continue;
+        const double x = kLeft + kPlotWidth + 14;
+        if (s.style == SeriesStyle::Points)
+            svg << "<circle cx=\"" << x + 10 << "\" cy=\"" << legendY - 4 << "\" r=\"3.5\" fill=\"" << s.colour
+                << "\"/>\n";
+        else
+            svg << "<line x1=\"" << x << "\" y1=\"" << legendY - 4 << "\" x2=\"" << x + 20 << "\" y2=\""
+                << legendY - 4 << "\" stroke=\"" << s.colour << "\" stroke-width=\"1.8\""
+                << (s.style == SeriesStyle::DashedLine ? " stroke-dasharray=\"6,4\"" : "") << "/>\n";
+        svg << "<text x=\"" << x + 26 << "\" y=\"" << legendY << "\">" << escaped(s.label) << "</text>\n";
+        legendY += 18;
+    }
+    svg << "</svg>\n";
+    return svg.str();
+}
+
+}  // namespace carom::validation

@@ -1,0 +1,113 @@
+// `carom validate`: runs the physics validation suite (app/validate/checks.h)
+// and writes its report: Markdown with SVG plots, and JSON when asked.
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <optional>
+#include <sstream>
+
+#include "app/commands.h"
+#include "app/host_info.h"
+#include "app/validate/checks.h"
+#include "app/validate/report.h"
+#include "backends/backend.h"
+#include "engine/atomic_file.h"
+
+namespace carom::app {
+
+namespace {
+
+// The command line that reproduces the run, every option spelled out.
+std::string commandLine(const ValidateOptions& o) {
+    std::ostringstream command;
+    command << "carom validate" << (o.quick ? " --quick" : "") << " --backend " << o.backend;
+    if (o.backend == "opencl") command << " --pipeline " << o.pipeline;
+    if (!o.device.empty()) command << " --device '" << o.device << "'";
+    command << " --seed " << o.seed << " --dt " << o.dt;
+    if (o.particles) command << " --particles " << o.particles;
+    command << " --report " << o.report;
+    if (!o.json.empty()) command << " --json " << o.json;
+    return command.str();
+}
+
+}  // namespace
+
+void addValidateOptions(CLI::App& command, ValidateOptions& o) {
+    o.dt = validation::kDefaultDt;
+    command.add_flag("--quick", o.quick,
+                     "The reduced suite for CI (a minute or two on two cores): fewer disks and shorter runs, "
+                     "same tolerances");
+    command.add_option("--report", o.report, "Folder for the report: README.md and its SVG plots")
+        ->capture_default_str();
+    command.add_option("--json", o.json, "Also write every check and measurement as JSON to this file");
+    command.add_option("--backend", o.backend, "Backend of the heavy runs (the conservation checks run on all)")
+        ->check(CLI::IsMember(availableBackends()))
+        ->capture_default_str();
+    command.add_option("--device", o.device,
+                       "OpenCL device: index from `carom devices` or part of its name (default: first GPU, else "
+                       "first device); also used by the OpenCL conservation runs");
+    command.add_option("--pipeline", o.pipeline,
+                       "OpenCL pipeline of the heavy runs: seed or resident (the conservation checks run both)")
+        ->check(CLI::IsMember({"seed", "resident"}))
+        ->capture_default_str();
+    command.add_option("--seed", o.seed, "Random seed of the initial positions and velocities")->capture_default_str();
+    std::ostringstream dtHelp;
+    dtHelp << "Time step of the equation-of-state, relaxation and conservation runs, in (0, " << validation::kMaxDt
+           << "]";
+    command.add_option("--dt", o.dt, dtHelp.str())->capture_default_str();
+    command.add_option("--particles", o.particles,
+                       "Disks in each equation-of-state run, " + std::to_string(validation::kMinEosParticles) +
+                           " to " + std::to_string(validation::kMaxEosParticles) +
+                           " (default 4096, 2048 with --quick)");
+}
+
+int validateCommand(const ValidateOptions& o) {
+    validation::SuiteOptions suite;
+    suite.quick = o.quick;
+    suite.backend = BackendDef{o.backend, o.device, o.pipeline};
+    suite.seed = o.seed;
+    suite.dt = o.dt;
+    suite.eosParticles = o.particles;
+    validation::validate(suite);
+    validation::describeBackend(suite.backend);  // refuses a bad --device or --pipeline at once
+
+    // Refuse unwritable outputs before the runs, not after them.
+    std::optional<AtomicFile> json;
+    if (!o.json.empty()) json.emplace(o.json);
+    std::error_code error;
+    std::filesystem::create_directories(o.report, error);
+    if (error || !std::filesystem::is_directory(o.report))
+        throw Error("cannot create the report folder '" + o.report + "': " +
+                    (error ? error.message() : "a file of that name exists"));
+    const std::filesystem::path folder(o.report);
+    std::map<std::string, std::unique_ptr<AtomicFile>> reportOutputs;
+    for (const char* name : {"README.md", "eos.svg", "eos-deviation.svg", "convergence-z.svg",
+                             "convergence-energy.svg", "relaxation-h.svg", "relaxation-ks.svg",
+                             "relaxation-speeds.svg"})
+        reportOutputs[name] = std::make_unique<AtomicFile>((folder / name).string());
+
+    validation::RunContext context;
+    context.date = utcNow();
+    context.host = hostCpu();
+    context.hostThreads = hostThreads();
+    context.hostLoad = hostLoad();
+    context.command = commandLine(o);
+    std::cerr << "validate: " << (o.quick ? "quick" : "full") << " suite on " << o.backend << '\n';
+    const validation::SuiteResult result = validation::runSuite(suite, std::cerr);
+
+    for (const auto& [name, contents] : validation::reportFiles(result, context)) {
+        AtomicFile& file = *reportOutputs.at(name);
+        file.append(contents);
+        file.commit();
+    }
+    if (json) {
+        json->append(validation::toJson(result, context).dump(2) + "\n");
+        json->commit();
+    }
+    validation::printSummary(std::cout, result);
+    std::cout << "report: " << (folder / "README.md").string() << (json ? ", " + o.json : std::string()) << '\n';
+    return result.passed() ? 0 : 1;
+}
+
+}  // namespace carom::app

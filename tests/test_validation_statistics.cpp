@@ -1,0 +1,145 @@
+// The mathematics of `carom validate` (app/validate/statistics.h) on inputs
+// with known answers.
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <doctest/doctest.h>
+
+#include "app/validate/statistics.h"
+#include "engine/carom.h"
+
+using namespace carom;
+using namespace carom::validation;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The speed whose Rayleigh CDF is p.
+double rayleighQuantile(double p, double kTOverMass) { return std::sqrt(-2.0 * kTOverMass * std::log1p(-p)); }
+
+// n speeds at the quantiles (i + 1/2) / n: as close to Rayleigh as n samples can be.
+std::vector<double> rayleighQuantiles(std::size_t n, double kTOverMass) {
+    std::vector<double> speeds;
+    for (std::size_t i = 0; i < n; ++i) speeds.push_back(rayleighQuantile((i + 0.5) / double(n), kTOverMass));
+    return speeds;
+}
+
+}  // namespace
+
+TEST_CASE("blockAverage: mean and standard error of the block means") {
+    const MeanAndError m = blockAverage({1.0, 2.0, 3.0, 4.0});
+    CHECK(m.mean == doctest::Approx(2.5));
+    CHECK(m.error == doctest::Approx(std::sqrt((5.0 / 3.0) / 4.0)));  // sample variance 5/3, four blocks
+    CHECK(blockAverage({7.0}).error == 0.0);
+    CHECK(blockAverage({}).mean == 0.0);
+}
+
+TEST_CASE("Rayleigh distribution: CDF, density and KS statistic") {
+    const double kT = 1.7;
+    CHECK(rayleighCdf(0.0, kT) == 0.0);
+    CHECK(rayleighCdf(rayleighQuantile(0.3, kT), kT) == doctest::Approx(0.3));
+    // The density integrates to the CDF.
+    double integral = 0.0;
+    const double top = 2.0, step = 1e-4;
+    for (double v = step / 2; v < top; v += step) integral += rayleighPdf(v, kT) * step;
+    CHECK(integral == doctest::Approx(rayleighCdf(top, kT)).epsilon(1e-6));
+
+    CHECK(ksCritical05(100) == doctest::Approx(0.1358));
+
+    // Speeds at the exact quantiles miss the CDF by half a step, 1 / (2n).
+    const std::size_t n = 1000;
+    const double exact = ksRayleigh(rayleighQuantiles(n, kT), kT);
+    CHECK(exact == doctest::Approx(0.5 / n));
+    CHECK(exact < ksCritical05(n));
+
+    // The same speeds tested against twice the temperature are far off.
+    CHECK(ksRayleigh(rayleighQuantiles(n, kT), 2.0 * kT) > 5.0 * ksCritical05(n));
+    // So is a uniform distribution of speeds.
+    std::vector<double> uniform;
+    for (std::size_t i = 0; i < n; ++i) uniform.push_back(3.0 * (i + 0.5) / double(n));
+    CHECK(ksRayleigh(uniform, kT) > 2.0 * ksCritical05(n));
+}
+
+TEST_CASE("H-function: uniform square exactly, Gaussian within the estimator's bias") {
+    SUBCASE("velocities evenly spread over [-a, a]^2 with bin edges at +-a: H = -ln(4 a^2)") {
+        const double a = std::sqrt(3.0);
+        std::vector<double> vx, vy;
+        const int perAxis = 200;  // 25 points per bin along each axis
+        for (int i = 0; i < perAxis; ++i)
+            for (int j = 0; j < perAxis; ++j) {
+                vx.push_back(-a + 2.0 * a * (i + 0.5) / perAxis);
+                vy.push_back(-a + 2.0 * a * (j + 0.5) / perAxis);
+            }
+        const HEstimate h = hFunction(vx, vy, VelocityHistogram{3.0 * a, 24});
+        CHECK(h.value == doctest::Approx(-std::log(4.0 * a * a)).epsilon(1e-9));
+        CHECK(h.occupiedBins == 64);
+        CHECK(h.outside == 0);
+        // The relaxation's exact change of H: to the Gaussian of the same energy.
+        CHECK(hEquilibrium(a * a / 3.0) - h.value == doctest::Approx(std::log(6.0 / kPi) - 1.0));
+        CHECK(std::log(6.0 / kPi) - 1.0 == doctest::Approx(-0.3529).epsilon(1e-4));
+    }
+    SUBCASE("a Gaussian sample: H = ln(m / 2 pi kT) - 1 + plug-in bias - binning bias") {
+        const double kT = 0.8;
+        std::mt19937_64 random(5);
+        std::normal_distribution<double> normal(0.0, std::sqrt(kT));
+        std::vector<double> vx, vy;
+        for (int i = 0; i < 400000; ++i) {
+            vx.push_back(normal(random));
+            vy.push_back(normal(random));
+        }
+        const VelocityHistogram histogram{6.0 * std::sqrt(kT), 48};
+        const HEstimate h = hFunction(vx, vy, histogram);
+        const double width = 2.0 * histogram.range / histogram.binsPerAxis;
+        const double binning = width * width / (12.0 * kT);
+        CHECK(h.bias() == doctest::Approx(double(h.occupiedBins - 1) / (2.0 * 400000)));
+        // Within three standard errors of the estimate, 3 / sqrt(n) = 0.005.
+        CHECK(std::abs(h.value - (hEquilibrium(kT) + h.bias() - binning)) < 0.005);
+    }
+}
+
+TEST_CASE("observedOrder: the slope and prefactor of a power law") {
+    const std::vector<double> dts = {0.01, 0.005, 0.0025, 0.00125};
+    std::vector<double> quadratic, sqrtLaw;
+    for (double dt : dts) {
+        quadratic.push_back(3.0 * dt * dt);
+        sqrtLaw.push_back(0.2 * std::sqrt(dt));
+    }
+    const PowerLaw fit = observedOrder(dts, quadratic);
+    CHECK(fit.order == doctest::Approx(2.0));
+    CHECK(fit.coefficient == doctest::Approx(3.0));
+    CHECK(observedOrder(dts, sqrtLaw).order == doctest::Approx(0.5));
+    // Noise of +-10 % around a first-order law still gives about 1.
+    const std::vector<double> noisy = {0.011, 0.0045, 0.00255, 0.00119};
+    CHECK(observedOrder(dts, noisy).order == doctest::Approx(1.0).epsilon(0.1));
+
+    CHECK_THROWS_AS(observedOrder(dts, {1.0, 0.0, 1.0, 1.0}), Error);  // log of 0
+    CHECK_THROWS_AS(observedOrder({0.01}, {1.0}), Error);
+    CHECK_THROWS_AS(observedOrder({0.01, 0.01}, {1.0, 2.0}), Error);  // no spread in dt
+}
+
+TEST_CASE("equation of state: the reference table and the closed forms") {
+    for (const ReferenceZ& row : referenceTable()) CHECK(referenceZ(row.packing) == doctest::Approx(row.z));
+    CHECK(referenceZ(0.5) == doctest::Approx(4.106));
+    CHECK(referenceZ(0.1) == doctest::Approx(1.23614));
+
+    CHECK(hendersonZ(0.5) == doctest::Approx(4.125));
+    CHECK(hendersonZ(0.0) == 1.0);
+    CHECK(ludingZ(0.0) == 1.0);
+    CHECK(santosZ(0.0) == 1.0);
+    // The second virial coefficient of hard disks: Z = 1 + 2 eta + O(eta^2) for every form.
+    for (double (*z)(double) : {hendersonZ, ludingZ, santosZ})
+        CHECK((z(1e-6) - 1.0) / 1e-6 == doctest::Approx(2.0).epsilon(1e-4));
+    // Luding's form is what the table takes at 0.5 and 0.6 (within its spread).
+    CHECK(ludingZ(0.6) == doctest::Approx(6.452).epsilon(0.001));
+    CHECK(std::abs(ludingZ(0.5) - 4.106) < 0.005);
+
+    // Between table points: between its neighbours, and close to Luding.
+    const double between = referenceZ(0.45);
+    CHECK(between > referenceZ(0.4));
+    CHECK(between < referenceZ(0.5));
+    CHECK(between == doctest::Approx(ludingZ(0.45)).epsilon(0.002));
+    // Outside the table: Luding.
+    CHECK(referenceZ(0.62) == ludingZ(0.62));
+}

@@ -1,0 +1,33 @@
+# `carom validate` from the command line (included by tests/CMakeLists.txt,
+# whose carom_cli_test and out it uses): bad values are refused before any
+# run and leave no output behind (${out} is the JSON), and the quick suite
+# passes.
+set(refused ${CMAKE_CURRENT_BINARY_DIR}/validate-refused)
+set(validate "validate|--quick|--report|${refused}|--json|${out}")
+carom_cli_test(validate_zero_dt fail "--dt must be in \\(0, 0.05\\], got 0" "${validate}|--dt|0")
+carom_cli_test(validate_large_dt fail "--dt must be in \\(0, 0.05\\], got 0.1" "${validate}|--dt|0.1")
+carom_cli_test(validate_nan_dt fail "--dt must be in \\(0, 0.05\\], got nan" "${validate}|--dt|nan")
+carom_cli_test(validate_few_particles fail "--particles must be in \\[256, 100000000\\], got 10"
+               "${validate}|--particles|10")
+carom_cli_test(validate_negative_particles fail "--particles" "${validate}|--particles|-5")
+carom_cli_test(validate_unknown_backend fail "--backend: cuda not in \\{cpu" "${validate}|--backend|cuda")
+carom_cli_test(validate_unknown_pipeline fail "--pipeline: fast not in \\{seed,resident\\}"
+               "${validate}|--pipeline|fast")
+carom_cli_test(validate_resident_on_cpu fail "--pipeline resident needs --backend opencl"
+               "${validate}|--backend|cpu|--pipeline|resident")
+carom_cli_test(validate_seed_not_a_number fail "--seed.*many" "${validate}|--seed|many")
+carom_cli_test(validate_unwritable_json fail "cannot write '/nonexistent-dir/validate.json'"
+               "validate|--quick|--report|${refused}|--json|/nonexistent-dir/validate.json")
+carom_cli_test(validate_report_not_a_folder fail "cannot create the report folder '/dev/null/report'"
+               "validate|--quick|--report|/dev/null/report|--json|${out}")
+if(OpenCL_FOUND)
+    carom_cli_test(validate_device_out_of_range fail "--device 99: no such device index"
+                   "${validate}|--backend|opencl|--device|99")
+endif()
+
+# The quick suite itself: a few minutes alone on two cores, so it runs alone
+# (the CPU backend's threads crawl when other tests hold the cores).
+add_test(NAME validate.quick
+         COMMAND $<TARGET_FILE:carom> validate --quick --report ${CMAKE_CURRENT_BINARY_DIR}/validation-quick
+                 --json ${CMAKE_CURRENT_BINARY_DIR}/validation-quick.json)
+set_tests_properties(validate.quick PROPERTIES TIMEOUT 1200 RUN_SERIAL TRUE LABELS "validate;slow")
