@@ -57,9 +57,8 @@ void addValidateOptions(CLI::App& command, ValidateOptions& o) {
            << "]";
     command.add_option("--dt", o.dt, dtHelp.str())->capture_default_str();
     command.add_option("--particles", o.particles,
-                       "Disks in each equation-of-state run, " + std::to_string(validation::kMinEosParticles) +
-                           " to " + std::to_string(validation::kMaxEosParticles) +
-                           " (default 4096, 2048 with --quick)");
+                       "Disks in each equation-of-state run (default 4096, 2048 with --quick)")
+        ->check(CLI::Range(validation::kMinEosParticles, validation::kMaxEosParticles));
 }
 
 int validateCommand(const ValidateOptions& o) {
@@ -82,9 +81,7 @@ int validateCommand(const ValidateOptions& o) {
                     (error ? error.message() : "a file of that name exists"));
     const std::filesystem::path folder(o.report);
     std::map<std::string, std::unique_ptr<AtomicFile>> reportOutputs;
-    for (const char* name : {"README.md", "eos.svg", "eos-deviation.svg", "convergence-z.svg",
-                             "convergence-energy.svg", "relaxation-h.svg", "relaxation-ks.svg",
-                             "relaxation-speeds.svg"})
+    for (const std::string& name : validation::reportFileNames())
         reportOutputs[name] = std::make_unique<AtomicFile>((folder / name).string());
 
     validation::RunContext context;

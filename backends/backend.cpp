@@ -109,12 +109,13 @@ void Backend::setMotion(float dt, float2 gravity) {
     world_ = changed;
 }
 
-void addTallies(const ContactTally* tallies, std::size_t count, ContactTotals& totals) {
+void drainTallyArray(ContactTally* tallies, std::size_t count, ContactTotals& totals) {
     for (std::size_t i = 0; i < count; ++i) {
-        const ContactTally& t = tallies[i];
+        ContactTally& t = tallies[i];
         totals.collisions += t.collisions;
         totals.virial += t.virial;
         for (int w = 0; w < 4; ++w) totals.wallImpulse[w] += t.wallImpulse[w];
+        t = ContactTally{};
     }
 }
 

@@ -81,8 +81,9 @@ private:
 };
 
 // For implementations: adds tallies[0..count) to `totals` in id order, in
-// double (the sum is the same whatever device produced the tallies).
-void addTallies(const ContactTally* tallies, std::size_t count, ContactTotals& totals);
+// double (the sum is the same whatever device produced the tallies), and
+// zeroes them.
+void drainTallyArray(ContactTally* tallies, std::size_t count, ContactTotals& totals);
 // For implementations holding the state on the host: the largest
 // v.x^2 + v.y^2 (an OpenMP max reduction; max is exact in any order).
 float maxSpeedSquaredOf(const Particle* particles, std::size_t count);

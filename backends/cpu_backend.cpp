@@ -1,7 +1,6 @@
 #include "backends/cpu_backend.h"
 
 #include <cstdint>
-#include <algorithm>
 #include <utility>
 
 #ifdef _OPENMP
@@ -31,7 +30,7 @@ void CpuBackend::load(const std::vector<Particle>& particles) {
 void CpuBackend::advance(std::uint64_t substeps, float dt) {
     const auto count = static_cast<std::int64_t>(state_.size());
     const WorldDef& w = world_;
-    const CaromBox box = carom_box(w.width, w.height, w.boundary == Boundary::Periodic ? 1 : 0);
+    const CaromBox box = caromBoxOf(w);
     for (std::uint64_t s = 0; s < substeps; ++s) {
         buildGrid(state_.data(), state_.size(), grid_);
         const Particle* in = state_.data();
@@ -51,11 +50,6 @@ void CpuBackend::advance(std::uint64_t substeps, float dt) {
         }
         std::swap(state_, next_);
     }
-}
-
-void CpuBackend::drainTallies(ContactTotals& totals) {
-    addTallies(tallies_.data(), tallies_.size(), totals);
-    std::fill(tallies_.begin(), tallies_.end(), ContactTally{});
 }
 
 }  // namespace carom

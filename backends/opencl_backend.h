@@ -58,7 +58,7 @@ private:
     void stepSeed(float dt);
     void stepResident(float dt);
     void stepAllPairs(float dt);
-    cl_int periodic() const { return world_.boundary == Boundary::Periodic ? 1 : 0; }
+    cl_int periodic() const { return caromBoxOf(world_).periodic; }
 
     Pipeline pipeline_;
     std::unique_ptr<opencl::Profiler> profiler_;

@@ -1,6 +1,5 @@
 #include "bench/all_pairs_cpu.h"
 
-#include <algorithm>
 #include <utility>
 
 #ifdef _OPENMP
@@ -28,7 +27,7 @@ void AllPairsCpuBackend::load(const std::vector<Particle>& particles) {
 void AllPairsCpuBackend::advance(std::uint64_t substeps, float dt) {
     const auto count = static_cast<std::int64_t>(state_.size());
     const WorldDef& w = world_;
-    const CaromBox box = carom_box(w.width, w.height, w.boundary == Boundary::Periodic ? 1 : 0);
+    const CaromBox box = caromBoxOf(w);
     for (std::uint64_t s = 0; s < substeps; ++s) {
         const Particle* in = state_.data();
         Particle* out = next_.data();
@@ -45,11 +44,6 @@ void AllPairsCpuBackend::advance(std::uint64_t substeps, float dt) {
         }
         std::swap(state_, next_);
     }
-}
-
-void AllPairsCpuBackend::drainTallies(ContactTotals& totals) {
-    addTallies(tallies_.data(), tallies_.size(), totals);
-    std::fill(tallies_.begin(), tallies_.end(), ContactTally{});
 }
 
 }  // namespace carom::bench

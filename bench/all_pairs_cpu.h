@@ -22,7 +22,7 @@ private:
     void load(const std::vector<Particle>& particles) override;
     void advance(std::uint64_t substeps, float dt) override;
     float maxSpeedSquared() override { return maxSpeedSquaredOf(state_.data(), state_.size()); }
-    void drainTallies(ContactTotals& totals) override;
+    void drainTallies(ContactTotals& totals) override { drainTallyArray(tallies_.data(), tallies_.size(), totals); }
 
     std::vector<Particle> state_;
     std::vector<Particle> next_;

@@ -25,7 +25,7 @@ Diagnostics measure(const std::vector<Particle>& particles, const WorldDef& worl
     grid.geometry = gridGeometryFor(world.width, world.height, maxRadius, particles.size(), world.boundary);
     buildGrid(particles.data(), particles.size(), grid);
     const bool periodic = world.boundary == Boundary::Periodic;
-    const CaromBox box = carom_box(world.width, world.height, periodic ? 1 : 0);
+    const CaromBox box = caromBoxOf(world);
     // The separation along one axis, to the nearest image in a periodic box.
     const auto separation = [&](double d, double extent) {
         if (!periodic) return d;

@@ -35,6 +35,11 @@ GridGeometry gridGeometryFor(float width, float height, float maxRadius, std::si
 // grid.geometry. Reuses the vectors' storage from step to step.
 void buildGrid(const Particle* particles, std::size_t count, Grid& grid);
 
+// The box as kernels/physics.h sees it.
+inline CaromBox caromBoxOf(const WorldDef& world) {
+    return carom_box(world.width, world.height, world.boundary == Boundary::Periodic ? 1 : 0);
+}
+
 // Calls visit(i, j) for every pair i < j whose disks overlap, found with the
 // same 3x3 search the collision kernel uses (across the edges of a periodic
 // box, to the nearest image).

@@ -305,8 +305,8 @@ void markdownConvergence(std::ostream& md, const ConvergenceResult& c, const Sui
     md << "## 2. Convergence in dt\n\n"
        << "One melted state at η = " << fixed(c.packing, 2) << " (N = " << c.particles
        << ", periodic) continued at each dt: two blocks to settle, then " << c.blocks
-       << " measured blocks, each " << general(c.blockTime)
-       << " time long and started from kT = 1 as in section 1. The energy drift is the root "
+       << " measured blocks of duration " << general(c.blockTime)
+       << ", each started from kT = 1 as in section 1. The energy drift is the root "
           "mean square of the relative energy change over a block, divided by the block time. Simultaneous "
           "contacts are resolved together (Jacobi), which conserves momentum but not energy: a disk hit by "
           "two others in one step takes both impulses, computed from the velocities before the step. Such "
@@ -316,6 +316,11 @@ void markdownConvergence(std::ostream& md, const ConvergenceResult& c, const Sui
     for (const ConvergencePoint& p : c.points)
         md << "| " << general(p.dt) << " | " << fixed(p.z.mean, 4) << " ± " << fixed(p.z.error, 4) << " | "
            << fixed(p.zError, 4) << " | " << general(p.energyDriftRate, 3) << " |\n";
+    double largestWithinOnePercent = 0.0;
+    for (const ConvergencePoint& p : c.points)
+        if (p.zError <= 0.01 * c.zReference) largestWithinOnePercent = std::max(largestWithinOnePercent, p.dt);
+    md << "\nThe largest dt measured here with Z within 1 % of the reference: "
+       << (largestWithinOnePercent > 0 ? general(largestWithinOnePercent) : std::string("none")) << ".\n";
     md << "\nObserved orders (log-log least squares over all dt): |Z − Z_ref| ∝ dt^" << fixed(c.zErrorFit.order, 2)
        << ", energy drift ∝ dt^" << fixed(c.driftFit.order, 2) << ". Z_ref = " << general(c.zReference, 6)
        << ". Where |Z − Z_ref| is within about two standard errors (the bars) of zero, the bias is below "
@@ -383,6 +388,13 @@ void markdownConservation(std::ostream& md, const SuiteResult& s) {
 
 }  // namespace
 
+const std::vector<std::string>& reportFileNames() {
+    static const std::vector<std::string> names = {
+        "README.md",        "eos.svg",          "eos-deviation.svg", "convergence-z.svg", "convergence-energy.svg",
+        "relaxation-h.svg", "relaxation-ks.svg", "relaxation-speeds.svg"};
+    return names;
+}
+
 std::map<std::string, std::string> reportFiles(const SuiteResult& r, const RunContext& c) {
     std::ostringstream md;
     markdownHeader(md, r, c);
@@ -403,14 +415,20 @@ std::map<std::string, std::string> reportFiles(const SuiteResult& r, const RunCo
 
 namespace {
 
-nlohmann::json number(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(); }
+nlohmann::ordered_json number(double value) {
+    return std::isfinite(value) ? nlohmann::ordered_json(value) : nlohmann::ordered_json();
+}
 
-nlohmann::json meanAndError(const MeanAndError& m) { return {{"mean", m.mean}, {"error", m.error}}; }
+nlohmann::ordered_json meanAndError(const MeanAndError& m) { return {{"mean", m.mean}, {"error", m.error}}; }
+
+nlohmann::ordered_json powerLaw(const PowerLaw& fit) {
+    return {{"order", fit.order}, {"coefficient", fit.coefficient}};
+}
 
 }  // namespace
 
-nlohmann::json toJson(const SuiteResult& r, const RunContext& c) {
-    using nlohmann::json;
+nlohmann::ordered_json toJson(const SuiteResult& r, const RunContext& c) {
+    using json = nlohmann::ordered_json;
     json checks = json::array();
     for (const Check& k : r.checks)
         checks.push_back({{"section", k.section},
@@ -419,6 +437,7 @@ nlohmann::json toJson(const SuiteResult& r, const RunContext& c) {
                           {"expected", number(k.expected)},
                           {"deviation", number(k.deviation)},
                           {"limit", k.limit},
+                          {"passes_when", k.lowerBound ? "deviation > limit" : "deviation <= limit"},
                           {"criterion", k.criterion},
                           {"passed", k.passed}});
     json eos = json::array();
@@ -475,8 +494,8 @@ nlohmann::json toJson(const SuiteResult& r, const RunContext& c) {
               {"z_reference", r.convergence.zReference},
               {"block_time", r.convergence.blockTime},
               {"blocks", r.convergence.blocks},
-              {"z_error_order", r.convergence.zErrorFit.order},
-              {"energy_drift_order", r.convergence.driftFit.order},
+              {"z_error_fit", powerLaw(r.convergence.zErrorFit)},
+              {"energy_drift_fit", powerLaw(r.convergence.driftFit)},
               {"points", convergence}}},
             {"relaxation",
              {{"packing", rx.packing},
@@ -491,7 +510,8 @@ nlohmann::json toJson(const SuiteResult& r, const RunContext& c) {
               {"h_tolerance", rx.hTolerance},
               {"ks_critical", rx.ksCritical},
               {"kT_final", rx.kTFinal},
-              {"samples", samples}}},
+              {"samples", samples},
+              {"speed_histogram", {{"edges", rx.speedBinEdges}, {"density", rx.speedDensity}}}}},
             {"conservation", conservation}};
 }
 

@@ -5,6 +5,7 @@
 #include <map>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -21,10 +22,13 @@ struct RunContext {
     std::string command;   // the command line
 };
 
-// The report's files by name (README.md and the plots), with their contents.
+// The names of the report's files: README.md and its plots.
+const std::vector<std::string>& reportFileNames();
+
+// The report's files by name, with their contents.
 std::map<std::string, std::string> reportFiles(const SuiteResult& result, const RunContext& context);
 
-nlohmann::json toJson(const SuiteResult& result, const RunContext& context);
+nlohmann::ordered_json toJson(const SuiteResult& result, const RunContext& context);
 
 // A table of the checks and the verdict.
 void printSummary(std::ostream& out, const SuiteResult& result);

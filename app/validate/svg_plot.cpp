@@ -11,6 +11,7 @@ namespace {
 constexpr double kWidth = 760, kHeight = 440;
 constexpr double kLeft = 80, kRight = 220, kTop = 44, kBottom = 56;
 constexpr double kPlotWidth = kWidth - kLeft - kRight, kPlotHeight = kHeight - kTop - kBottom;
+constexpr double kLabelGap = 16;  // [px] between tick labels
 
 std::string number(double value, const char* format = "%.1f") {
     char text[64];
@@ -95,6 +96,30 @@ std::vector<double> ticksFor(const Scale& scale) {
 
 std::string tickLabel(double value) { return number(value, "%g"); }
 
+// The ticks that get a label: 1, 2 and 5 times a power of ten first, then
+// the others, each only where it keeps `kLabelGap` plus `pixelsPerCharacter`
+// per character of its label clear of the labels already placed (along an
+// axis whose pixel position is `position`).
+template <class Position>
+std::vector<double> labelledTicks(const std::vector<double>& ticks, Position position, double pixelsPerCharacter) {
+    const auto major = [](double t) {
+        if (t == 0.0) return true;
+        const double digit = std::round(std::abs(t) / std::pow(10.0, std::floor(std::log10(std::abs(t)))));
+        return digit == 1 || digit == 2 || digit == 5 || digit == 10;
+    };
+    std::vector<double> labelled;
+    for (bool majorPass : {true, false})
+        for (double t : ticks) {
+            if (major(t) != majorPass) continue;
+            const double clearance = kLabelGap + pixelsPerCharacter * double(tickLabel(t).size());
+            const bool clear = std::all_of(labelled.begin(), labelled.end(), [&](double other) {
+                return std::abs(position(t) - position(other)) >= clearance;
+            });
+            if (clear) labelled.push_back(t);
+        }
+    return labelled;
+}
+
 }  // namespace
 
 std::string renderSvg(const Plot& plot) {
@@ -103,6 +128,7 @@ std::string renderSvg(const Plot& plot) {
         xs.insert(xs.end(), s.x.begin(), s.x.end());
         for (std::size_t i = 0; i < s.y.size(); ++i) {
             const double e = i < s.error.size() ? s.error[i] : 0.0;
+            ys.push_back(s.y[i]);  // on a log axis y - e may not show
             ys.push_back(s.y[i] - e);
             ys.push_back(s.y[i] + e);
         }
@@ -120,16 +146,21 @@ std::string renderSvg(const Plot& plot) {
         const std::string x = number(px(t));
         svg << "<line x1=\"" << x << "\" y1=\"" << kTop << "\" x2=\"" << x << "\" y2=\"" << kTop + kPlotHeight
             << "\" stroke=\"#e6e6e6\"/><line x1=\"" << x << "\" y1=\"" << kTop + kPlotHeight << "\" x2=\"" << x
-            << "\" y2=\"" << kTop + kPlotHeight + 5 << "\" stroke=\"black\"/><text x=\"" << x << "\" y=\""
-            << kTop + kPlotHeight + 18 << "\" text-anchor=\"middle\">" << tickLabel(t) << "</text>\n";
+            << "\" y2=\"" << kTop + kPlotHeight + 5 << "\" stroke=\"black\"/>\n";
+    }
+    for (double t : labelledTicks(ticksFor(sx), px, 7.0)) {
+        svg << "<text x=\"" << number(px(t)) << "\" y=\"" << kTop + kPlotHeight + 18 << "\" text-anchor=\"middle\">"
+            << tickLabel(t) << "</text>\n";
     }
     for (double t : ticksFor(sy)) {
         const std::string y = number(py(t));
         svg << "<line x1=\"" << kLeft << "\" y1=\"" << y << "\" x2=\"" << kLeft + kPlotWidth << "\" y2=\"" << y
             << "\" stroke=\"#e6e6e6\"/><line x1=\"" << kLeft - 5 << "\" y1=\"" << y << "\" x2=\"" << kLeft
-            << "\" y2=\"" << y << "\" stroke=\"black\"/><text x=\"" << kLeft - 8 << "\" y=\"" << number(py(t) + 4)
-            << "\" text-anchor=\"end\">" << tickLabel(t) << "</text>\n";
+            << "\" y2=\"" << y << "\" stroke=\"black\"/>\n";
     }
+    for (double t : labelledTicks(ticksFor(sy), py, 0.0))
+        svg << "<text x=\"" << kLeft - 8 << "\" y=\"" << number(py(t) + 4) << "\" text-anchor=\"end\">"
+            << tickLabel(t) << "</text>\n";
     svg << "<rect x=\"" << kLeft << "\" y=\"" << kTop << "\" width=\"" << kPlotWidth << "\" height=\"" << kPlotHeight
         << "\" fill=\"none\" stroke=\"black\"/>\n"
         << "<text x=\"" << kLeft + kPlotWidth / 2 << "\" y=\"" << kHeight - 14 << "\" text-anchor=\"middle\">"
