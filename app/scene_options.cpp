@@ -42,6 +42,7 @@ void applyOverrides(const SceneOptions& o, SceneFile& scene) {
     if (given("--max-travel")) scene.world.maxTravel = o.world.maxTravel;
     if (o.dtAuto && scene.world.maxTravel == 0.0f) scene.world.maxTravel = kDefaultMaxTravel;
     if (given("--boundary")) scene.world.boundary = o.world.boundary;
+    if (given("--collisions")) scene.world.collisions = o.world.collisions;
     if (given("--gravity")) scene.world.gravity = float2{o.gravity[0], o.gravity[1]};
     if (given("--seed")) scene.seed = o.scene.seed;
     for (const char* option : kGroupOptions) {
@@ -153,6 +154,10 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
         "walls (reflective, the default) or periodic (the box repeats)")
         ->check(CLI::IsMember({"walls", "periodic"}));
     auto* gravity = command.add_option("--gravity", o.gravity, "Constant acceleration GX GY (default off)")->expected(2);
+    auto* collisions = command.add_option_function<std::string>(
+        "--collisions", [&o](const std::string& name) { o.world.collisions = parseCollisionScheme(name); },
+        "How collisions are resolved: pairwise (binary elastic collisions at their exact contact times; energy "
+        "is conserved) or simultaneous (the seed's scheme: impulses from the state before the step, summed)");
 
     auto* input = command.add_option("--input-state", o.inputState,
                                      "Start from the particles in this CSV (id,x,y,vx,vy,mass,radius); needs --box");
@@ -165,7 +170,7 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
         ->excludes(input);
     for (CLI::Option* overriding :
          {particles, packing, box, radius, radiusMin, radiusMax, mass, massMin, massMax, speed, seed, dt, gravity,
-          maxTravel, boundary})
+          maxTravel, boundary, collisions})
         tracked(overriding, o.given);
 }
 

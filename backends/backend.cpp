@@ -27,18 +27,37 @@ void Backend::setParticles(const std::vector<Particle>& particles) {
     validateParticles(particles, world_, "particles");
     float maxRadius = 0.0f;
     for (const Particle& p : particles) maxRadius = std::max(maxRadius, p.radius);
-    grid_.geometry = gridGeometryFor(world_.width, world_.height, maxRadius, particles.size(), world_.boundary);
+    const bool pairwise = world_.collisions == CollisionScheme::Pairwise;
+    const float slack = pairwise ? kPairwiseCellSlack * 2.0f * maxRadius : 0.0f;
+    grid_.geometry =
+        gridGeometryFor(world_.width, world_.height, maxRadius, particles.size(), world_.boundary, slack);
+    gridTravel_ = gridTravelAllowance(grid_.geometry, world_.width, world_.height, maxRadius, world_.boundary);
     minRadius_ = particles.front().radius;
     for (const Particle& p : particles) minRadius_ = std::min(minRadius_, p.radius);
     particleCount_ = particles.size();
-    load(particles);
+    // A step starts with every disk at time 0 and no last partner.
+    std::vector<Particle> start = particles;
+    for (Particle& p : start) {
+        p.time = 0.0f;
+        p.lastPartner = 0u;
+    }
+    load(start);
     totals_ = ContactTotals{};
     substepsSinceDrain_ = 0;
 }
 
+double Backend::travelLimit() const {
+    double limit = HUGE_VAL;
+    if (world_.maxTravel > 0.0f) limit = double(world_.maxTravel) * minRadius_;
+    if (world_.collisions == CollisionScheme::Pairwise)
+        limit = std::min(limit, double(gridTravel_) / kPairwiseSpeedMargin);
+    return limit;
+}
+
 void Backend::step(std::uint64_t steps) {
     const float dt = world_.dt;
-    if (world_.maxTravel == 0.0f) {
+    const double allowed = travelLimit();
+    if (allowed == HUGE_VAL) {
         // Fixed dt: in batches, so that no tally sums more than kTallySubsteps.
         for (std::uint64_t done = 0; done < steps;) {
             const std::uint64_t batch = std::min(steps - done, kTallySubsteps);
@@ -50,19 +69,21 @@ void Backend::step(std::uint64_t steps) {
         return;
     }
     // The fewest equal substeps in which the fastest disk, sped up by gravity
-    // for the whole step, moves at most maxTravel x the smallest radius. The
-    // maximum and this arithmetic are the same on every backend, so the
-    // substeps are too.
+    // for the whole step, moves at most `allowed`. The maximum and this
+    // arithmetic are the same on every backend, so the substeps are too.
     const double gravity = std::hypot(double(world_.gravity.x), double(world_.gravity.y));
-    const double allowed = double(world_.maxTravel) * minRadius_;
     for (std::uint64_t s = 0; s < steps; ++s) {
         const double speed = double(maxSpeed()) + gravity * dt;
         const double needed = std::ceil(speed * dt / allowed);
         if (!(needed <= double(kMaxSubsteps)))
             throw Error("a step of dt " + std::to_string(dt) + " at the largest speed " + std::to_string(speed) +
                         " would need " + (std::isfinite(needed) ? std::to_string(needed) : std::string("unbounded")) +
-                        " substeps to keep each move within max-travel " + std::to_string(world_.maxTravel) +
-                        " x radius " + std::to_string(minRadius_) + "; at most " + std::to_string(kMaxSubsteps) +
+                        " substeps to keep each move within " +
+                        (allowed == double(world_.maxTravel) * minRadius_
+                             ? "max-travel " + std::to_string(world_.maxTravel) + " x radius " +
+                                   std::to_string(minRadius_)
+                             : "the pairwise grid's allowance " + std::to_string(allowed)) +
+                        "; at most " + std::to_string(kMaxSubsteps) +
                         " are allowed (the state may have blown up, or use a smaller --dt)");
         const auto substeps = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(needed));
         const float substepDt = substeps == 1 ? dt : static_cast<float>(double(dt) / double(substeps));
@@ -74,6 +95,19 @@ void Backend::step(std::uint64_t steps) {
         totals_.time += dt;
         ++totals_.steps;
     }
+}
+
+void Backend::recordRounds(unsigned int rounds) { totals_.maxRounds = std::max(totals_.maxRounds, rounds); }
+
+CaromPairwiseStep Backend::pairwiseStep(float dt) const {
+    CaromPairwiseStep step;
+    step.grid = grid_.geometry;
+    step.box = caromBoxOf(world_);
+    step.gravityX = world_.gravity.x;
+    step.gravityY = world_.gravity.y;
+    step.duration = dt;
+    step.tolerance = carom_rounding_tolerance(step.box);
+    return step;
 }
 
 void Backend::advanceCounted(std::uint64_t substeps, float dt) {
@@ -113,6 +147,7 @@ void drainTallyArray(ContactTally* tallies, std::size_t count, ContactTotals& to
     for (std::size_t i = 0; i < count; ++i) {
         ContactTally& t = tallies[i];
         totals.collisions += t.collisions;
+        totals.lateContacts += t.lateContacts;
         totals.virial += t.virial;
         for (int w = 0; w < 4; ++w) totals.wallImpulse[w] += t.wallImpulse[w];
         t = ContactTally{};

@@ -1,10 +1,12 @@
 // The Backend interface: one implementation per compute device family.
 //
-// A step is always: build the grid (engine/grid.h) -> resolveCollisions ->
-// integrate, with the per-particle physics of kernels/physics.h. Backends
-// differ only in where those loops run. The base class owns what is the same
-// for all: splitting steps into substeps (WorldDef::maxTravel) and summing
-// the per-particle contact tallies into ContactTotals.
+// A step is always: build the grid (engine/grid.h), then the collision
+// scheme (WorldDef::collisions): simultaneous (resolveCollisions ->
+// integrate, kernels/physics.h) or pairwise (rounds of events,
+// kernels/pairwise.h). Backends differ only in where those loops run. The
+// base class owns what is the same for all: splitting steps into substeps
+// (WorldDef::maxTravel, and the pairwise scheme's grid allowance) and
+// summing the per-particle contact tallies into ContactTotals.
 #pragma once
 
 #include <cstdint>
@@ -15,8 +17,20 @@
 #include "engine/carom.h"
 #include "engine/grid.h"
 #include "engine/observables.h"
+#include "kernels/pairwise.h"
 
 namespace carom {
+
+// The pairwise scheme's grid: cells wider than the largest diameter by this
+// fraction of it, room for the disks to move within a step.
+constexpr float kPairwiseCellSlack = 0.15f;
+// Collisions within a step can speed a disk up: substeps are sized so that
+// a disk this many times faster than the fastest one at the step's start
+// still stays within the grid's allowance.
+constexpr float kPairwiseSpeedMargin = 2.0f;
+// The most rounds of a pairwise step; events still pending after them are
+// left for the next step (they show up as late contacts).
+constexpr unsigned int kMaxPairwiseRounds = 64;
 
 class Backend {
 public:
@@ -32,11 +46,12 @@ public:
     virtual bool exactArithmetic() const = 0;
 
     // Validates the particles against the world, sizes the grid for their
-    // largest radius, loads them and resets the contact totals.
+    // largest radius (and the scheme), loads them and resets the contact totals.
     void setParticles(const std::vector<Particle>& particles);
     // Advances the simulation by `steps` steps of world().dt, each split into
-    // substeps when world().maxTravel > 0. Throws Error if a step would need
-    // more than kMaxSubsteps substeps.
+    // substeps when world().maxTravel > 0 or the pairwise scheme's grid
+    // needs them. Throws Error if a step would need more than kMaxSubsteps
+    // substeps.
     void step(std::uint64_t steps);
     // Copies the current state into `particles` (in id order).
     virtual void readParticles(std::vector<Particle>& particles) = 0;
@@ -68,6 +83,11 @@ protected:
     // that a float tally never sums more than kTallySubsteps substeps.
     virtual void drainTallies(ContactTotals& totals) = 0;
 
+    // For implementations: a pairwise (sub)step used this many rounds.
+    void recordRounds(unsigned int rounds);
+    // What every pass of a pairwise (sub)step of duration dt reads.
+    CaromPairwiseStep pairwiseStep(float dt) const;
+
     WorldDef world_;
     Grid grid_;  // geometry fixed by setParticles, contents rebuilt each step
     std::size_t particleCount_ = 0;
@@ -75,9 +95,14 @@ protected:
 
 private:
     void advanceCounted(std::uint64_t substeps, float dt);
+    // The longest move one substep may make: maxTravel x the smallest
+    // radius, and with the pairwise scheme the grid's allowance over
+    // kPairwiseSpeedMargin; infinite when neither limits it [length].
+    double travelLimit() const;
 
     ContactTotals totals_;
     std::uint64_t substepsSinceDrain_ = 0;
+    float gridTravel_ = 0.0f;  // gridTravelAllowance of grid_
 };
 
 // For implementations: adds tallies[0..count) to `totals` in id order, in

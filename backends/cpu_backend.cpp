@@ -1,5 +1,6 @@
 #include "backends/cpu_backend.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <utility>
 
@@ -7,9 +8,16 @@
 #include <omp.h>
 #endif
 
-#include "kernels/physics.h"
+#include "kernels/pairwise.h"
 
 namespace carom {
+
+namespace {
+
+// Lists shorter than this run on one thread: starting the team costs more.
+constexpr std::int64_t kParallelListLength = 512;
+
+}  // namespace
 
 CpuBackend::CpuBackend(const WorldDef& world) : Backend(world) {}
 
@@ -23,33 +31,119 @@ std::string CpuBackend::device() const {
 
 void CpuBackend::load(const std::vector<Particle>& particles) {
     state_ = particles;
-    next_.resize(particles.size());
     tallies_.assign(particles.size(), ContactTally{});
+    if (world_.collisions == CollisionScheme::Simultaneous) {
+        next_.resize(particles.size());
+        return;
+    }
+    const std::size_t n = particles.size();
+    events_.resize(n);
+    for (auto* list : {&pending_, &nextPending_, &changed_, &dirty_}) list->resize(n);
+    for (auto* marks : {&pendingMark_, &changedMark_, &dirtyMark_}) marks->assign(n, 0u);
+    epoch_ = 0;
 }
 
 void CpuBackend::advance(std::uint64_t substeps, float dt) {
+    for (std::uint64_t s = 0; s < substeps; ++s) {
+        buildGrid(state_.data(), state_.size(), grid_);
+        if (world_.collisions == CollisionScheme::Pairwise)
+            stepPairwise(dt);
+        else
+            stepSimultaneous(dt);
+    }
+}
+
+void CpuBackend::stepSimultaneous(float dt) {
     const auto count = static_cast<std::int64_t>(state_.size());
     const WorldDef& w = world_;
     const CaromBox box = caromBoxOf(w);
-    for (std::uint64_t s = 0; s < substeps; ++s) {
-        buildGrid(state_.data(), state_.size(), grid_);
-        const Particle* in = state_.data();
-        Particle* out = next_.data();
-        const unsigned int* sorted = grid_.sortedIndices.data();
-        const GridCell* cells = grid_.cells.data();
-        ContactTally* tallies = tallies_.data();
-        const GridGeometry geometry = grid_.geometry;
-        // resolveCollisions and integrate fused per particle: integrate only
-        // reads the particle that resolveCollisions just wrote, so this equals
-        // two separate passes bit for bit.
+    const Particle* in = state_.data();
+    Particle* out = next_.data();
+    const unsigned int* sorted = grid_.sortedIndices.data();
+    const GridCell* cells = grid_.cells.data();
+    ContactTally* tallies = tallies_.data();
+    const GridGeometry geometry = grid_.geometry;
+    // resolveCollisions and integrate fused per particle: integrate only
+    // reads the particle that resolveCollisions just wrote, so this equals
+    // two separate passes bit for bit.
 #pragma omp parallel for schedule(static)
-        for (std::int64_t i = 0; i < count; ++i) {
-            const auto id = static_cast<unsigned int>(i);
-            carom_resolve_collisions(id, in, sorted, cells, geometry, box, out, tallies);
-            carom_integrate_into(id, out, dt, w.gravity.x, w.gravity.y, box, tallies);
-        }
-        std::swap(state_, next_);
+    for (std::int64_t i = 0; i < count; ++i) {
+        const auto id = static_cast<unsigned int>(i);
+        carom_resolve_collisions(id, in, sorted, cells, geometry, box, out, tallies);
+        carom_integrate_into(id, out, dt, w.gravity.x, w.gravity.y, box, tallies);
     }
+    std::swap(state_, next_);
+}
+
+// Each round's marks carry a new epoch, so no list needs clearing; when the
+// counter wraps, the marks are cleared once.
+unsigned int CpuBackend::nextEpoch() {
+    if (++epoch_ == 0) {
+        for (auto* marks : {&pendingMark_, &changedMark_, &dirtyMark_}) std::fill(marks->begin(), marks->end(), 0u);
+        epoch_ = 1;
+    }
+    return epoch_;
+}
+
+void CpuBackend::stepPairwise(float dt) {
+    const auto count = static_cast<std::int64_t>(state_.size());
+    const CaromPairwiseStep step = pairwiseStep(dt);
+    Particle* state = state_.data();
+    // State by id, so a disk's slot is its id: sortedIndices serves as both.
+    const unsigned int* sorted = grid_.sortedIndices.data();
+    const unsigned int* cellOf = grid_.cellOf.data();
+    const GridCell* cells = grid_.cells.data();
+    ContactTally* tallies = tallies_.data();
+    CaromEvent* events = events_.data();
+    unsigned int pendingCount = 0, nextCount = 0, changedCount = 0, dirtyCount = 0;
+    auto list = [](std::vector<unsigned int>& items, unsigned int& count, std::vector<unsigned int>& marks) {
+        return CaromList{items.data(), &count, marks.data()};
+    };
+    // Runs pass(k) for the first `length` entries of `items`, in parallel when it pays.
+    auto forEach = [](const unsigned int* items, unsigned int length, auto&& pass) {
+        const auto n = static_cast<std::int64_t>(length);
+#pragma omp parallel for schedule(static) if (n >= kParallelListLength)
+        for (std::int64_t e = 0; e < n; ++e) pass(items[e]);
+    };
+
+    // Every disk's earliest event: forward over each pair once, then the
+    // disks met from behind look at all their neighbours.
+    unsigned int epoch = nextEpoch();
+    CaromList changed = list(changed_, changedCount, changedMark_);
+    CaromList dirty = list(dirty_, dirtyCount, dirtyMark_);
+    CaromList pending = list(pending_, pendingCount, pendingMark_);
+#pragma omp parallel for schedule(static)
+    for (std::int64_t k = 0; k < count; ++k)
+        carom_find_event(static_cast<unsigned int>(k), state, sorted, sorted, cellOf, cells, step, events,
+                         CAROM_SEARCH_FORWARD, changed, dirty, pending, epoch);
+    forEach(dirty_.data(), dirtyCount, [&](unsigned int k) {
+        carom_find_event(k, state, sorted, sorted, cellOf, cells, step, events, CAROM_SEARCH_ALL, changed, dirty,
+                         pending, epoch);
+    });
+
+    unsigned int rounds = 0;
+    for (unsigned int round = 1; pendingCount > 0 && round <= kMaxPairwiseRounds; ++round) {
+        epoch = nextEpoch();
+        nextCount = changedCount = dirtyCount = 0;
+        CaromList next = list(nextPending_, nextCount, pendingMark_);
+        forEach(pending_.data(), pendingCount, [&](unsigned int k) {
+            carom_resolve_event(k, state, sorted, sorted, events, step, tallies, changed, next, epoch);
+        });
+        forEach(changed_.data(), changedCount, [&](unsigned int k) {
+            carom_find_event(k, state, sorted, sorted, cellOf, cells, step, events, CAROM_SEARCH_CHANGED, changed,
+                             dirty, next, epoch);
+        });
+        forEach(dirty_.data(), dirtyCount, [&](unsigned int k) {
+            carom_find_event(k, state, sorted, sorted, cellOf, cells, step, events, CAROM_SEARCH_ALL, changed, dirty,
+                             next, epoch);
+        });
+        if (changedCount > 0) rounds = round;
+        std::swap(pending_, nextPending_);
+        pendingCount = nextCount;
+    }
+    recordRounds(rounds);
+#pragma omp parallel for schedule(static)
+    for (std::int64_t i = 0; i < count; ++i) state[i] = carom_finish_step(state[i], step, &tallies[i]);
 }
 
 }  // namespace carom

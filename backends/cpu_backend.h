@@ -1,5 +1,7 @@
-// The OpenMP CPU backend: the shared grid builder, then resolveCollisions and
-// integrate from kernels/physics.h in one parallel loop over particles.
+// The OpenMP CPU backend: the shared grid builder, then the collision scheme
+// in parallel loops over particles: resolveCollisions and integrate from
+// kernels/physics.h in one loop (simultaneous), or the rounds of
+// kernels/pairwise.h (pairwise).
 #pragma once
 
 #include "backends/backend.h"
@@ -21,10 +23,21 @@ private:
     void advance(std::uint64_t substeps, float dt) override;
     float maxSpeedSquared() override { return maxSpeedSquaredOf(state_.data(), state_.size()); }
     void drainTallies(ContactTotals& totals) override { drainTallyArray(tallies_.data(), tallies_.size(), totals); }
+    void stepSimultaneous(float dt);
+    void stepPairwise(float dt);
+    unsigned int nextEpoch();
 
     std::vector<Particle> state_;  // the state before the step
-    std::vector<Particle> next_;   // written by the step, then swapped in
+    std::vector<Particle> next_;   // simultaneous: written by the step, then swapped in
     std::vector<ContactTally> tallies_;  // by particle id
+
+    // Pairwise: each disk's earliest event and the round's lists, by sorted
+    // position (kernels/pairwise.h), and the marks that keep each list free
+    // of repeats within a round (epoch).
+    std::vector<CaromEvent> events_;
+    std::vector<unsigned int> pending_, nextPending_, changed_, dirty_;
+    std::vector<unsigned int> pendingMark_, changedMark_, dirtyMark_;
+    unsigned int epoch_ = 0;
 };
 
 }  // namespace carom

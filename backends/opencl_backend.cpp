@@ -49,6 +49,8 @@ OpenClBackend::OpenClBackend(const WorldDef& world, const std::string& device, P
     while (reductionGroupSize_ * 2 <= reductionLimit) reductionGroupSize_ *= 2;
     while (reductionGroupSize_ > reductionLimit) reductionGroupSize_ /= 2;
     groupMax_ = createBuffer(context_.get(), kReductionGroups * sizeof(cl_float), "max speed per group");
+    if (world.collisions == CollisionScheme::Pairwise)
+        throw Error("the OpenCL backend does not run the pairwise scheme yet; use --backend cpu");
 }
 
 std::string OpenClBackend::device() const {

@@ -37,6 +37,23 @@ enum class Boundary {
 Boundary parseBoundary(const std::string& name);
 const char* boundaryName(Boundary boundary);
 
+// How the collisions of a step are resolved (README, "Collision schemes").
+enum class CollisionScheme {
+    // The seed's scheme: every overlapping, approaching pair gets the elastic
+    // impulse computed from the state before the step, all summed, plus a
+    // positional push. Energy drifts (heats) in dense gases: a disk in two
+    // contacts at once sums two impulses computed from the same velocities.
+    Simultaneous,
+    // Binary elastic collisions at their exact contact times, resolved in
+    // rounds of mutually earliest events (kernels/pairwise.h): energy is
+    // conserved to rounding at any density, also under gravity.
+    Pairwise,
+};
+
+// "simultaneous" or "pairwise"; throws Error naming the value otherwise.
+CollisionScheme parseCollisionScheme(const std::string& name);
+const char* collisionSchemeName(CollisionScheme scheme);
+
 // The box and the rules of motion. The world is [0,width] x [0,height].
 struct WorldDef {
     float width = 0.0f;    // box width [length], > 0; no default: derived from the scene
@@ -50,6 +67,7 @@ struct WorldDef {
     // start of the step (plus what gravity adds over the step). 0 = off
     // (every step is one substep) [fraction of the smallest radius], >= 0.
     float maxTravel = 0.0f;
+    CollisionScheme collisions = CollisionScheme::Simultaneous;
 };
 
 // The fraction `--dt auto` uses when no --max-travel is given.

@@ -15,6 +15,7 @@ Diagnostics measure(const std::vector<Particle>& particles, const WorldDef& worl
         d.kineticEnergy += 0.5 * p.mass * (vx * vx + vy * vy);
         d.momentum[0] += p.mass * vx;
         d.momentum[1] += p.mass * vy;
+        d.potentialEnergy -= p.mass * (double(world.gravity.x) * p.position.x + double(world.gravity.y) * p.position.y);
         const float2 x = p.position;
         const bool inside = x.x >= 0.0f && x.x <= world.width && x.y >= 0.0f && x.y <= world.height;
         if (!inside) ++d.escaped;  // also counts NaN

@@ -20,19 +20,28 @@ struct Grid {
     GridGeometry geometry{};
     std::vector<GridCell> cells;              // cols * rows, row-major
     std::vector<std::uint32_t> sortedIndices;  // particle ids grouped by cell
+    std::vector<std::uint32_t> cellOf;         // the cell of each particle, by id
 };
 
 // The cell layout for a box and the largest radius. Cells are as small as the
-// largest diameter allows, but never more than about 4 per particle, so a
-// dilute system does not allocate a huge empty grid (larger cells are still
-// correct, only slower). A periodic box gets at least 3 x 3 cells, so the
-// 3x3 search around a disk never meets one cell twice; throws Error if the
-// box is too small for that.
+// largest diameter plus `slack` allows, but never more than about 4 per
+// particle, so a dilute system does not allocate a huge empty grid (larger
+// cells are still correct, only slower). A periodic box gets at least 3 x 3
+// cells, so the 3x3 search around a disk never meets one cell twice; throws
+// Error if the box is too small for that. The slack [length] is room for
+// the disks to move within a step (the pairwise scheme).
 GridGeometry gridGeometryFor(float width, float height, float maxRadius, std::size_t particleCount,
-                             Boundary boundary = Boundary::Walls);
+                             Boundary boundary = Boundary::Walls, float slack = 0.0f);
 
-// Fills grid.cells and grid.sortedIndices for the particles, keeping
-// grid.geometry. Reuses the vectors' storage from step to step.
+// How far every disk may move in a step while the 3x3 cells around the cell
+// it started in still hold every disk it can touch: half of what a cell's
+// width exceeds the largest diameter by [length]; infinite along an axis
+// whose every cell the 3x3 search reaches.
+float gridTravelAllowance(const GridGeometry& geometry, float width, float height, float maxRadius,
+                          Boundary boundary);
+
+// Fills grid.cells, grid.sortedIndices and grid.cellOf for the particles,
+// keeping grid.geometry. Reuses the vectors' storage from step to step.
 void buildGrid(const Particle* particles, std::size_t count, Grid& grid);
 
 // The box as kernels/physics.h sees it.

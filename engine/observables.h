@@ -22,7 +22,12 @@ struct ContactTotals {
                                           //   and top wall [mass length/time]
     double time = 0.0;             // simulated time covered [time]
     std::uint64_t steps = 0;       // steps taken
-    std::uint64_t substeps = 0;    // substeps taken (more than steps only with maxTravel > 0)
+    std::uint64_t substeps = 0;    // substeps taken (more than steps with maxTravel > 0 or the
+                                   //   pairwise scheme's grid allowance)
+    // Pairwise scheme only:
+    std::uint64_t lateContacts = 0;  // pairs resolved while overlapping beyond rounding, and disks
+                                     //   found past a wall: contacts the rounds could not order in time
+    std::uint32_t maxRounds = 0;     // the most rounds one (sub)step used (kMaxPairwiseRounds at most)
 };
 
 // kT of a state (k = 1) [mass length^2/time^2]: the kinetic energy per

@@ -107,6 +107,17 @@ Boundary parseBoundary(const std::string& name) {
 
 const char* boundaryName(Boundary boundary) { return boundary == Boundary::Periodic ? "periodic" : "walls"; }
 
+CollisionScheme parseCollisionScheme(const std::string& name) {
+    if (name == "simultaneous") return CollisionScheme::Simultaneous;
+    if (name == "pairwise") return CollisionScheme::Pairwise;
+    if (name == "events") fail("collision scheme 'events' (exact event-driven dynamics) is not available yet; allowed: pairwise, simultaneous");
+    fail("unknown collision scheme '", name, "'; allowed: pairwise, simultaneous");
+}
+
+const char* collisionSchemeName(CollisionScheme scheme) {
+    return scheme == CollisionScheme::Pairwise ? "pairwise" : "simultaneous";
+}
+
 void validate(const WorldDef& world) {
     requirePositive("box width", world.width);
     requirePositive("box height", world.height);
@@ -117,6 +128,8 @@ void validate(const WorldDef& world) {
         fail("boundary code ", static_cast<int>(world.boundary), " is unknown; allowed: walls, periodic");
     if (!(std::isfinite(world.maxTravel) && world.maxTravel >= 0.0f))
         fail("max-travel must be a finite number >= 0 (0 = fixed dt), got ", world.maxTravel);
+    if (world.collisions != CollisionScheme::Simultaneous && world.collisions != CollisionScheme::Pairwise)
+        fail("collision scheme code ", static_cast<int>(world.collisions), " is unknown; allowed: pairwise, simultaneous");
 }
 
 void validate(const SceneDef& scene) {

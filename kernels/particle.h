@@ -27,7 +27,10 @@ typedef struct CAROM_ALIGNED(32) Particle {
     float2 velocity; /* [length/time] */
     float mass;      /* > 0 [mass] */
     float radius;    /* > 0 [length] */
-    float2 padding;  /* unused; keeps the size at 32 bytes */
+    /* Used only inside a step of the pairwise scheme (kernels/pairwise.h), and
+     * zero between steps: */
+    float time;               /* the time within the step that position and velocity hold [time] */
+    unsigned int lastPartner; /* 1 + the id of the disk it last collided with, 0 for none */
 } Particle;
 
 /* What one particle's collisions and wall bounces delivered, summed over the
@@ -37,6 +40,8 @@ typedef struct ContactTally {
     unsigned int collisions; /* pairs (i, j > i) that received an impulse */
     float virial;            /* sum of r_ij . J_ij over those impulses [mass length^2/time] */
     float wallImpulse[4];    /* momentum given to the left, right, bottom, top wall [mass length/time] */
+    unsigned int lateContacts; /* pairwise scheme: pairs (i, j > i) found already overlapping, and
+                                * wall contacts found past the wall, when resolved */
 } ContactTally;
 
 /* The particles of one grid cell: sortedIndices[start .. start+count). */
@@ -61,9 +66,10 @@ static_assert(sizeof(float2) == 8 && alignof(float2) == 8, "float2 must match Op
 static_assert(sizeof(Particle) == 32 && alignof(Particle) == 32, "Particle is 32 bytes, 32-aligned");
 static_assert(offsetof(Particle, position) == 0 && offsetof(Particle, velocity) == 8 &&
                   offsetof(Particle, mass) == 16 && offsetof(Particle, radius) == 20 &&
-                  offsetof(Particle, padding) == 24,
+                  offsetof(Particle, time) == 24 && offsetof(Particle, lastPartner) == 28,
               "Particle field offsets must match the OpenCL struct");
-static_assert(sizeof(ContactTally) == 24 && offsetof(ContactTally, wallImpulse) == 8,
+static_assert(sizeof(ContactTally) == 28 && offsetof(ContactTally, wallImpulse) == 8 &&
+                  offsetof(ContactTally, lateContacts) == 24,
               "ContactTally must match the OpenCL struct");
 static_assert(sizeof(GridCell) == 8 && offsetof(GridCell, count) == 4, "GridCell is two uints");
 } /* namespace carom */

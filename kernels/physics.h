@@ -151,20 +151,47 @@ static inline void carom_add_run_response(unsigned int i, Particle self, CAROM_G
     }
 }
 
-/* The response of particle i (`self`) to its neighbours in the 3x3 cells
- * around it, visited in the fixed order: cell rows, then columns, then
- * ascending id within a cell. Particle sortedIndices[k] is stored at
- * in[slots[k]]: with particles stored by id, `slots` is sortedIndices itself;
- * the resident pipeline stores them in the cell order of the step before,
- * so that neighbours sit close together in memory.
- *
+/* The 3x3 cells around cell (cellX, cellY) as up to six runs of
+ * sortedIndices, in a fixed order: run 2r is row r's (up to) three cells,
+ * run 2r + 1 the column across the edge of a periodic box in that row.
  * The cells of a row are consecutive, and so are their lists in
  * sortedIndices (each cell starts where the one before it ends), so one run
- * over sortedIndices covers a row's three cells in exactly that order: one
- * loop per row instead of three, which keeps the work-items of a GPU
- * wavefront in step. In a periodic box the rows wrap around, and a disk in
- * an edge column also visits the column across the edge, after the run
- * (the grid is at least 3 x 3, so that column is never in the run). */
+ * covers a row's three cells in the order cell by cell would: one loop per
+ * row instead of three, which keeps the work-items of a GPU wavefront in
+ * step. In a periodic box the rows wrap around, and a disk in an edge column
+ * also visits the column across the edge (the grid is at least 3 x 3, so
+ * that column is never in the row's run). Returns 0 for a run that does not
+ * exist (a row outside a walled box, no column across). */
+static inline int carom_neighbour_run(int run, int cellX, int cellY, CAROM_GLOBAL const GridCell* cells,
+                                      GridGeometry grid, CaromBox box, unsigned int* begin, unsigned int* end)
+{
+    int y = cellY - 1 + run / 2;
+    if (box.periodic) y = y < 0 ? y + grid.rows : (y >= grid.rows ? y - grid.rows : y);
+    else if (y < 0 || y >= grid.rows) return 0;
+    if (run % 2 == 0) {
+        const int firstX = cellX > 0 ? cellX - 1 : cellX;
+        const int lastX = cellX + 1 < grid.cols ? cellX + 1 : cellX;
+        const GridCell last = cells[y * grid.cols + lastX];
+        *begin = cells[y * grid.cols + firstX].start;
+        *end = last.start + last.count;
+        return 1;
+    }
+    int acrossX = -1;
+    if (box.periodic && cellX == 0) acrossX = grid.cols - 1;
+    if (box.periodic && cellX == grid.cols - 1) acrossX = 0;
+    if (acrossX < 0) return 0;
+    const GridCell across = cells[y * grid.cols + acrossX];
+    *begin = across.start;
+    *end = across.start + across.count;
+    return 1;
+}
+
+/* The response of particle i (`self`) to its neighbours in the 3x3 cells
+ * around it, visited in the fixed order of carom_neighbour_run, ascending
+ * id within a cell. Particle sortedIndices[k] is stored at in[slots[k]]:
+ * with particles stored by id, `slots` is sortedIndices itself; the resident
+ * pipeline stores them in the cell order of the step before, so that
+ * neighbours sit close together in memory. */
 static inline CaromResponse carom_collect_response_from(unsigned int i, Particle self,
                                                         CAROM_GLOBAL const Particle* in,
                                                         CAROM_GLOBAL const unsigned int* sortedIndices,
@@ -174,24 +201,11 @@ static inline CaromResponse carom_collect_response_from(unsigned int i, Particle
 {
     const int cellX = carom_cell_coord(self.position.x, grid.cellsPerLengthX, grid.cols);
     const int cellY = carom_cell_coord(self.position.y, grid.cellsPerLengthY, grid.rows);
-    const int firstX = cellX > 0 ? cellX - 1 : cellX;
-    const int lastX = cellX + 1 < grid.cols ? cellX + 1 : cellX;
-    int acrossX = -1;
-    if (box.periodic && cellX == 0) acrossX = grid.cols - 1;
-    if (box.periodic && cellX == grid.cols - 1) acrossX = 0;
     CaromResponse sum = {0.0f, 0.0f, 0.0f, 0.0f, 0u, 0.0f};
-    for (int row = cellY - 1; row <= cellY + 1; ++row) {
-        int y = row;
-        if (box.periodic) y = y < 0 ? y + grid.rows : (y >= grid.rows ? y - grid.rows : y);
-        else if (y < 0 || y >= grid.rows) continue;
-        const GridCell last = cells[y * grid.cols + lastX];
-        carom_add_run_response(i, self, in, sortedIndices, slots, cells[y * grid.cols + firstX].start,
-                               last.start + last.count, box, &sum);
-        if (acrossX >= 0) {
-            const GridCell across = cells[y * grid.cols + acrossX];
-            carom_add_run_response(i, self, in, sortedIndices, slots, across.start, across.start + across.count,
-                                   box, &sum);
-        }
+    for (int run = 0; run < 6; ++run) {
+        unsigned int begin, end;
+        if (carom_neighbour_run(run, cellX, cellY, cells, grid, box, &begin, &end))
+            carom_add_run_response(i, self, in, sortedIndices, slots, begin, end, box, &sum);
     }
     return sum;
 }
