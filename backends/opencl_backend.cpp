@@ -43,14 +43,15 @@ OpenClBackend::OpenClBackend(const WorldDef& world, const std::string& device, P
     fusedKernel_ = createKernel(program_.get(), "resolveIntegrateAndCount");
     allPairsKernel_ = createKernel(program_.get(), "resolveAllPairs");
     maxSpeedKernel_ = createKernel(program_.get(), "maxSpeedSquared");
-    for (cl_kernel kernel : {resolveKernel_.get(), integrateKernel_.get(), fusedKernel_.get(), allPairsKernel_.get()})
+    finishByIdKernel_ = createKernel(program_.get(), "finishStepById");
+    finishAndCountKernel_ = createKernel(program_.get(), "finishPairwiseAndCount");
+    for (cl_kernel kernel : {resolveKernel_.get(), integrateKernel_.get(), fusedKernel_.get(), allPairsKernel_.get(),
+                             finishByIdKernel_.get(), finishAndCountKernel_.get()})
         workGroupSize_ = std::min(workGroupSize_, kernelWorkGroupLimit(kernel, device_.id));
     const std::size_t reductionLimit = std::min<std::size_t>(256, kernelWorkGroupLimit(maxSpeedKernel_.get(), device_.id));
     while (reductionGroupSize_ * 2 <= reductionLimit) reductionGroupSize_ *= 2;
     while (reductionGroupSize_ > reductionLimit) reductionGroupSize_ /= 2;
     groupMax_ = createBuffer(context_.get(), kReductionGroups * sizeof(cl_float), "max speed per group");
-    if (world.collisions == CollisionScheme::Pairwise)
-        throw Error("the OpenCL backend does not run the pairwise scheme yet; use --backend cpu");
 }
 
 std::string OpenClBackend::device() const {
@@ -68,6 +69,8 @@ void OpenClBackend::load(const std::vector<Particle>& particles) {
     tallies_.reset();
     sortedIndices_.reset();
     cells_.reset();
+    cellOf_.reset();
+    pairwise_ = DevicePairwise();
     deviceGrid_ = DeviceGrid();
     ids_.reset();
     sortedIds_.reset();
@@ -86,12 +89,18 @@ void OpenClBackend::load(const std::vector<Particle>& particles) {
             cells_ = createBuffer(context_.get(),
                                   std::size_t(grid_.geometry.cols) * grid_.geometry.rows * sizeof(GridCell),
                                   "grid cells");
+            if (world_.collisions == CollisionScheme::Pairwise)
+                cellOf_ = createBuffer(context_.get(), n * sizeof(cl_uint), "cell of each particle");
             break;
         case Pipeline::Resident:
             loadResident(n);
             break;
         case Pipeline::AllPairs:
             break;
+    }
+    if (world_.collisions == CollisionScheme::Pairwise) {
+        if (pipeline_ == Pipeline::AllPairs) throw Error("the all-pairs pipeline runs the simultaneous scheme only");
+        pairwise_ = DevicePairwise(context_.get(), device_, program_.get(), n, queue_.get(), profiler_.get());
     }
     finish();
     if (profiler_) profiler_->clear();  // the profile covers steps only
@@ -117,12 +126,13 @@ void OpenClBackend::finish() {
 
 void OpenClBackend::advance(std::uint64_t steps, float dt) {
     for (std::uint64_t s = 0; s < steps; ++s) {
+        const bool pairwise = world_.collisions == CollisionScheme::Pairwise;
         switch (pipeline_) {
             case Pipeline::Seed:
-                stepSeed(dt);
+                pairwise ? stepSeedPairwise(dt) : stepSeed(dt);
                 break;
             case Pipeline::Resident:
-                stepResident(dt);
+                pairwise ? stepResidentPairwise(dt) : stepResident(dt);
                 break;
             case Pipeline::AllPairs:
                 stepAllPairs(dt);
@@ -133,10 +143,7 @@ void OpenClBackend::advance(std::uint64_t steps, float dt) {
     finish();
 }
 
-void OpenClBackend::stepSeed(float dt) {
-    const cl_uint count = static_cast<cl_uint>(particleCount_);
-    const GridGeometry& g = grid_.geometry;
-    cl_command_queue queue = queue_.get();
+void OpenClBackend::uploadGrid() {
     Profiler* profiler = profiler_.get();
     const auto gridStart = std::chrono::steady_clock::now();
     buildGrid(hostState_.data(), hostState_.size(), grid_);
@@ -145,13 +152,26 @@ void OpenClBackend::stepSeed(float dt) {
                                                          std::chrono::steady_clock::now() - gridStart)
                                                          .count());
     // Non-blocking writes: the host vectors stay untouched until the
-    // blocking read below, which the in-order queue runs last.
-    check(clEnqueueWriteBuffer(queue, sortedIndices_.get(), CL_FALSE, 0, count * sizeof(cl_uint),
+    // blocking read at the end of the step, which the in-order queue runs last.
+    cl_command_queue queue = queue_.get();
+    check(clEnqueueWriteBuffer(queue, sortedIndices_.get(), CL_FALSE, 0, particleCount_ * sizeof(cl_uint),
                                grid_.sortedIndices.data(), 0, nullptr, eventSlot(profiler, "upload grid")),
           "clEnqueueWriteBuffer(sorted indices)");
     check(clEnqueueWriteBuffer(queue, cells_.get(), CL_FALSE, 0, grid_.cells.size() * sizeof(GridCell),
                                grid_.cells.data(), 0, nullptr, eventSlot(profiler, "upload grid")),
           "clEnqueueWriteBuffer(grid cells)");
+    if (cellOf_.get())
+        check(clEnqueueWriteBuffer(queue, cellOf_.get(), CL_FALSE, 0, particleCount_ * sizeof(cl_uint),
+                                   grid_.cellOf.data(), 0, nullptr, eventSlot(profiler, "upload grid")),
+              "clEnqueueWriteBuffer(cell of each particle)");
+}
+
+void OpenClBackend::stepSeed(float dt) {
+    const cl_uint count = static_cast<cl_uint>(particleCount_);
+    const GridGeometry& g = grid_.geometry;
+    cl_command_queue queue = queue_.get();
+    Profiler* profiler = profiler_.get();
+    uploadGrid();
     setKernelArgs(resolveKernel_.get(), state_.get(), sortedIndices_.get(), cells_.get(), g.cellsPerLengthX,
                   g.cellsPerLengthY, g.cols, g.rows, count, world_.width, world_.height, periodic(), next_.get(),
                   tallies_.get());
@@ -165,6 +185,22 @@ void OpenClBackend::stepSeed(float dt) {
     std::swap(state_, next_);
 }
 
+// The rounds resolve the events in state_ (stored by id, so sortedIndices
+// serves as slots and ids), then every disk finishes the step in place.
+void OpenClBackend::stepSeedPairwise(float dt) {
+    const cl_uint count = static_cast<cl_uint>(particleCount_);
+    cl_command_queue queue = queue_.get();
+    const CaromPairwiseStep step = pairwiseStep(dt);
+    uploadGrid();
+    recordRounds(pairwise_.resolveStep(queue, state_.get(), sortedIndices_.get(), sortedIndices_.get(),
+                                       cellOf_.get(), cells_.get(), tallies_.get(), step));
+    setKernelArgs(finishByIdKernel_.get(), state_.get(), step, count, tallies_.get());
+    enqueue1d(queue, finishByIdKernel_.get(), count, workGroupSize_, "finishStepById", profiler_.get());
+    check(clEnqueueReadBuffer(queue, state_.get(), CL_TRUE, 0, count * sizeof(Particle), hostState_.data(), 0,
+                              nullptr, eventSlot(profiler_.get(), "download state")),
+          "clEnqueueReadBuffer(particle state)");
+}
+
 void OpenClBackend::stepResident(float dt) {
     const cl_uint count = static_cast<cl_uint>(particleCount_);
     const GridGeometry& g = grid_.geometry;
@@ -175,6 +211,25 @@ void OpenClBackend::stepResident(float dt) {
                   world_.gravity.y, world_.width, world_.height, periodic(), next_.get(), tallies_.get(),
                   deviceGrid_.nextCounts(), deviceGrid_.cellOf(), deviceGrid_.rankInCell());
     enqueue1d(queue_.get(), fusedKernel_.get(), count, workGroupSize_, "resolveIntegrateAndCount", profiler_.get());
+    std::swap(state_, next_);
+    std::swap(ids_, sortedIds_);
+    deviceGrid_.advance();
+}
+
+// The rounds resolve the events in state_ (in the cell order of the step
+// before), then every disk finishes the step into slot k of next_, in this
+// step's cell order, counted into the next grid, as stepResident does.
+void OpenClBackend::stepResidentPairwise(float dt) {
+    const cl_uint count = static_cast<cl_uint>(particleCount_);
+    const CaromPairwiseStep step = pairwiseStep(dt);
+    deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get());
+    recordRounds(pairwise_.resolveStep(queue_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(),
+                                       deviceGrid_.cellOf(), deviceGrid_.cells(), tallies_.get(), step));
+    setKernelArgs(finishAndCountKernel_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), step, count,
+                  next_.get(), tallies_.get(), deviceGrid_.nextCounts(), deviceGrid_.cellOf(),
+                  deviceGrid_.rankInCell());
+    enqueue1d(queue_.get(), finishAndCountKernel_.get(), count, workGroupSize_, "finishPairwiseAndCount",
+              profiler_.get());
     std::swap(state_, next_);
     std::swap(ids_, sortedIds_);
     deviceGrid_.advance();

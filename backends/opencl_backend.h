@@ -1,11 +1,13 @@
 // The OpenCL backend, with three pipelines:
 //  - seed: each step the host builds the grid with the shared builder from
-//    its copy of the state, uploads it, runs the resolveCollisions and
-//    integrate kernels (kernels/step.cl) and reads the new state back;
+//    its copy of the state, uploads it, runs the collision scheme's kernels
+//    (simultaneous: resolveCollisions and integrate, kernels/step.cl;
+//    pairwise: the rounds of kernels/pairwise.cl) and reads the new state back;
 //  - resident: the state stays on the device, stored in the cell order of
 //    the step before; the grid is built there (DeviceGrid, kernels/grid.cl)
 //    and one fused kernel resolves, integrates and counts the new positions
-//    into the next grid (kernels/resident.cl). The host reads the state only
+//    into the next grid (kernels/resident.cl; pairwise: the rounds, then a
+//    kernel that finishes the step and counts). The host reads the state only
 //    when asked (readParticles);
 //  - all-pairs: resident too, but every particle checks every other, O(N^2):
 //    the naive baseline of `carom bench` (kernels/bench.cl).
@@ -15,6 +17,7 @@
 
 #include "backends/backend.h"
 #include "backends/opencl_grid.h"
+#include "backends/opencl_pairwise.h"
 #include "backends/opencl_runtime.h"
 
 namespace carom {
@@ -57,6 +60,9 @@ private:
     void finish();  // waits for the queue; collects the profile
     void stepSeed(float dt);
     void stepResident(float dt);
+    void stepSeedPairwise(float dt);
+    void stepResidentPairwise(float dt);
+    void uploadGrid();  // seed: the host's grid of hostState_
     void stepAllPairs(float dt);
     cl_int periodic() const { return caromBoxOf(world_).periodic; }
 
@@ -71,6 +77,8 @@ private:
     opencl::Kernel fusedKernel_;     // resident: resolveIntegrateAndCount
     opencl::Kernel allPairsKernel_;  // all-pairs: resolveAllPairs
     opencl::Kernel maxSpeedKernel_;  // resident and all-pairs: maxSpeedSquared
+    opencl::Kernel finishByIdKernel_;       // pairwise, seed: finishStepById
+    opencl::Kernel finishAndCountKernel_;   // pairwise, resident: finishPairwiseAndCount
     std::size_t workGroupSize_ = 64;
     std::size_t reductionGroupSize_ = 64;  // a power of two
 
@@ -79,6 +87,8 @@ private:
     opencl::Buffer next_;              // written by the step, then swapped in
     opencl::Buffer sortedIndices_;     // seed: uploaded each step
     opencl::Buffer cells_;             // seed: uploaded each step
+    opencl::Buffer cellOf_;            // seed, pairwise: uploaded each step
+    opencl::DevicePairwise pairwise_;  // pairwise
     opencl::Buffer tallies_;           // ContactTally by particle id
     opencl::Buffer groupMax_;          // maxSpeedSquared's per-group results
     opencl::DeviceGrid deviceGrid_;    // resident

@@ -163,6 +163,7 @@ std::vector<DeviceInfo> listDevices() {
                  CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) != 0;
             d.globalMemoryBytes = deviceValue<cl_ulong>(id, CL_DEVICE_GLOBAL_MEM_SIZE);
             d.localMemoryBytes = deviceValue<cl_ulong>(id, CL_DEVICE_LOCAL_MEM_SIZE);
+            d.computeUnits = deviceValue<cl_uint>(id, CL_DEVICE_MAX_COMPUTE_UNITS);
             devices.push_back(d);
         }
     }

@@ -38,6 +38,7 @@ struct DeviceInfo {
     bool correctlyRoundedDivideSqrt = false;
     unsigned long long globalMemoryBytes = 0;
     unsigned long long localMemoryBytes = 0;
+    unsigned int computeUnits = 1;  // CL_DEVICE_MAX_COMPUTE_UNITS
 };
 
 // Every device of every platform. Throws Error, suggesting --backend cpu,

@@ -3,4 +3,5 @@
  * definition single. */
 #include "step.cl"
 #include "resident.cl"
+#include "pairwise.cl"
 #include "bench.cl"

@@ -9,6 +9,7 @@
  * state comes out in this step's cell order, which the next step starts
  * from. */
 #include "grid.cl"
+#include "pairwise.h"
 
 __kernel void resolveIntegrateAndCount(__global const Particle* state,
                                        __global const uint* cellOrder,
@@ -45,4 +46,25 @@ __kernel void resolveIntegrateAndCount(__global const Particle* state,
     carom_record_collisions(&tallies[i], sum);
     carom_record_walls(&tallies[i], wallImpulse);
     carom_count_into_cell(k, moved.position, grid, nextCounts, cellOf, rankInCell);
+}
+
+/* The end of a pairwise step (its rounds: kernels/pairwise.cl): work-item k
+ * finishes particle sortedIds[k], from slot cellOrder[k] of `state`, into
+ * slot k of `next`, and counts it into the next step's grid. */
+__kernel void finishPairwiseAndCount(__global const Particle* state,
+                                     __global const uint* cellOrder,
+                                     __global const uint* sortedIds,
+                                     CaromPairwiseStep step,
+                                     uint count,
+                                     __global Particle* next,
+                                     __global ContactTally* tallies,
+                                     __global uint* nextCounts,
+                                     __global uint* cellOf,
+                                     __global uint* rankInCell)
+{
+    const uint k = get_global_id(0);
+    if (k >= count) return;
+    const Particle moved = carom_finish_step(state[cellOrder[k]], step, &tallies[sortedIds[k]]);
+    next[k] = moved;
+    carom_count_into_cell(k, moved.position, step.grid, nextCounts, cellOf, rankInCell);
 }

@@ -1,7 +1,8 @@
-// CPU vs OpenCL, seed and resident pipelines: bitwise identical trajectories
-// and contact totals (collisions, virial, wall impulses, substeps) where the
-// OpenCL device divides and takes square roots correctly rounded (PoCL and
-// NVIDIA do), with walls and periodic boundaries, fixed and adaptive steps.
+// CPU vs OpenCL, seed and resident pipelines, for both collision schemes:
+// bitwise identical trajectories and contact totals (collisions, virial, wall
+// impulses, substeps, late contacts, rounds) where the OpenCL device divides
+// and takes square roots correctly rounded (PoCL and NVIDIA do), with walls
+// and periodic boundaries, fixed and adaptive steps, under gravity.
 //
 // Fallback: on a device without correctly rounded divide/sqrt, rounding
 // differences grow chaotically, so the comparison drops to a tolerance of
@@ -25,7 +26,9 @@ void compareWithCpu(const std::string& pipeline, const WorldDef& world, const In
                     std::uint64_t steps, const std::vector<Particle>& cpu, const ContactTotals& cpuContacts) {
     const char* device = std::getenv("CAROM_TEST_DEVICE");
     auto opencl = makeBackend(BackendDef{"opencl", device ? device : "", pipeline}, world);
-    MESSAGE("OpenCL device: " << opencl->device() << ", " << pipeline << " pipeline");
+    MESSAGE("OpenCL device: " << opencl->device());
+    const std::string scheme = collisionSchemeName(world.collisions);
+    CAPTURE(scheme);
     opencl->setParticles(s.particles);
     opencl->step(steps);
     std::vector<Particle> gpu;
@@ -44,6 +47,8 @@ void compareWithCpu(const std::string& pipeline, const WorldDef& world, const In
         CHECK(contacts.virial == cpuContacts.virial);
         CHECK(contacts.wallImpulse == cpuContacts.wallImpulse);
         CHECK(contacts.substeps == cpuContacts.substeps);
+        CHECK(contacts.lateContacts == cpuContacts.lateContacts);
+        CHECK(contacts.maxRounds == cpuContacts.maxRounds);
         CHECK(cpuContacts.collisions > cpu.size());  // the comparison covered real collisions
     } else {
         for (std::size_t i = 0; i < cpu.size(); ++i) {
@@ -76,8 +81,10 @@ void compareBackends(const SceneDef& scene, WorldDef rules, std::uint64_t steps)
     for (const char* pipeline : {"seed", "resident"}) compareWithCpu(pipeline, world, s, steps, cpu, cpuContacts);
 }
 
-WorldDef rules(float dt, float2 gravity = {0, 0}, Boundary boundary = Boundary::Walls, float maxTravel = 0.0f) {
+WorldDef rules(CollisionScheme scheme, float dt, float2 gravity = {0, 0}, Boundary boundary = Boundary::Walls,
+               float maxTravel = 0.0f) {
     WorldDef world;
+    world.collisions = scheme;
     world.dt = dt;
     world.gravity = gravity;
     world.boundary = boundary;
@@ -87,23 +94,29 @@ WorldDef rules(float dt, float2 gravity = {0, 0}, Boundary boundary = Boundary::
 
 }  // namespace
 
-TEST_CASE("differential: CPU and OpenCL (seed and resident) agree bitwise, N = 10000 at packing 0.5 over 1000 steps") {
+constexpr CollisionScheme kSimultaneous = CollisionScheme::Simultaneous;
+constexpr CollisionScheme kPairwise = CollisionScheme::Pairwise;
+
+// Equal disks at this packing, speed 1.
+SceneDef gas(std::uint32_t particles, float packing, std::uint64_t seed) {
     SceneDef scene;
-    scene.particles = 10000;
-    scene.packing = 0.5f;
-    scene.seed = 42;
-    compareBackends(scene, rules(0.01f), 1000);
+    scene.particles = particles;
+    scene.packing = packing;
+    scene.seed = seed;
+    return scene;
 }
 
-TEST_CASE("differential: a periodic box, N = 10000 at packing 0.5 over 1000 steps") {
-    SceneDef scene;
-    scene.particles = 10000;
-    scene.packing = 0.5f;
-    scene.seed = 43;
-    compareBackends(scene, rules(0.01f, {0, 0}, Boundary::Periodic), 1000);
+TEST_CASE("differential, simultaneous: CPU and OpenCL (seed and resident) agree bitwise, N = 10000 at packing 0.5 "
+          "over 1000 steps") {
+    compareBackends(gas(10000, 0.5f, 42), rules(kSimultaneous, 0.01f), 1000);
 }
 
-TEST_CASE("differential: adaptive substeps (max travel 0.2), fast polydisperse disks in a periodic box") {
+TEST_CASE("differential, simultaneous: a periodic box, N = 10000 at packing 0.5 over 1000 steps") {
+    compareBackends(gas(10000, 0.5f, 43), rules(kSimultaneous, 0.01f, {0, 0}, Boundary::Periodic), 1000);
+}
+
+// Fast polydisperse disks in a periodic box, split into substeps.
+SceneDef fastPolydisperse() {
     SceneDef scene;
     scene.particles = 2000;
     scene.packing = 0.3f;
@@ -113,10 +126,15 @@ TEST_CASE("differential: adaptive substeps (max travel 0.2), fast polydisperse d
     scene.massMax = 4.0f;
     scene.speed = 20.0f;
     scene.seed = 5;
-    compareBackends(scene, rules(0.02f, {0, 0}, Boundary::Periodic, 0.2f), 100);
+    return scene;
 }
 
-TEST_CASE("differential: polydisperse disks with unequal masses under gravity") {
+TEST_CASE("differential, simultaneous: adaptive substeps (max travel 0.2), fast polydisperse disks in a periodic box") {
+    compareBackends(fastPolydisperse(), rules(kSimultaneous, 0.02f, {0, 0}, Boundary::Periodic, 0.2f), 100);
+}
+
+// Polydisperse disks with unequal masses falling into a pile.
+SceneDef polydisperseUnderGravity() {
     SceneDef scene;
     scene.particles = 3000;
     scene.packing = 0.35f;
@@ -126,7 +144,28 @@ TEST_CASE("differential: polydisperse disks with unequal masses under gravity") 
     scene.massMax = 10.0f;
     scene.speed = 2.0f;
     scene.seed = 7;
+    return scene;
+}
+
+TEST_CASE("differential, simultaneous: polydisperse disks with unequal masses under gravity") {
     // dt small enough that the pile forming at the floor stays stable (at
-    // dt = 0.01 the explicit scheme blows up here: ARCHITECTURE.md, known weaknesses).
-    compareBackends(scene, rules(0.002f, float2{0.5f, -3.0f}), 2000);
+    // dt = 0.01 the simultaneous scheme blows up here: ARCHITECTURE.md).
+    compareBackends(polydisperseUnderGravity(), rules(kSimultaneous, 0.002f, float2{0.5f, -3.0f}), 2000);
+}
+
+TEST_CASE("differential, pairwise: CPU and OpenCL (seed and resident) agree bitwise, N = 10000 at packing 0.5 over "
+          "500 steps") {
+    compareBackends(gas(10000, 0.5f, 42), rules(kPairwise, 0.01f), 500);
+}
+
+TEST_CASE("differential, pairwise: a dense periodic box, N = 4000 at packing 0.7 over 500 steps") {
+    compareBackends(gas(4000, 0.7f, 44), rules(kPairwise, 0.01f, {0, 0}, Boundary::Periodic), 500);
+}
+
+TEST_CASE("differential, pairwise: fast polydisperse disks in a periodic box, with the grid's substeps") {
+    compareBackends(fastPolydisperse(), rules(kPairwise, 0.02f, {0, 0}, Boundary::Periodic), 100);
+}
+
+TEST_CASE("differential, pairwise: polydisperse disks with unequal masses piling up under gravity at dt 0.01") {
+    compareBackends(polydisperseUnderGravity(), rules(kPairwise, 0.01f, float2{0.5f, -3.0f}), 1000);
 }

@@ -1,0 +1,107 @@
+#include "backends/opencl_pairwise.h"
+
+#include <algorithm>
+
+#include "backends/backend.h"
+
+namespace carom::opencl {
+
+namespace {
+
+// Work-items per compute unit for the list kernels: enough to hide memory
+// latency on a GPU; a list longer than all of them is strided over.
+constexpr std::size_t kListItemsPerComputeUnit = 2048;
+
+// counts_: three lengths per round, rounds 0 .. kMaxPairwiseRounds.
+constexpr std::size_t kCounts = 3 * (kMaxPairwiseRounds + 1);
+
+}  // namespace
+
+static_assert(sizeof(CaromPairwiseStep) == 44 && sizeof(CaromEvent) == 8,
+              "CaromPairwiseStep and CaromEvent must match their OpenCL layout");
+
+DevicePairwise::DevicePairwise(cl_context context, const DeviceInfo& device, cl_program program,
+                               std::size_t particleCount, cl_command_queue queue, Profiler* profiler)
+    : particleCount_(particleCount), profiler_(profiler), hostCounts_(kCounts) {
+    forwardKernel_ = createKernel(program, "findEventsForward");
+    listedKernel_ = createKernel(program, "searchListed");
+    resolveKernel_ = createKernel(program, "resolveEvents");
+    for (cl_kernel k : {forwardKernel_.get(), listedKernel_.get(), resolveKernel_.get()})
+        groupSize_ = std::min(groupSize_, kernelWorkGroupLimit(k, device.id));
+    listItems_ = std::min((particleCount + groupSize_ - 1) / groupSize_ * groupSize_,
+                          std::max<std::size_t>(1, device.computeUnits) * kListItemsPerComputeUnit);
+
+    const std::size_t n = particleCount;
+    events_ = createBuffer(context, n * sizeof(CaromEvent), "pairwise events");
+    pending_[0] = createBuffer(context, n * sizeof(cl_uint), "pending list");
+    pending_[1] = createBuffer(context, n * sizeof(cl_uint), "next pending list");
+    changed_ = createBuffer(context, n * sizeof(cl_uint), "changed list");
+    dirty_ = createBuffer(context, n * sizeof(cl_uint), "dirty list");
+    pendingMarks_ = createBuffer(context, n * sizeof(cl_uint), "pending marks");
+    changedMarks_ = createBuffer(context, n * sizeof(cl_uint), "changed marks");
+    dirtyMarks_ = createBuffer(context, n * sizeof(cl_uint), "dirty marks");
+    counts_ = createBuffer(context, kCounts * sizeof(cl_uint), "list lengths");
+    for (cl_mem marks : {pendingMarks_.get(), changedMarks_.get(), dirtyMarks_.get()})
+        enqueueZero(queue, marks, n * sizeof(cl_uint), "pairwise marks");
+}
+
+// Each round's marks carry a new epoch, so no list needs clearing; when the
+// counter wraps, the marks are cleared once.
+unsigned int DevicePairwise::nextEpoch(cl_command_queue queue) {
+    if (++epoch_ == 0) {
+        for (cl_mem marks : {pendingMarks_.get(), changedMarks_.get(), dirtyMarks_.get()})
+            enqueueZero(queue, marks, particleCount_ * sizeof(cl_uint), "pairwise marks");
+        epoch_ = 1;
+    }
+    return epoch_;
+}
+
+void DevicePairwise::searchListed(cl_command_queue queue, cl_mem state, cl_mem slots, cl_mem ids, cl_mem cellOf,
+                                  cl_mem cells, const CaromPairwiseStep& step, int mode, cl_mem listed,
+                                  unsigned int round, unsigned int listIndex, unsigned int epoch) {
+    setKernelArgs(listedKernel_.get(), state, slots, ids, cellOf, cells, step, events_.get(), cl_int{mode}, listed,
+                  changed_.get(), changedMarks_.get(), dirty_.get(), dirtyMarks_.get(), pending_[round % 2].get(),
+                  pendingMarks_.get(), counts_.get(), cl_uint{round}, cl_uint{listIndex}, cl_uint{epoch});
+    enqueue1d(queue, listedKernel_.get(), listItems_, groupSize_,
+              mode == CAROM_SEARCH_CHANGED ? "searchListed (changed)" : "searchListed (dirty)", profiler_);
+}
+
+unsigned int DevicePairwise::resolveStep(cl_command_queue queue, cl_mem state, cl_mem slots, cl_mem ids,
+                                         cl_mem cellOf, cl_mem cells, cl_mem tallies, const CaromPairwiseStep& step) {
+    const auto count = static_cast<cl_uint>(particleCount_);
+    enqueueZero(queue, counts_.get(), kCounts * sizeof(cl_uint), "list lengths");
+    unsigned int epoch = nextEpoch(queue);
+    setKernelArgs(forwardKernel_.get(), state, slots, ids, cellOf, cells, step, count, events_.get(),
+                  pending_[0].get(), pendingMarks_.get(), dirty_.get(), dirtyMarks_.get(), counts_.get(),
+                  cl_uint{epoch});
+    enqueue1d(queue, forwardKernel_.get(), particleCount_, groupSize_, "findEventsForward", profiler_);
+    searchListed(queue, state, slots, ids, cellOf, cells, step, CAROM_SEARCH_ALL, dirty_.get(), 0, 2, epoch);
+
+    unsigned int round = 1;
+    while (round <= kMaxPairwiseRounds) {
+        const unsigned int last = std::min(kMaxPairwiseRounds, round + batch_ - 1);
+        for (; round <= last; ++round) {
+            epoch = nextEpoch(queue);
+            setKernelArgs(resolveKernel_.get(), state, slots, ids, events_.get(), step, tallies,
+                          pending_[(round - 1) % 2].get(), pending_[round % 2].get(), pendingMarks_.get(),
+                          changed_.get(), changedMarks_.get(), counts_.get(), cl_uint{round}, cl_uint{epoch});
+            enqueue1d(queue, resolveKernel_.get(), listItems_, groupSize_, "resolveEvents", profiler_);
+            searchListed(queue, state, slots, ids, cellOf, cells, step, CAROM_SEARCH_CHANGED, changed_.get(), round,
+                         3 * round + 1, epoch);
+            searchListed(queue, state, slots, ids, cellOf, cells, step, CAROM_SEARCH_ALL, dirty_.get(), round,
+                         3 * round + 2, epoch);
+        }
+        check(clEnqueueReadBuffer(queue, counts_.get(), CL_TRUE, 0, kCounts * sizeof(cl_uint), hostCounts_.data(), 0,
+                                  nullptr, eventSlot(profiler_, "read list lengths")),
+              "clEnqueueReadBuffer(list lengths)");
+        if (hostCounts_[3 * (round - 1)] == 0) break;
+    }
+    unsigned int rounds = 0;
+    for (unsigned int r = 1; r < round; ++r)
+        if (hostCounts_[3 * r + 1] > 0) rounds = r;
+    // The next step likely needs about as many rounds: enqueue them in one batch.
+    batch_ = std::max(2u, rounds + 1);
+    return rounds;
+}
+
+}  // namespace carom::opencl
