@@ -339,24 +339,28 @@ static inline void carom_collide_pair(Particle* a, unsigned int idA, Particle* b
     b->lastPartner = idA + 1u;
 }
 
-/* A disk past wall w by more than rounding, put back against it. The
- * velocity component normal to the wall points into the box, with the
- * magnitude that keeps kinetic plus potential energy what it was (moving a
- * disk out of the wall against gravity costs speed); with no energy to spare
- * it rests against the wall. Returns whether it was past the wall. */
+/* A disk past wall w by more than rounding, moved back towards it. Its
+ * velocity component normal to the wall then points into the box, with the
+ * magnitude that keeps kinetic plus potential energy what it was: moving out
+ * of the wall against gravity costs speed. A disk whose speed cannot pay for
+ * the whole way climbs as far as it pays for and rests there, still a little
+ * past the wall (gravity cannot press it further: each step it sinks and
+ * climbs back as far). Returns whether it was past the wall. */
 static inline int carom_put_back(Particle* p, int w, CaromPairwiseStep step)
 {
     float gap, speed, accel;
     carom_wall_motion(*p, w, step, &gap, &speed, &accel);
     if (!(gap < -step.tolerance)) return 0;
     const float squared = speed * speed + 2.0f * accel * gap; /* gap < 0: moving out by -gap */
+    /* accel > 0 when squared < 0: gravity presses the disk into this wall */
+    const float climb = squared >= 0.0f ? -gap : (speed * speed) / (2.0f * accel);
     const float away = squared > 0.0f ? carom_sqrt(squared) : 0.0f;
     const float inward = w % 2 == 0 ? 1.0f : -1.0f; /* the direction into the box */
     if (w < 2) {
-        p->position.x = w == 0 ? p->radius : step.box.width - p->radius;
+        p->position.x += inward * climb;
         p->velocity.x = inward * away;
     } else {
-        p->position.y = w == 2 ? p->radius : step.box.height - p->radius;
+        p->position.y += inward * climb;
         p->velocity.y = inward * away;
     }
     return 1;
