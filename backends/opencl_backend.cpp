@@ -48,10 +48,14 @@ OpenClBackend::OpenClBackend(const WorldDef& world, const std::string& device, P
     for (cl_kernel kernel : {resolveKernel_.get(), integrateKernel_.get(), fusedKernel_.get(), allPairsKernel_.get(),
                              finishByIdKernel_.get(), finishAndCountKernel_.get()})
         workGroupSize_ = std::min(workGroupSize_, kernelWorkGroupLimit(kernel, device_.id));
-    const std::size_t reductionLimit = std::min<std::size_t>(256, kernelWorkGroupLimit(maxSpeedKernel_.get(), device_.id));
+    // The two kernels that reduce in a work-group: maxSpeedSquared and finishPairwiseAndCount.
+    const std::size_t reductionLimit =
+        std::min({std::size_t{256}, kernelWorkGroupLimit(maxSpeedKernel_.get(), device_.id),
+                  kernelWorkGroupLimit(finishAndCountKernel_.get(), device_.id)});
     while (reductionGroupSize_ * 2 <= reductionLimit) reductionGroupSize_ *= 2;
     while (reductionGroupSize_ > reductionLimit) reductionGroupSize_ /= 2;
     groupMax_ = createBuffer(context_.get(), kReductionGroups * sizeof(cl_float), "max speed per group");
+    speedBits_ = createBuffer(context_.get(), 2 * sizeof(cl_uint), "largest speed squared");
 }
 
 std::string OpenClBackend::device() const {
@@ -101,7 +105,9 @@ void OpenClBackend::load(const std::vector<Particle>& particles) {
     if (world_.collisions == CollisionScheme::Pairwise) {
         if (pipeline_ == Pipeline::AllPairs) throw Error("the all-pairs pipeline runs the simultaneous scheme only");
         pairwise_ = DevicePairwise(context_.get(), device_, program_.get(), n, queue_.get(), profiler_.get());
+        enqueueZero(queue_.get(), speedBits_.get(), 2 * sizeof(cl_uint), "largest speed squared");
     }
+    speedKnown_ = false;
     finish();
     if (profiler_) profiler_->clear();  // the profile covers steps only
 }
@@ -225,11 +231,18 @@ void OpenClBackend::stepResidentPairwise(float dt) {
     deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get());
     recordRounds(pairwise_.resolveStep(queue_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(),
                                        deviceGrid_.cellOf(), deviceGrid_.cells(), tallies_.get(), step));
+    speedParity_ = 1 - speedParity_;
     setKernelArgs(finishAndCountKernel_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), step, count,
                   next_.get(), tallies_.get(), deviceGrid_.nextCounts(), deviceGrid_.cellOf(),
                   deviceGrid_.rankInCell());
-    enqueue1d(queue_.get(), finishAndCountKernel_.get(), count, workGroupSize_, "finishPairwiseAndCount",
+    setLocalArg(finishAndCountKernel_.get(), 10, reductionGroupSize_ * sizeof(cl_float));
+    const cl_mem speedBits = speedBits_.get();
+    const cl_uint parity = speedParity_;
+    check(clSetKernelArg(finishAndCountKernel_.get(), 11, sizeof(cl_mem), &speedBits), "clSetKernelArg");
+    check(clSetKernelArg(finishAndCountKernel_.get(), 12, sizeof(cl_uint), &parity), "clSetKernelArg");
+    enqueue1d(queue_.get(), finishAndCountKernel_.get(), count, reductionGroupSize_, "finishPairwiseAndCount",
               profiler_.get());
+    speedKnown_ = true;
     std::swap(state_, next_);
     std::swap(ids_, sortedIds_);
     deviceGrid_.advance();
@@ -272,6 +285,13 @@ void OpenClBackend::readParticles(std::vector<Particle>& particles) {
 
 float OpenClBackend::maxSpeedSquared() {
     if (pipeline_ == Pipeline::Seed) return maxSpeedSquaredOf(hostState_.data(), hostState_.size());
+    if (speedKnown_) {  // the pairwise resident step took it as it finished
+        cl_float largest = 0.0f;
+        check(clEnqueueReadBuffer(queue_.get(), speedBits_.get(), CL_TRUE, speedParity_ * sizeof(cl_uint),
+                                  sizeof(cl_float), &largest, 0, nullptr, nullptr),
+              "clEnqueueReadBuffer(largest speed squared)");
+        return largest;
+    }
     const cl_uint count = static_cast<cl_uint>(particleCount_);
     const std::size_t groups =
         std::min(kReductionGroups, (particleCount_ + reductionGroupSize_ - 1) / reductionGroupSize_);

@@ -91,6 +91,9 @@ private:
     opencl::DevicePairwise pairwise_;  // pairwise
     opencl::Buffer tallies_;           // ContactTally by particle id
     opencl::Buffer groupMax_;          // maxSpeedSquared's per-group results
+    opencl::Buffer speedBits_;         // pairwise, resident: the largest v^2 each step leaves (two words)
+    unsigned int speedParity_ = 0;     // the word the last step wrote
+    bool speedKnown_ = false;          // whether that word holds the current state's
     opencl::DeviceGrid deviceGrid_;    // resident
     opencl::Buffer ids_;               // resident: the particle id in each slot of state_
     opencl::Buffer sortedIds_;         // resident: sortedIndices, then the ids of next_'s slots

@@ -50,7 +50,13 @@ __kernel void resolveIntegrateAndCount(__global const Particle* state,
 
 /* The end of a pairwise step (its rounds: kernels/pairwise.cl): work-item k
  * finishes particle sortedIds[k], from slot cellOrder[k] of `state`, into
- * slot k of `next`, and counts it into the next step's grid. */
+ * slot k of `next`, and counts it into the next step's grid. It also takes
+ * the largest v.x^2 + v.y^2 of the new state, which sizes the next step's
+ * substeps, so that needs no pass of its own: reduced in the work-group
+ * (a power of two), then atomic_max on the float's bits (non-negative floats
+ * order like their bits) into speedBits[parity]; work-item 0 zeroes the
+ * other word for the step after. max is exact in any order: the result
+ * equals the maxSpeedSquared reduction's bit for bit. */
 __kernel void finishPairwiseAndCount(__global const Particle* state,
                                      __global const uint* cellOrder,
                                      __global const uint* sortedIds,
@@ -60,11 +66,25 @@ __kernel void finishPairwiseAndCount(__global const Particle* state,
                                      __global ContactTally* tallies,
                                      __global uint* nextCounts,
                                      __global uint* cellOf,
-                                     __global uint* rankInCell)
+                                     __global uint* rankInCell,
+                                     __local float* scratch,
+                                     __global uint* speedBits,
+                                     uint parity)
 {
     const uint k = get_global_id(0);
-    if (k >= count) return;
-    const Particle moved = carom_finish_step(state[cellOrder[k]], step, &tallies[sortedIds[k]]);
-    next[k] = moved;
-    carom_count_into_cell(k, moved.position, step.grid, nextCounts, cellOf, rankInCell);
+    float speed2 = 0.0f;
+    if (k < count) {
+        const Particle moved = carom_finish_step(state[cellOrder[k]], step, &tallies[sortedIds[k]]);
+        next[k] = moved;
+        carom_count_into_cell(k, moved.position, step.grid, nextCounts, cellOf, rankInCell);
+        speed2 = fmax(0.0f, carom_speed_squared(moved));
+    }
+    if (k == 0) speedBits[1 - parity] = 0u;
+    const uint lid = get_local_id(0);
+    scratch[lid] = speed2;
+    for (uint stride = get_local_size(0) / 2; stride > 0; stride /= 2) {
+        barrier(CLK_LOCAL_MEM_FENCE);
+        if (lid < stride) scratch[lid] = fmax(scratch[lid], scratch[lid + stride]);
+    }
+    if (lid == 0) atomic_max(&speedBits[parity], as_uint(scratch[0]));
 }
