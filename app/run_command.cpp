@@ -46,7 +46,7 @@ void addRunOptions(CLI::App& command, RunOptions& o) {
                                       "Continue from this checkpoint for --steps more steps, bit for bit");
     for (const char* scene : {"--scene", "--input-state", "--particles", "--packing", "--box", "--radius",
                               "--radius-min", "--radius-max", "--mass", "--mass-min", "--mass-max", "--speed",
-                              "--seed", "--dt", "--gravity", "--boundary"})
+                              "--seed", "--dt", "--gravity", "--boundary", "--collisions"})
         resume->excludes(command.get_option(scene));
     command.add_flag("--quiet", o.quiet, "No progress line on stderr");
 }

@@ -31,6 +31,12 @@ carom_cli_test(resume_not_a_checkpoint fail "checkpoint '.*two_disks.csv': not a
                "run|--backend|cpu|--resume|${data}/two_disks.csv|${traj}")
 carom_cli_test(resume_with_scene_option fail "--dt excludes --resume"
                "run|--backend|cpu|--resume|${data}/two_disks.csv|--dt|0.1")
+carom_cli_test(resume_with_collisions fail "--collisions excludes --resume"
+               "run|--backend|cpu|--resume|${data}/version1.ckpt|--collisions|pairwise")
+# A version-1 checkpoint, written by carom before the collision schemes (at
+# step 10), continues with the simultaneous scheme.
+carom_cli_test(resume_version1 pass "\"scheme\": \"simultaneous\",.*\"step\": 20,"
+               "run|--backend|cpu|--resume|${data}/version1.ckpt|--steps|10|--json")
 carom_cli_test(every_zero fail "--every: Value 0 not in range" "${run}|--every|0")
 carom_cli_test(too_many_particles fail "--particles: 500000001 particles; allowed: 1 to 500000000"
                "${run}|--particles|500000001")

@@ -106,16 +106,18 @@ def test_stats_csv():
 def test_checkpoint_layout():
     d = work("layout")
     ckpt = os.path.join(d, "c.ckpt")
-    carom("run", "--backend", "cpu", "--particles", 5, "--box", 20, 20, "--steps", 30, "--dt", 0.02,
-          "--gravity", 0, -1, "--checkpoint", ckpt)
-    data = read_bytes(ckpt)
-    magic, mark, version, count = struct.unpack_from("<8sIIQ", data, 0)
-    width, height, dt, gx, gy, boundary, step, sim_time, collisions = struct.unpack_from("<5fIQdQ", data, 24)
-    assert (magic, mark, version, count) == (b"CAROMCKP", 0x01020304, 1, 5)
-    assert (width, height, gx, gy, boundary, step) == (20, 20, 0, -1, 0, 30)
-    assert abs(dt - 0.02) < 1e-7 and abs(sim_time - 30 * dt) < 1e-12
-    assert len(data) == 72 + 24 * count + 4
-    assert struct.unpack_from("<I", data, len(data) - 4)[0] == zlib.crc32(data[:-4])
+    for scheme, code in (("simultaneous", 0), ("pairwise", 1)):
+        carom("run", "--backend", "cpu", "--particles", 5, "--box", 20, 20, "--steps", 30, "--dt", 0.02,
+              "--gravity", 0, -1, "--collisions", scheme, "--checkpoint", ckpt)
+        data = read_bytes(ckpt)
+        magic, mark, version, count = struct.unpack_from("<8sIIQ", data, 0)
+        width, height, dt, gx, gy, boundary, step, sim_time, collisions, scheme_code = \
+            struct.unpack_from("<5fIQdQI", data, 24)
+        assert (magic, mark, version, count) == (b"CAROMCKP", 0x01020304, 2, 5)
+        assert (width, height, gx, gy, boundary, step, scheme_code) == (20, 20, 0, -1, 0, 30, code), scheme
+        assert abs(dt - 0.02) < 1e-7 and abs(sim_time - 30 * dt) < 1e-12
+        assert len(data) == 76 + 24 * count + 4
+        assert struct.unpack_from("<I", data, len(data) - 4)[0] == zlib.crc32(data[:-4])
 
 
 def run_with_outputs(d, backend, tag, *args):
@@ -128,17 +130,19 @@ def run_with_outputs(d, backend, tag, *args):
 
 def test_resume_continues_bit_for_bit():
     """200 steps in one run equal 100 steps, a checkpoint and 100 resumed steps: the final
-    state, the checkpoint, and the trajectory and statistics put end to end."""
+    state, the checkpoint, and the trajectory and statistics put end to end. The resumed run
+    takes the collision scheme from the checkpoint (pairwise on the CPU backend)."""
     scene = ["--particles", 800, "--packing", 0.5, "--radius-min", 0.6, "--radius-max", 1.2,
              "--mass-min", 0.5, "--mass-max", 5, "--gravity", 0, -0.3, "--dt", 0.01]
     backends = ARGS.backends.split(",")
-    pairs = [(b, b) for b in backends] + [(a, b) for a in backends for b in backends if a != b]
-    for first, second in pairs:
-        d = work(f"resume-{first}-{second}")
-        whole = run_with_outputs(d, first, "whole", *scene, "--steps", 200)
-        one = run_with_outputs(d, first, "one", *scene, "--steps", 100)
+    pairs = [(b, b, "simultaneous") for b in backends] + \
+            [(a, b, "simultaneous") for a in backends for b in backends if a != b] + [("cpu", "cpu", "pairwise")]
+    for first, second, scheme in pairs:
+        d = work(f"resume-{first}-{second}-{scheme}")
+        whole = run_with_outputs(d, first, "whole", *scene, "--collisions", scheme, "--steps", 200)
+        one = run_with_outputs(d, first, "one", *scene, "--collisions", scheme, "--steps", 100)
         two = run_with_outputs(d, second, "two", "--resume", one["ckpt"], "--steps", 100)
-        label = f"{first} then {second}"
+        label = f"{first} then {second}, {scheme}"
         assert read_bytes(whole["state"]) == read_bytes(two["state"]), label
         assert read_bytes(whole["ckpt"]) == read_bytes(two["ckpt"]), label
         assert read_bytes(whole["xyz"]) == read_bytes(one["xyz"]) + read_bytes(two["xyz"]), label
@@ -189,6 +193,7 @@ def test_scene_outputs_and_overrides():
     scene = os.path.join(d, "s.toml")
     with open(scene, "w") as f:
         f.write(f"""box = [40, 40]
+collisions = "pairwise"
 dt = 0.02
 steps = 60
 [[group]]
@@ -201,13 +206,16 @@ every = 20
     out, _ = carom("run", "--backend", "cpu", "--scene", scene, "--json")
     summary = json.loads(out)
     assert (summary["steps"], summary["particles"], summary["box"]) == (60, 50, [40, 40]), summary
+    assert summary["scheme"] == "pairwise", summary
     assert abs(summary["dt"] - 0.02) < 1e-7
     with open(os.path.join(d, "scene.csv")) as f:
         assert [int(r["step"]) for r in csv.DictReader(f)] == [0, 20, 40, 60]
     out, _ = carom("run", "--backend", "cpu", "--scene", scene, "--steps", 10, "--dt", 0.005, "--particles", 20,
-                   "--box", 30, 50, "--every", 5, "--stats", os.path.join(d, "cli.csv"), "--json")
+                   "--box", 30, 50, "--collisions", "simultaneous", "--every", 5, "--stats",
+                   os.path.join(d, "cli.csv"), "--json")
     summary = json.loads(out)
     assert (summary["steps"], summary["particles"], summary["box"]) == (10, 20, [30, 50]), summary
+    assert summary["scheme"] == "simultaneous", summary
     assert abs(summary["dt"] - 0.005) < 1e-9
     with open(os.path.join(d, "cli.csv")) as f:
         assert [int(r["step"]) for r in csv.DictReader(f)] == [0, 5, 10]
