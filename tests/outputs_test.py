@@ -11,6 +11,7 @@ import argparse
 import csv
 import json
 import os
+import re
 import shutil
 import signal
 import struct
@@ -219,6 +220,57 @@ every = 20
     assert abs(summary["dt"] - 0.005) < 1e-9
     with open(os.path.join(d, "cli.csv")) as f:
         assert [int(r["step"]) for r in csv.DictReader(f)] == [0, 5, 10]
+
+
+ENERGY_WARNING = "energy changed by"
+
+
+def test_energy_warning():
+    """The simultaneous scheme heats a dense gas (here by 15-20 %): the run says so at its end, with
+    the figure and what to do. The same gas under the pairwise scheme, and a dilute gas under the
+    simultaneous one (a change of about 1e-9), get no warning."""
+    dense = ["run", "--backend", "cpu", "--particles", 300, "--packing", 0.7, "--steps", 50, "--quiet"]
+    out, err = carom(*dense, "--json")
+    summary = json.loads(out)
+    initial, final = summary["energy"]["total"]["initial"], summary["energy"]["total"]["final"]
+    change = (final - initial) / abs(initial)  # as carom computes it
+    assert change > 0.05, summary["energy"]
+    warning = f"the kinetic energy changed by +{100 * change:.3g} % over this run"
+    assert warning in err and "--collisions pairwise, or a smaller --dt" in err, (warning, err)
+    _, err = carom(*dense, "--collisions", "pairwise")
+    assert ENERGY_WARNING not in err, err
+    _, err = carom("run", "--backend", "cpu", "--particles", 300, "--packing", 0.1, "--steps", 50, "--quiet")
+    assert ENERGY_WARNING not in err, err
+
+
+def test_blow_up_stops_cleanly():
+    """A run whose state goes non-finite (the simultaneous scheme under strong gravity at a large dt)
+    stops at the first sample after it with status 1 and a message naming the steps; no NaN reaches a
+    file, the frames, rows and checkpoint before it are kept, and an existing state file is left alone."""
+    d = work("blow-up")
+    paths = {k: os.path.join(d, f"b.{k}") for k in ("xyz", "csv", "ckpt", "state")}
+    with open(paths["state"], "w") as f:
+        f.write("an earlier result\n")
+    arguments = ["run", "--backend", "cpu", "--particles", 500, "--gravity", 0, -10, "--dt", 0.2, "--steps", 400,
+                 "--every", 50, "--trajectory", paths["xyz"], "--stats", paths["csv"], "--checkpoint", paths["ckpt"],
+                 "--output-state", paths["state"]]
+    done = subprocess.run([ARGS.carom, *map(str, arguments)], capture_output=True, text=True, timeout=600)
+    assert done.returncode == 1, (done.returncode, done.stderr)
+    match = re.search(r"the state went non-finite between step (\d+) \(finite\) and step (\d+).*smaller --dt",
+                      done.stderr)
+    assert match, done.stderr
+    finite, bad = int(match.group(1)), int(match.group(2))
+    assert bad == finite + 50 and bad < 400, done.stderr
+    assert "was not written" in done.stderr and done.stdout == "", (done.stdout, done.stderr)
+    with open(paths["state"]) as f:
+        assert f.read() == "an earlier result\n"
+    for path in (paths["xyz"], paths["csv"]):
+        with open(path) as f:
+            assert "nan" not in f.read().lower(), path
+    with open(paths["csv"]) as f:
+        assert [int(r["step"]) for r in csv.DictReader(f)] == list(range(0, finite + 1, 50))
+    assert checkpoint_step(paths["ckpt"]) == finite
+    no_partial_files(d)
 
 
 def test_json_and_quiet_print_no_progress():
