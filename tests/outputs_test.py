@@ -230,7 +230,7 @@ def test_energy_warning():
     the figure and what to do. The same gas under the pairwise scheme, and a dilute gas under the
     simultaneous one (a change of about 1e-9), get no warning."""
     dense = ["run", "--backend", "cpu", "--particles", 300, "--packing", 0.7, "--steps", 50, "--quiet"]
-    out, err = carom(*dense, "--json")
+    out, err = carom(*dense, "--collisions", "simultaneous", "--json")
     summary = json.loads(out)
     initial, final = summary["energy"]["total"]["initial"], summary["energy"]["total"]["final"]
     change = (final - initial) / abs(initial)  # as carom computes it
@@ -239,7 +239,8 @@ def test_energy_warning():
     assert warning in err and "--collisions pairwise, or a smaller --dt" in err, (warning, err)
     _, err = carom(*dense, "--collisions", "pairwise")
     assert ENERGY_WARNING not in err, err
-    _, err = carom("run", "--backend", "cpu", "--particles", 300, "--packing", 0.1, "--steps", 50, "--quiet")
+    _, err = carom("run", "--backend", "cpu", "--particles", 300, "--packing", 0.1, "--steps", 50, "--quiet",
+                   "--collisions", "simultaneous")
     assert ENERGY_WARNING not in err, err
 
 
@@ -251,8 +252,8 @@ def test_blow_up_stops_cleanly():
     paths = {k: os.path.join(d, f"b.{k}") for k in ("xyz", "csv", "ckpt", "state")}
     with open(paths["state"], "w") as f:
         f.write("an earlier result\n")
-    arguments = ["run", "--backend", "cpu", "--particles", 500, "--gravity", 0, -10, "--dt", 0.2, "--steps", 400,
-                 "--every", 50, "--trajectory", paths["xyz"], "--stats", paths["csv"], "--checkpoint", paths["ckpt"],
+    arguments = ["run", "--backend", "cpu", "--collisions", "simultaneous", "--particles", 500, "--gravity", 0, -10,
+                 "--dt", 0.2, "--steps", 400, "--every", 50, "--trajectory", paths["xyz"], "--stats", paths["csv"], "--checkpoint", paths["ckpt"],
                  "--output-state", paths["state"]]
     done = subprocess.run([ARGS.carom, *map(str, arguments)], capture_output=True, text=True, timeout=600)
     assert done.returncode == 1, (done.returncode, done.stderr)
