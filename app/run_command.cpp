@@ -8,6 +8,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <utility>
 
 #ifdef _WIN32
@@ -46,7 +47,7 @@ void addRunOptions(CLI::App& command, RunOptions& o) {
                                       "Continue from this checkpoint for --steps more steps, bit for bit");
     for (const char* scene : {"--scene", "--input-state", "--particles", "--packing", "--box", "--radius",
                               "--radius-min", "--radius-max", "--mass", "--mass-min", "--mass-max", "--speed",
-                              "--seed", "--dt", "--gravity", "--boundary"})
+                              "--seed", "--dt", "--gravity", "--boundary", "--collisions"})
         resume->excludes(command.get_option(scene));
     command.add_flag("--quiet", o.quiet, "No progress line on stderr");
 }
@@ -154,18 +155,10 @@ public:
         checkpoint(step, world, particles, collisions);
     }
 
-    // A non-finite state (the step blew up) would replace a good checkpoint
-    // with one that cannot be resumed: keep the good one.
+    // Only finite states reach the outputs (runSteps checks each one it reads).
     void checkpoint(std::uint64_t step, const WorldDef& world, const std::vector<Particle>& particles,
                     std::uint64_t collisions) {
         if (def_.checkpoint.empty() || checkpointStep_ == step) return;
-        if (!allFinite(particles)) {
-            if (!warnedNonFinite_)
-                std::cerr << "carom: warning: the state at step " << step << " is not finite; checkpoint '"
-                          << def_.checkpoint << "' is not updated from now on\n";
-            warnedNonFinite_ = true;
-            return;
-        }
         writeCheckpoint(def_.checkpoint, Checkpoint{world, step, double(step) * world.dt, collisions, particles});
         checkpointStep_ = step;
     }
@@ -187,16 +180,19 @@ public:
     std::uint64_t every() const { return def_.every; }
     std::optional<std::uint64_t> checkpointStep() const { return checkpointStep_; }
 
-    // "run.xyz (21 frames), run.csv (21 rows), ..." for the summary.
-    std::string written() const {
+    // "run.xyz (21 frames), run.csv (21 rows), run.ckpt (step 2000)": the
+    // files written while stepping; `withState` adds the final state's.
+    std::string written(bool withState = true) const {
         std::string list;
         auto add = [&list](const std::string& item) { list += (list.empty() ? "" : ", ") + item; };
         if (trajectory_) add(def_.trajectory + " (" + std::to_string(trajectory_->frames()) + " frames)");
         if (stats_) add(def_.stats + " (" + std::to_string(stats_->rows()) + " rows)");
         if (checkpointStep_) add(def_.checkpoint + " (step " + std::to_string(*checkpointStep_) + ")");
-        if (!def_.state.empty()) add(def_.state);
+        if (withState && !def_.state.empty()) add(def_.state);
         return list;
     }
+
+    const std::string& statePath() const { return def_.state; }
 
 private:
     void requireDistinctPaths() const {
@@ -215,7 +211,6 @@ private:
     std::optional<TrajectoryWriter> trajectory_;
     std::optional<StatsWriter> stats_;
     std::optional<std::uint64_t> checkpointStep_;
-    bool warnedNonFinite_ = false;
 };
 
 // ---------------------------------------------------------------------------
@@ -296,6 +291,9 @@ private:
 
 nlohmann::json pair(double x, double y) { return nlohmann::json::array({x, y}); }
 
+// A run whose energy changes by more than this fraction gets a warning.
+constexpr double kEnergyWarningChange = 0.01;
+
 struct Result {
     std::uint64_t firstStep = 0, lastStep = 0;
     double seconds = 0.0;
@@ -312,12 +310,18 @@ struct Result {
     }
 };
 
+bool hasGravity(const WorldDef& w) { return w.gravity.x != 0.0f || w.gravity.y != 0.0f; }
+
+// The relative change of the total energy (kinetic without gravity) over the
+// run; 0 when it started at 0.
+double energyChange(const Result& r) {
+    const double initial = r.initial.totalEnergy();
+    return initial != 0.0 ? (r.final.totalEnergy() - initial) / std::fabs(initial) : 0.0;
+}
+
 void printSummary(const Backend& backend, const Result& r, const std::string& resumedFrom, const Outputs& outputs) {
     const WorldDef& w = backend.world();
     const std::uint64_t steps = r.lastStep - r.firstStep;
-    const double energyChange = r.initial.kineticEnergy > 0
-                                    ? (r.final.kineticEnergy - r.initial.kineticEnergy) / r.initial.kineticEnergy
-                                    : 0.0;
     std::printf("carom run: %zu disks, %llu steps of dt %g in a %g x %g box, %s\n", backend.particleCount(),
                 static_cast<unsigned long long>(steps), w.dt, w.width, w.height, boundaryName(w.boundary));
     if (w.maxTravel > 0)
@@ -327,10 +331,21 @@ void printSummary(const Backend& backend, const Result& r, const std::string& re
         std::printf("  resumed      from %s at step %llu, now at step %llu\n", resumedFrom.c_str(),
                     static_cast<unsigned long long>(r.firstStep), static_cast<unsigned long long>(r.lastStep));
     std::printf("  backend      %s on %s\n", backend.name().c_str(), backend.device().c_str());
+    if (w.collisions == CollisionScheme::Pairwise)
+        std::printf("  scheme       pairwise (at most %u collision rounds per substep, %llu late contacts)\n",
+                    r.contacts.maxRounds, static_cast<unsigned long long>(r.contacts.lateContacts));
+    else
+        std::printf("  scheme       %s\n", collisionSchemeName(w.collisions));
     std::printf("  wall time    %.3f s, %.3g particle-steps/s\n", r.seconds,
                 r.seconds > 0 ? double(backend.particleCount()) * steps / r.seconds : 0.0);
-    std::printf("  energy       %.9g -> %.9g (relative change %+.2e)\n", r.initial.kineticEnergy,
-                r.final.kineticEnergy, energyChange);
+    if (hasGravity(w))
+        std::printf("  energy       total %.9g -> %.9g (relative change %+.2e)\n"
+                    "               kinetic %.9g -> %.9g, potential %.9g -> %.9g\n",
+                    r.initial.totalEnergy(), r.final.totalEnergy(), energyChange(r), r.initial.kineticEnergy,
+                    r.final.kineticEnergy, r.initial.potentialEnergy, r.final.potentialEnergy);
+    else
+        std::printf("  energy       %.9g -> %.9g (relative change %+.2e)\n", r.initial.kineticEnergy,
+                    r.final.kineticEnergy, energyChange(r));
     std::printf("  momentum     (%.6g, %.6g) -> (%.6g, %.6g)\n", r.initial.momentum[0], r.initial.momentum[1],
                 r.final.momentum[0], r.final.momentum[1]);
     std::printf("  collisions   %llu, max overlap %.3g, escaped %zu\n",
@@ -411,15 +426,36 @@ void advance(Backend& backend, std::uint64_t from, std::uint64_t steps, Outputs&
     }
 }
 
+// A state that went non-finite (the step blew up) ends the run with an
+// error: no NaN reaches a file, the frames and rows written so far are
+// complete and kept, the checkpoint keeps the last finite step, and an
+// existing state file is left as it was.
+void requireFinite(const std::vector<Particle>& particles, const WorldDef& world, std::uint64_t finiteStep,
+                   std::uint64_t step, Outputs& outputs) {
+    if (allFinite(particles)) return;
+    outputs.commitStreams();
+    std::ostringstream message;
+    message << "the state went non-finite between step " << finiteStep << " (finite) and step " << step
+            << ": the " << collisionSchemeName(world.collisions) << " scheme is unstable at dt " << world.dt
+            << "; try a smaller --dt"
+            << (world.collisions == CollisionScheme::Simultaneous ? " or --collisions pairwise" : "");
+    const std::string kept = outputs.written(false);
+    if (!kept.empty()) message << "; kept what was written before: " << kept;
+    if (!outputs.statePath().empty()) message << "; '" << outputs.statePath() << "' was not written";
+    throw Error(message.str());
+}
+
 // Steps from start.step to `last`, or until Ctrl-C, sampling on every
 // multiple of the outputs' `every`; returns the step reached. Leaves the
-// state at that step in start.particles.
+// state at that step in start.particles. A state read back that is not
+// finite stops the run (requireFinite).
 std::uint64_t runSteps(Backend& backend, Start& start, std::uint64_t last, Outputs& outputs, Progress& progress) {
     const WorldDef& world = start.world;
     const std::uint64_t every = outputs.every();
     std::vector<Particle>& particles = start.particles;
     Chunk chunk;
     std::uint64_t step = start.step;
+    std::uint64_t finiteStep = step;  // the last step whose state was read and finite
     if (!start.resumed) outputs.sample(step, world, particles, start.collisions);  // a new scene records its start
     while (step < last && !interrupted) {
         const std::uint64_t n = std::min({last - step, every - step % every, chunk.size()});
@@ -429,13 +465,31 @@ std::uint64_t runSteps(Backend& backend, Start& start, std::uint64_t last, Outpu
         step += n;
         if (step % every == 0) {
             backend.readParticles(particles);
+            if (!allFinite(particles)) break;  // refused below, after the progress line
+            finiteStep = step;
             outputs.sample(step, world, particles, start.collisions + backend.collisions());
         }
         progress.update(step);
     }
     progress.finish();
     backend.readParticles(particles);
+    requireFinite(particles, world, finiteStep, step, outputs);
     return step;
+}
+
+// The simultaneous scheme does not conserve energy in dense gases (it
+// heats them); the pairwise scheme does, so a change there is a bug.
+void warnAboutEnergy(const Result& r, const WorldDef& world) {
+    const double change = energyChange(r);
+    if (!(std::fabs(change) > kEnergyWarningChange)) return;
+    std::fprintf(stderr, "carom: warning: the %s energy changed by %+.3g %% over this run",
+                 hasGravity(world) ? "total" : "kinetic", 100 * change);
+    if (world.collisions == CollisionScheme::Simultaneous)
+        std::fprintf(stderr, ": the simultaneous collision scheme does not conserve it in dense or crowded "
+                             "systems; use --collisions pairwise, or a smaller --dt\n");
+    else
+        std::fprintf(stderr, ", although the pairwise scheme conserves it: this is a bug in carom; please "
+                             "report it with the command line\n");
 }
 
 void reportInterruption(const Start& start, std::uint64_t step, std::uint64_t last) {
@@ -472,13 +526,13 @@ int runCommand(const RunOptions& o) {
 
     if (r.final.escaped > 0)
         std::cerr << "carom: warning: " << r.final.escaped
-                  << " particles left the box or became non-finite: the step is unstable at this dt "
-                     "(try a smaller --dt)\n";
+                  << " particles left the box: the step is unstable at this dt (try a smaller --dt)\n";
     if (o.json) {
         printJson(*backend, r);
     } else {
         printSummary(*backend, r, o.resume, outputs);
     }
+    warnAboutEnergy(r, start.world);
     if (!r.interrupted) return 0;
     reportInterruption(start, r.lastStep, last);
     return 130;  // the shell's status for a run stopped by SIGINT

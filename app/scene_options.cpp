@@ -155,7 +155,14 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
         ->check(CLI::IsMember({"walls", "periodic"}));
     auto* gravity = command.add_option("--gravity", o.gravity, "Constant acceleration GX GY (default off)")->expected(2);
     auto* collisions = command.add_option_function<std::string>(
-        "--collisions", [&o](const std::string& name) { o.world.collisions = parseCollisionScheme(name); },
+        "--collisions",
+        [&o](const std::string& name) {
+            try {
+                o.world.collisions = parseCollisionScheme(name);
+            } catch (const Error& e) {  // thrown while parsing: CLI11 reports it as a usage error
+                throw CLI::ValidationError("--collisions", e.what());
+            }
+        },
         "How collisions are resolved: pairwise (binary elastic collisions at their exact contact times; energy "
         "is conserved) or simultaneous (the seed's scheme: impulses from the state before the step, summed)");
 

@@ -17,24 +17,13 @@ constexpr std::uint32_t kByteOrderMark = 0x01020304;
 constexpr std::uint32_t kSwappedByteOrderMark = 0x04030201;
 constexpr std::uint32_t kReflectiveWalls = 0;
 constexpr std::uint32_t kPeriodic = 1;
-constexpr std::size_t kHeaderBytes = 72;
+constexpr std::uint32_t kSimultaneous = 0;
+constexpr std::uint32_t kPairwise = 1;
+constexpr std::uint32_t kOldestVersion = 1;
+constexpr std::size_t kHeaderBytes = 76;
+constexpr std::size_t kVersion1HeaderBytes = 72;  // no collision scheme
 constexpr std::size_t kParticleBytes = 24;
 constexpr std::size_t kChecksumBytes = 4;
-
-std::uint32_t crc32(const unsigned char* data, std::size_t size) {
-    static const std::array<std::uint32_t, 256> table = [] {
-        std::array<std::uint32_t, 256> t{};
-        for (std::uint32_t i = 0; i < 256; ++i) {
-            std::uint32_t c = i;
-            for (int bit = 0; bit < 8; ++bit) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-            t[i] = c;
-        }
-        return t;
-    }();
-    std::uint32_t crc = 0xFFFFFFFFu;
-    for (std::size_t i = 0; i < size; ++i) crc = table[(crc ^ data[i]) & 0xFFu] ^ (crc >> 8);
-    return crc ^ 0xFFFFFFFFu;
-}
 
 // Little-endian writes, byte by byte, so the file is the same on every machine.
 class Encoder {
@@ -97,20 +86,27 @@ private:
     throw Error("checkpoint '" + what + "': " + problem);
 }
 
-std::uint64_t expectedSize(std::uint64_t particles) {
-    return kHeaderBytes + particles * kParticleBytes + kChecksumBytes;
+std::size_t headerBytes(std::uint32_t version) { return version == 1 ? kVersion1HeaderBytes : kHeaderBytes; }
+
+std::uint64_t expectedSize(std::uint64_t particles, std::uint32_t version) {
+    return headerBytes(version) + particles * kParticleBytes + kChecksumBytes;
 }
 
+struct Header {
+    std::uint32_t version = 0;
+    std::uint64_t count = 0;  // particles
+};
+
 // Checks what the first `available` bytes of a `fileSize`-byte file say
-// about it, and returns the particle count. Refuses before anything sized by
-// the count is allocated.
-std::uint64_t checkHeader(const unsigned char* data, std::size_t available, std::uint64_t fileSize,
-                          const std::string& what) {
+// about it, and returns its version and particle count. Refuses before
+// anything sized by the count is allocated.
+Header checkHeader(const unsigned char* data, std::size_t available, std::uint64_t fileSize,
+                   const std::string& what) {
     if (available < sizeof kMagic || std::memcmp(data, kMagic, sizeof kMagic) != 0)
         fail(what, "not a carom checkpoint (it does not start with \"CAROMCKP\")");
     if (available < 16)
-        fail(what, "truncated: " + std::to_string(fileSize) + " bytes, shorter than the " +
-                       std::to_string(kHeaderBytes) + "-byte header");
+        fail(what, "truncated: " + std::to_string(fileSize) + " bytes, shorter than a header (" +
+                       std::to_string(kVersion1HeaderBytes) + " or " + std::to_string(kHeaderBytes) + " bytes)");
     Decoder header(data);
     header.skip(sizeof kMagic);
     const std::uint32_t mark = header.u32();
@@ -119,32 +115,47 @@ std::uint64_t checkHeader(const unsigned char* data, std::size_t available, std:
                    "machine, so this file was converted or written by another program");
     if (mark != kByteOrderMark) fail(what, "corrupted header: bad byte order mark");
     const std::uint32_t version = header.u32();
-    if (version != kCheckpointVersion)
-        fail(what, "format version " + std::to_string(version) + "; this carom reads version " +
-                       std::to_string(kCheckpointVersion) +
+    if (version < kOldestVersion || version > kCheckpointVersion)
+        fail(what, "format version " + std::to_string(version) + "; this carom reads versions " +
+                       std::to_string(kOldestVersion) + " to " + std::to_string(kCheckpointVersion) +
                        (version > kCheckpointVersion ? " (written by a newer carom?)" : ""));
-    if (available < kHeaderBytes)
+    if (available < headerBytes(version))
         fail(what, "truncated: " + std::to_string(fileSize) + " bytes, shorter than the " +
-                       std::to_string(kHeaderBytes) + "-byte header");
+                       std::to_string(headerBytes(version)) + "-byte header");
     const std::uint64_t count = header.u64();
     if (count < 1 || count > kMaxParticles)
         fail(what, "corrupted header: particle count " + std::to_string(count) + " is outside 1.." +
                        std::to_string(kMaxParticles));
-    const std::uint64_t expected = expectedSize(count);
+    const std::uint64_t expected = expectedSize(count, version);
     if (fileSize < expected)
         fail(what, "truncated: " + std::to_string(fileSize) + " bytes, but " + std::to_string(count) +
                        " particles need " + std::to_string(expected));
     if (fileSize > expected)
         fail(what, std::to_string(fileSize) + " bytes, but " + std::to_string(count) + " particles need " +
                        std::to_string(expected) + ": trailing bytes (corrupted?)");
-    return count;
+    return Header{version, count};
 }
 
 }  // namespace
 
+std::uint32_t crc32(const unsigned char* data, std::size_t size) {
+    static const std::array<std::uint32_t, 256> table = [] {
+        std::array<std::uint32_t, 256> t{};
+        for (std::uint32_t i = 0; i < 256; ++i) {
+            std::uint32_t c = i;
+            for (int bit = 0; bit < 8; ++bit) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+            t[i] = c;
+        }
+        return t;
+    }();
+    std::uint32_t crc = 0xFFFFFFFFu;
+    for (std::size_t i = 0; i < size; ++i) crc = table[(crc ^ data[i]) & 0xFFu] ^ (crc >> 8);
+    return crc ^ 0xFFFFFFFFu;
+}
+
 std::string encodeCheckpoint(const Checkpoint& c) {
     Encoder out;
-    out.bytes().reserve(expectedSize(c.particles.size()));
+    out.bytes().reserve(expectedSize(c.particles.size(), kCheckpointVersion));
     out.bytes().append(kMagic, sizeof kMagic);
     out.u32(kByteOrderMark);
     out.u32(kCheckpointVersion);
@@ -154,6 +165,7 @@ std::string encodeCheckpoint(const Checkpoint& c) {
     out.u64(c.step);
     out.f64(c.time);
     out.u64(c.collisions);
+    out.u32(c.world.collisions == CollisionScheme::Pairwise ? kPairwise : kSimultaneous);
     for (const Particle& p : c.particles)
         for (float v : {p.position.x, p.position.y, p.velocity.x, p.velocity.y, p.mass, p.radius}) out.f32(v);
     const std::string& bytes = out.bytes();
@@ -163,7 +175,7 @@ std::string encodeCheckpoint(const Checkpoint& c) {
 
 Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& what) {
     const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
-    const std::uint64_t count = checkHeader(data, bytes.size(), bytes.size(), what);
+    const Header header = checkHeader(data, bytes.size(), bytes.size(), what);
     const std::size_t checked = bytes.size() - kChecksumBytes;
     Decoder trailer(data + checked);
     if (trailer.u32() != crc32(data, checked))
@@ -181,7 +193,8 @@ Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& what) {
     c.step = in.u64();
     c.time = in.f64();
     c.collisions = in.u64();
-    c.particles.resize(count);
+    const std::uint32_t scheme = header.version == 1 ? kSimultaneous : in.u32();
+    c.particles.resize(header.count);
     for (Particle& p : c.particles) {
         p = Particle{};
         p.position.x = in.f32();
@@ -197,6 +210,10 @@ Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& what) {
         fail(what, "boundary code " + std::to_string(boundary) +
                        " is unknown; allowed: 0 (reflective walls), 1 (periodic)");
     c.world.boundary = boundary == kPeriodic ? Boundary::Periodic : Boundary::Walls;
+    if (scheme != kSimultaneous && scheme != kPairwise)
+        fail(what, "collision scheme code " + std::to_string(scheme) +
+                       " is unknown; allowed: 0 (simultaneous), 1 (pairwise)");
+    c.world.collisions = scheme == kPairwise ? CollisionScheme::Pairwise : CollisionScheme::Simultaneous;
     if (!std::isfinite(c.time) || c.time < 0) fail(what, "time must be a finite number >= 0");
     try {
         validateParticles(c.particles, c.world, "particles");

@@ -1,24 +1,28 @@
 // Checkpoints: everything a run needs to continue bit for bit, in a versioned
 // binary file with a checksum.
 //
-// Layout (version 1), every field little-endian whatever the machine:
+// Layout (version 2), every field little-endian whatever the machine:
 //
 //   offset  bytes  field
 //        0      8  magic "CAROMCKP"
 //        8      4  byte order mark 0x01020304 (reads 0x04030201 if byte-swapped)
-//       12      4  format version, 1
+//       12      4  format version, 2
 //       16      8  particle count N, 1..kMaxParticles
 //       24     20  box width, box height, dt, gravity x, gravity y (float32)
 //       44      4  boundary: 0 = reflective walls, 1 = periodic
 //       48      8  step: steps taken since the scene began
 //       56      8  time (float64) = step * dt
 //       64      8  collisions since the scene began
-//       72    24N  per particle, in id order: x, y, vx, vy, mass, radius (float32)
-//   72+24N      4  CRC-32 (IEEE, as zlib's crc32) of every byte before it
+//       72      4  collision scheme: 0 = simultaneous, 1 = pairwise
+//       76    24N  per particle, in id order: x, y, vx, vy, mass, radius (float32)
+//   76+24N      4  CRC-32 (IEEE, as zlib's crc32) of every byte before it
 //
+// Version 1 is the same without the collision scheme (its particles start at
+// offset 72): only the simultaneous scheme wrote it, so it reads as that.
 // A reader refuses anything else with a message saying what is wrong.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -28,14 +32,18 @@
 namespace carom {
 
 struct Checkpoint {
-    WorldDef world;                    // box, dt, gravity, boundary (not maxTravel: give it again)
+    WorldDef world;                    // box, dt, gravity, boundary, collision scheme
+                                       //   (not maxTravel: give it again)
     std::uint64_t step = 0;            // steps taken since the scene began
     double time = 0.0;                 // simulated time [time], step * dt
     std::uint64_t collisions = 0;      // pairs that received an impulse since the scene began
     std::vector<Particle> particles;   // in id order
 };
 
-constexpr std::uint32_t kCheckpointVersion = 1;
+constexpr std::uint32_t kCheckpointVersion = 2;  // the version written; version 1 is still read
+
+// CRC-32 (IEEE, as zlib's crc32) of `size` bytes: the checkpoint's checksum.
+std::uint32_t crc32(const unsigned char* data, std::size_t size);
 
 // The file's bytes, and back. decodeCheckpoint validates the header, the
 // size, the checksum, the world and every particle; `what` names the source.

@@ -45,8 +45,8 @@ public:
     SceneFile parse(const toml::table& root) const {
         SceneFile scene;
         scene.path = path_;
-        requireKnownKeys(root, "", {"boundary", "box", "disk", "dt", "gravity", "group", "max_travel", "output",
-                                    "packing", "seed", "steps"});
+        requireKnownKeys(root, "", {"boundary", "box", "collisions", "disk", "dt", "gravity", "group", "max_travel",
+                                    "output", "packing", "seed", "steps"});
         const toml::node* box = root.get("box");
         const toml::node* packing = root.get("packing");
         if (box && packing) fail(*packing, "packing", "give box or packing, not both");
@@ -67,6 +67,17 @@ public:
             if (name == "walls") scene.world.boundary = Boundary::Walls;
             else if (name == "periodic") scene.world.boundary = Boundary::Periodic;
             else fail(*boundary, "boundary", "allowed: \"walls\" (reflective) or \"periodic\"");
+        }
+        if (const toml::node* collisions = root.get("collisions")) {
+            const std::string name = text(*collisions, "collisions");
+            try {
+                scene.world.collisions = parseCollisionScheme(name);
+            } catch (const Error& e) {
+                // Its message for "events" says why; for other names it repeats the
+                // name in full, where the file's message shows it cut short.
+                fail(*collisions, "collisions",
+                     name == "events" ? e.what() : "allowed: \"pairwise\" or \"simultaneous\"");
+            }
         }
         if (const toml::node* dt = root.get("dt")) {
             if (dt->is_string()) {

@@ -3,6 +3,7 @@
 //
 //   box = [100, 60]          # or packing = 0.3 for a square box (one group, no regions, no disks)
 //   boundary = "walls"       # reflective walls, or "periodic"
+//   collisions = "pairwise"  # or "simultaneous"; default WorldDef's
 //   dt = 0.01                # or "auto": substeps of at most max_travel = 0.2 radii
 //                            # steps = 1000, gravity = [0, 0], seed = 1 are the other defaults
 //   [[group]]                # disks placed on a jittered lattice, without overlap
@@ -77,7 +78,8 @@ struct OutputDef {
 
 struct SceneFile {
     std::string path;            // the file, for messages
-    WorldDef world;              // box (0 x 0 when `packing` sizes it), dt, gravity
+    WorldDef world;              // box (0 x 0 when `packing` sizes it), dt, gravity, boundary,
+                                 //   collision scheme
     float packing = 0.0f;        // > 0: the box is square, sized so the disks cover this
                                  //   area fraction, in (0, 0.7]; instead of world's box
     std::uint64_t steps = 1000;  // steps `carom run` takes

@@ -31,6 +31,12 @@ carom_cli_test(resume_not_a_checkpoint fail "checkpoint '.*two_disks.csv': not a
                "run|--backend|cpu|--resume|${data}/two_disks.csv|${traj}")
 carom_cli_test(resume_with_scene_option fail "--dt excludes --resume"
                "run|--backend|cpu|--resume|${data}/two_disks.csv|--dt|0.1")
+carom_cli_test(resume_with_collisions fail "--collisions excludes --resume"
+               "run|--backend|cpu|--resume|${data}/version1.ckpt|--collisions|pairwise")
+# A version-1 checkpoint, written by carom before the collision schemes (at
+# step 10), continues with the simultaneous scheme.
+carom_cli_test(resume_version1 pass "\"scheme\": \"simultaneous\",.*\"step\": 20,"
+               "run|--backend|cpu|--resume|${data}/version1.ckpt|--steps|10|--json")
 carom_cli_test(every_zero fail "--every: Value 0 not in range" "${run}|--every|0")
 carom_cli_test(too_many_particles fail "--particles: 500000001 particles; allowed: 1 to 500000000"
                "${run}|--particles|500000001")
@@ -53,7 +59,8 @@ if(OpenCL_FOUND)
     set(backends cpu,opencl)
 endif()
 foreach(test IN ITEMS trajectory_reads_in_ase stats_csv checkpoint_layout resume_continues_bit_for_bit
-                      interrupt_writes_everything scene_outputs_and_overrides json_and_quiet_print_no_progress)
+                      interrupt_writes_everything scene_outputs_and_overrides json_and_quiet_print_no_progress
+                      energy_warning blow_up_stops_cleanly)
     add_test(NAME outputs.${test}
              COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/outputs_test.py --carom $<TARGET_FILE:carom>
                      --work ${CMAKE_CURRENT_BINARY_DIR}/outputs --backends ${backends} ${test})

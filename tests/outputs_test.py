@@ -11,6 +11,7 @@ import argparse
 import csv
 import json
 import os
+import re
 import shutil
 import signal
 import struct
@@ -106,16 +107,18 @@ def test_stats_csv():
 def test_checkpoint_layout():
     d = work("layout")
     ckpt = os.path.join(d, "c.ckpt")
-    carom("run", "--backend", "cpu", "--particles", 5, "--box", 20, 20, "--steps", 30, "--dt", 0.02,
-          "--gravity", 0, -1, "--checkpoint", ckpt)
-    data = read_bytes(ckpt)
-    magic, mark, version, count = struct.unpack_from("<8sIIQ", data, 0)
-    width, height, dt, gx, gy, boundary, step, sim_time, collisions = struct.unpack_from("<5fIQdQ", data, 24)
-    assert (magic, mark, version, count) == (b"CAROMCKP", 0x01020304, 1, 5)
-    assert (width, height, gx, gy, boundary, step) == (20, 20, 0, -1, 0, 30)
-    assert abs(dt - 0.02) < 1e-7 and abs(sim_time - 30 * dt) < 1e-12
-    assert len(data) == 72 + 24 * count + 4
-    assert struct.unpack_from("<I", data, len(data) - 4)[0] == zlib.crc32(data[:-4])
+    for scheme, code in (("simultaneous", 0), ("pairwise", 1)):
+        carom("run", "--backend", "cpu", "--particles", 5, "--box", 20, 20, "--steps", 30, "--dt", 0.02,
+              "--gravity", 0, -1, "--collisions", scheme, "--checkpoint", ckpt)
+        data = read_bytes(ckpt)
+        magic, mark, version, count = struct.unpack_from("<8sIIQ", data, 0)
+        width, height, dt, gx, gy, boundary, step, sim_time, collisions, scheme_code = \
+            struct.unpack_from("<5fIQdQI", data, 24)
+        assert (magic, mark, version, count) == (b"CAROMCKP", 0x01020304, 2, 5)
+        assert (width, height, gx, gy, boundary, step, scheme_code) == (20, 20, 0, -1, 0, 30, code), scheme
+        assert abs(dt - 0.02) < 1e-7 and abs(sim_time - 30 * dt) < 1e-12
+        assert len(data) == 76 + 24 * count + 4
+        assert struct.unpack_from("<I", data, len(data) - 4)[0] == zlib.crc32(data[:-4])
 
 
 def run_with_outputs(d, backend, tag, *args):
@@ -128,17 +131,19 @@ def run_with_outputs(d, backend, tag, *args):
 
 def test_resume_continues_bit_for_bit():
     """200 steps in one run equal 100 steps, a checkpoint and 100 resumed steps: the final
-    state, the checkpoint, and the trajectory and statistics put end to end."""
+    state, the checkpoint, and the trajectory and statistics put end to end. The resumed run
+    takes the collision scheme from the checkpoint (pairwise on the CPU backend)."""
     scene = ["--particles", 800, "--packing", 0.5, "--radius-min", 0.6, "--radius-max", 1.2,
              "--mass-min", 0.5, "--mass-max", 5, "--gravity", 0, -0.3, "--dt", 0.01]
     backends = ARGS.backends.split(",")
-    pairs = [(b, b) for b in backends] + [(a, b) for a in backends for b in backends if a != b]
-    for first, second in pairs:
-        d = work(f"resume-{first}-{second}")
-        whole = run_with_outputs(d, first, "whole", *scene, "--steps", 200)
-        one = run_with_outputs(d, first, "one", *scene, "--steps", 100)
+    pairs = [(b, b, "simultaneous") for b in backends] + \
+            [(a, b, "simultaneous") for a in backends for b in backends if a != b] + [("cpu", "cpu", "pairwise")]
+    for first, second, scheme in pairs:
+        d = work(f"resume-{first}-{second}-{scheme}")
+        whole = run_with_outputs(d, first, "whole", *scene, "--collisions", scheme, "--steps", 200)
+        one = run_with_outputs(d, first, "one", *scene, "--collisions", scheme, "--steps", 100)
         two = run_with_outputs(d, second, "two", "--resume", one["ckpt"], "--steps", 100)
-        label = f"{first} then {second}"
+        label = f"{first} then {second}, {scheme}"
         assert read_bytes(whole["state"]) == read_bytes(two["state"]), label
         assert read_bytes(whole["ckpt"]) == read_bytes(two["ckpt"]), label
         assert read_bytes(whole["xyz"]) == read_bytes(one["xyz"]) + read_bytes(two["xyz"]), label
@@ -189,6 +194,7 @@ def test_scene_outputs_and_overrides():
     scene = os.path.join(d, "s.toml")
     with open(scene, "w") as f:
         f.write(f"""box = [40, 40]
+collisions = "pairwise"
 dt = 0.02
 steps = 60
 [[group]]
@@ -201,16 +207,71 @@ every = 20
     out, _ = carom("run", "--backend", "cpu", "--scene", scene, "--json")
     summary = json.loads(out)
     assert (summary["steps"], summary["particles"], summary["box"]) == (60, 50, [40, 40]), summary
+    assert summary["scheme"] == "pairwise", summary
     assert abs(summary["dt"] - 0.02) < 1e-7
     with open(os.path.join(d, "scene.csv")) as f:
         assert [int(r["step"]) for r in csv.DictReader(f)] == [0, 20, 40, 60]
     out, _ = carom("run", "--backend", "cpu", "--scene", scene, "--steps", 10, "--dt", 0.005, "--particles", 20,
-                   "--box", 30, 50, "--every", 5, "--stats", os.path.join(d, "cli.csv"), "--json")
+                   "--box", 30, 50, "--collisions", "simultaneous", "--every", 5, "--stats",
+                   os.path.join(d, "cli.csv"), "--json")
     summary = json.loads(out)
     assert (summary["steps"], summary["particles"], summary["box"]) == (10, 20, [30, 50]), summary
+    assert summary["scheme"] == "simultaneous", summary
     assert abs(summary["dt"] - 0.005) < 1e-9
     with open(os.path.join(d, "cli.csv")) as f:
         assert [int(r["step"]) for r in csv.DictReader(f)] == [0, 5, 10]
+
+
+ENERGY_WARNING = "energy changed by"
+
+
+def test_energy_warning():
+    """The simultaneous scheme heats a dense gas (here by 15-20 %): the run says so at its end, with
+    the figure and what to do. The same gas under the pairwise scheme, and a dilute gas under the
+    simultaneous one (a change of about 1e-9), get no warning."""
+    dense = ["run", "--backend", "cpu", "--particles", 300, "--packing", 0.7, "--steps", 50, "--quiet"]
+    out, err = carom(*dense, "--collisions", "simultaneous", "--json")
+    summary = json.loads(out)
+    initial, final = summary["energy"]["total"]["initial"], summary["energy"]["total"]["final"]
+    change = (final - initial) / abs(initial)  # as carom computes it
+    assert change > 0.05, summary["energy"]
+    warning = f"the kinetic energy changed by +{100 * change:.3g} % over this run"
+    assert warning in err and "--collisions pairwise, or a smaller --dt" in err, (warning, err)
+    _, err = carom(*dense, "--collisions", "pairwise")
+    assert ENERGY_WARNING not in err, err
+    _, err = carom("run", "--backend", "cpu", "--particles", 300, "--packing", 0.1, "--steps", 50, "--quiet",
+                   "--collisions", "simultaneous")
+    assert ENERGY_WARNING not in err, err
+
+
+def test_blow_up_stops_cleanly():
+    """A run whose state goes non-finite (the simultaneous scheme under strong gravity at a large dt)
+    stops at the first sample after it with status 1 and a message naming the steps; no NaN reaches a
+    file, the frames, rows and checkpoint before it are kept, and an existing state file is left alone."""
+    d = work("blow-up")
+    paths = {k: os.path.join(d, f"b.{k}") for k in ("xyz", "csv", "ckpt", "state")}
+    with open(paths["state"], "w") as f:
+        f.write("an earlier result\n")
+    arguments = ["run", "--backend", "cpu", "--collisions", "simultaneous", "--particles", 500, "--gravity", 0, -10,
+                 "--dt", 0.2, "--steps", 400, "--every", 50, "--trajectory", paths["xyz"], "--stats", paths["csv"], "--checkpoint", paths["ckpt"],
+                 "--output-state", paths["state"]]
+    done = subprocess.run([ARGS.carom, *map(str, arguments)], capture_output=True, text=True, timeout=600)
+    assert done.returncode == 1, (done.returncode, done.stderr)
+    match = re.search(r"the state went non-finite between step (\d+) \(finite\) and step (\d+).*smaller --dt",
+                      done.stderr)
+    assert match, done.stderr
+    finite, bad = int(match.group(1)), int(match.group(2))
+    assert bad == finite + 50 and bad < 400, done.stderr
+    assert "was not written" in done.stderr and done.stdout == "", (done.stdout, done.stderr)
+    with open(paths["state"]) as f:
+        assert f.read() == "an earlier result\n"
+    for path in (paths["xyz"], paths["csv"]):
+        with open(path) as f:
+            assert "nan" not in f.read().lower(), path
+    with open(paths["csv"]) as f:
+        assert [int(r["step"]) for r in csv.DictReader(f)] == list(range(0, finite + 1, 50))
+    assert checkpoint_step(paths["ckpt"]) == finite
+    no_partial_files(d)
 
 
 def test_json_and_quiet_print_no_progress():

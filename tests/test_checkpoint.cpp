@@ -77,12 +77,35 @@ void putU32(std::string& bytes, std::size_t offset, std::uint32_t v) {
     for (int i = 0; i < 4; ++i) bytes[offset + i] = static_cast<char>(v >> (8 * i));
 }
 
+// Rewrites the trailing checksum, as if the bytes had been written so.
+void reseal(std::string& bytes) {
+    const std::size_t checked = bytes.size() - 4;
+    putU32(bytes, checked, crc32(reinterpret_cast<const unsigned char*>(bytes.data()), checked));
+}
+
+// 2N steps in one run equal N steps, a checkpoint and N resumed, on `kind`.
+void checkResumeBitForBit(const std::string& kind, const Run& run, std::uint64_t half) {
+    const Checkpoint start{run.world, 0, 0.0, 0, run.particles};
+    const Checkpoint whole = runAndCheckpoint(kind, start, 2 * half);
+    writeCheckpoint("half.ckpt", runAndCheckpoint(kind, start, half));
+    const Checkpoint halfway = readCheckpoint("half.ckpt");
+    CHECK(halfway.world.collisions == run.world.collisions);
+    const Checkpoint resumed = runAndCheckpoint(kind, halfway, half);
+    CHECK(resumed.step == 2 * half);
+    CHECK(resumed.time == whole.time);
+    CHECK(resumed.collisions == whole.collisions);
+    CHECK(whole.collisions > 0);
+    CHECK(sameBits(resumed.particles, whole.particles));
+    std::remove("half.ckpt");
+}
+
 }  // namespace
 
 TEST_CASE("checkpoint: every field reads back bit for bit") {
     const Run run = polydisperseRun();
     Checkpoint c;
     c.world = run.world;
+    c.world.collisions = CollisionScheme::Pairwise;
     c.step = 123456789012ull;
     c.time = 617283.945060;
     c.collisions = 98765;
@@ -93,32 +116,80 @@ TEST_CASE("checkpoint: every field reads back bit for bit") {
     CHECK(back.world.height == c.world.height);
     CHECK(back.world.dt == c.world.dt);
     CHECK(back.world.gravity.y == c.world.gravity.y);
+    CHECK(back.world.collisions == CollisionScheme::Pairwise);
     CHECK(back.step == c.step);
     CHECK(back.time == c.time);
     CHECK(back.collisions == c.collisions);
     CHECK(sameBits(back.particles, c.particles));
     std::ifstream file("roundtrip.ckpt", std::ios::binary);
     const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-    CHECK(bytes.size() == 72 + 24 * c.particles.size() + 4);
+    CHECK(bytes.size() == 76 + 24 * c.particles.size() + 4);
     CHECK(bytes.substr(0, 8) == "CAROMCKP");
     std::remove("roundtrip.ckpt");
 }
 
 TEST_CASE("checkpoint: 2000 steps in one run equal 1000, a checkpoint and 1000 resumed, on each backend") {
     const Run run = polydisperseRun();
-    const Checkpoint start{run.world, 0, 0.0, 0, run.particles};
     for (const std::string& kind : backendKinds()) {
         CAPTURE(kind);
-        const Checkpoint whole = runAndCheckpoint(kind, start, 2000);
-        writeCheckpoint("half.ckpt", runAndCheckpoint(kind, start, 1000));
-        const Checkpoint resumed = runAndCheckpoint(kind, readCheckpoint("half.ckpt"), 1000);
-        CHECK(resumed.step == 2000);
-        CHECK(resumed.time == whole.time);
-        CHECK(resumed.collisions == whole.collisions);
-        CHECK(whole.collisions > 0);
-        CHECK(sameBits(resumed.particles, whole.particles));
+        checkResumeBitForBit(kind, run, 1000);
     }
-    std::remove("half.ckpt");
+}
+
+TEST_CASE("checkpoint: 400 pairwise steps equal 200, a checkpoint and 200 resumed with the same scheme (CPU)") {
+    Run run = polydisperseRun();
+    run.world.collisions = CollisionScheme::Pairwise;
+    checkResumeBitForBit("cpu", run, 200);
+}
+
+TEST_CASE("checkpoint: a version-1 file (before the collision schemes) reads as the simultaneous scheme") {
+    std::string bytes = "CAROMCKP";  // the version-1 layout, as checkpoint.h describes it
+    auto u32 = [&bytes](std::uint32_t v) {
+        for (int i = 0; i < 4; ++i) bytes += static_cast<char>(v >> (8 * i));
+    };
+    auto u64 = [&u32](std::uint64_t v) {
+        u32(static_cast<std::uint32_t>(v));
+        u32(static_cast<std::uint32_t>(v >> 32));
+    };
+    auto f32 = [&u32](float v) {
+        std::uint32_t bits;
+        std::memcpy(&bits, &v, sizeof bits);
+        u32(bits);
+    };
+    u32(0x01020304);
+    u32(1);  // version
+    u64(2);  // particles
+    for (float v : {12.0f, 8.0f, 0.005f, 0.0f, -2.0f}) f32(v);  // box, dt, gravity
+    u32(1);  // periodic
+    u64(40);  // step
+    const double time = 0.2;
+    std::uint64_t timeBits;
+    std::memcpy(&timeBits, &time, sizeof timeBits);
+    u64(timeBits);
+    u64(9);  // collisions
+    for (float v : {3.0f, 4.0f, 0.5f, -0.25f, 2.0f, 1.0f, 9.0f, 4.0f, -1.0f, 0.0f, 1.0f, 0.75f}) f32(v);
+    u32(0);  // the checksum, rewritten:
+    reseal(bytes);
+    REQUIRE(bytes.size() == 72 + 2 * 24 + 4);
+
+    Checkpoint expected;
+    expected.world = box(12, 8, 0.005f);
+    expected.world.gravity = float2{0.0f, -2.0f};
+    expected.world.boundary = Boundary::Periodic;
+    expected.world.collisions = CollisionScheme::Simultaneous;
+    expected.step = 40;
+    expected.time = 0.2;
+    expected.collisions = 9;
+    expected.particles = {disk(3, 4, 0.5f, -0.25f, 2, 1), disk(9, 4, -1, 0, 1, 0.75f)};
+    const Checkpoint c = decodeCheckpoint(bytes, "v1.ckpt");
+    CHECK(c.world.collisions == CollisionScheme::Simultaneous);
+    // Every field, bit for bit; written again, it is a version-2 file.
+    const std::string rewritten = encodeCheckpoint(c);
+    CHECK(rewritten == encodeCheckpoint(expected));
+    CHECK(rewritten.size() == bytes.size() + 4);
+    CHECK(rewritten[12] == 2);
+
+    CHECK(errorOf(bytes.substr(0, 70)).find("shorter than the 72-byte header") != std::string::npos);
 }
 
 TEST_CASE("checkpoint: a run resumed on another backend continues bit for bit where the backends agree") {
@@ -171,9 +242,12 @@ TEST_CASE("checkpoint: every flipped bit is refused") {
 TEST_CASE("checkpoint: wrong files are refused with what is wrong") {
     const std::string bytes = small();
     std::string version = bytes;
-    putU32(version, 12, 2);
-    CHECK(errorOf(version).find("format version 2; this carom reads version 1 (written by a newer carom?)") !=
+    putU32(version, 12, 3);
+    CHECK(errorOf(version).find("format version 3; this carom reads versions 1 to 2 (written by a newer carom?)") !=
           std::string::npos);
+    putU32(version, 12, 0);
+    CHECK(errorOf(version).find("format version 0; this carom reads versions 1 to 2") != std::string::npos);
+    CHECK(errorOf(version).find("newer") == std::string::npos);
 
     std::string swapped = bytes;
     putU32(swapped, 8, 0x04030201);
@@ -206,6 +280,12 @@ TEST_CASE("checkpoint: a valid checksum over invalid values is still refused") {
     c.world.dt = 0.01f;
     c.time = -1;
     CHECK(errorOf(encodeCheckpoint(c)).find("time must be a finite number >= 0") != std::string::npos);
+    c.time = 0;
+    std::string scheme = encodeCheckpoint(c);
+    putU32(scheme, 72, 2);
+    reseal(scheme);
+    CHECK(errorOf(scheme).find("collision scheme code 2 is unknown; allowed: 0 (simultaneous), 1 (pairwise)") !=
+          std::string::npos);
 }
 
 TEST_CASE("checkpoint: a failed write leaves the previous checkpoint in place") {

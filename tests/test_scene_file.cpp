@@ -50,6 +50,7 @@ TEST_CASE("scene file: every key is read") {
     const SceneFile s = parseSceneFile(R"(
 box = [100, 60.5]
 boundary = "walls"
+collisions = "pairwise"
 dt = 0.005
 steps = 250
 gravity = [0, -9.81]
@@ -86,11 +87,12 @@ every = 25
     CHECK(s.world.height == 60.5f);
     CHECK(s.world.dt == 0.005f);
     CHECK(s.world.gravity.y == -9.81f);
+    CHECK(s.world.collisions == CollisionScheme::Pairwise);
     CHECK(s.steps == 250);
     CHECK(s.seed == 42);
     REQUIRE(s.groups.size() == 2);
     CHECK(s.groups[0].name == "group[1] 'heavy'");
-    CHECK(s.groups[0].line == 9);
+    CHECK(s.groups[0].line == 10);
     CHECK(s.groups[0].count == 20);
     CHECK(s.groups[0].radiusMin == 0.5f);
     CHECK(s.groups[0].radiusMax == 1.5f);
@@ -127,6 +129,7 @@ TEST_CASE("scene file: defaults") {
     CHECK(s.world.dt == 0.01f);
     CHECK(s.world.gravity.x == 0.0f);
     CHECK(s.world.gravity.y == 0.0f);
+    CHECK(s.world.collisions == WorldDef{}.collisions);
     CHECK(s.steps == 1000);
     CHECK(s.seed == 1);
     CHECK(s.output.every == 100);
@@ -150,7 +153,8 @@ TEST_CASE("scene file: bad input is refused with file, line, key, value and what
              Case{"box = [60, 40]\ndt = \n", "not valid TOML"},
              Case{"\xff\xfe = 1\n", "not valid TOML"},
              // unknown keys, at every level
-             Case{"box = [60, 40]\nradious = 2\n", "s.toml:2: unknown key 'radious'; allowed: boundary, box, disk"},
+             Case{"box = [60, 40]\nradious = 2\n",
+                  "s.toml:2: unknown key 'radious'; allowed: boundary, box, collisions, disk"},
              Case{"box = [60, 40]\n[[group]]\ncount = 3\nradious = 2\n",
                   "s.toml:4: unknown key 'group[1].radious'; allowed in group[1]: count, mass, name"},
              Case{"box = [60, 40]\n[[disk]]\nposition = [5, 5]\nspeed = 2\n",
@@ -176,6 +180,12 @@ TEST_CASE("scene file: bad input is refused with file, line, key, value and what
              Case{"box = [60, 40]\ndt = \"fast\"\n", "s.toml:2: dt = \"fast\": must be a finite number > 0 or \"auto\""},
              Case{"box = [60, 40]\nmax_travel = -1\n", "s.toml:2: max_travel = -1"},
              Case{"box = [60, 40]\nboundary = 3\n", "boundary = 3: must be a non-empty string"},
+             Case{"box = [60, 40]\ncollisions = \"elastic\"\n",
+                  "s.toml:2: collisions = \"elastic\": allowed: \"pairwise\" or \"simultaneous\""},
+             Case{"box = [60, 40]\ncollisions = \"events\"\n",
+                  "s.toml:2: collisions = \"events\": collision scheme 'events' (exact event-driven dynamics) is not "
+                  "available yet; allowed: pairwise, simultaneous"},
+             Case{"box = [60, 40]\ncollisions = true\n", "s.toml:2: collisions = true: must be a non-empty string"},
              // motion and run
              Case{"box = [60, 40]\ndt = -0.01\n", "s.toml:2: dt = -0.01: must be a finite number > 0"},
              Case{"box = [60, 40]\ndt = nan\n", "dt = nan: must be a finite number > 0"},
