@@ -14,8 +14,11 @@ namespace carom {
 
 namespace {
 
-// Lists shorter than this run on one thread: starting the team costs more.
-constexpr std::int64_t kParallelListLength = 512;
+// Pairwise passes over fewer disks than this run on one thread: a pass is
+// short, and starting an OpenMP team for it costs more, far more when other
+// processes keep the cores busy (a thread waits at the barrier for a
+// descheduled one). A pairwise step runs a dozen passes.
+constexpr std::int64_t kParallelPassLength = 4096;
 
 }  // namespace
 
@@ -102,7 +105,7 @@ void CpuBackend::stepPairwise(float dt) {
     // Runs pass(k) for the first `length` entries of `items`, in parallel when it pays.
     auto forEach = [](const unsigned int* items, unsigned int length, auto&& pass) {
         const auto n = static_cast<std::int64_t>(length);
-#pragma omp parallel for schedule(static) if (n >= kParallelListLength)
+#pragma omp parallel for schedule(static) if (n >= kParallelPassLength)
         for (std::int64_t e = 0; e < n; ++e) pass(items[e]);
     };
 
@@ -112,7 +115,7 @@ void CpuBackend::stepPairwise(float dt) {
     CaromList changed = list(changed_, changedCount, changedMark_);
     CaromList dirty = list(dirty_, dirtyCount, dirtyMark_);
     CaromList pending = list(pending_, pendingCount, pendingMark_);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (count >= kParallelPassLength)
     for (std::int64_t k = 0; k < count; ++k)
         carom_find_event(static_cast<unsigned int>(k), state, sorted, sorted, cellOf, cells, step, events,
                          CAROM_SEARCH_FORWARD, changed, dirty, pending, epoch);
@@ -142,7 +145,7 @@ void CpuBackend::stepPairwise(float dt) {
         pendingCount = nextCount;
     }
     recordRounds(rounds);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (count >= kParallelPassLength)
     for (std::int64_t i = 0; i < count; ++i) state[i] = carom_finish_step(state[i], step, &tallies[i]);
 }
 
