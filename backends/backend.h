@@ -71,6 +71,8 @@ public:
 
     const WorldDef& world() const { return world_; }
     std::size_t particleCount() const { return particleCount_; }
+    // The grid's cells, as setParticles sized them for the particles and the scheme.
+    const GridGeometry& gridGeometry() const { return grid_.geometry; }
 
 protected:
     virtual void load(const std::vector<Particle>& particles) = 0;

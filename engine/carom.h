@@ -67,7 +67,7 @@ struct WorldDef {
     // start of the step (plus what gravity adds over the step). 0 = off
     // (every step is one substep) [fraction of the smallest radius], >= 0.
     float maxTravel = 0.0f;
-    CollisionScheme collisions = CollisionScheme::Simultaneous;
+    CollisionScheme collisions = CollisionScheme::Pairwise;  // how collisions are resolved (README)
 };
 
 // The fraction `--dt auto` uses when no --max-travel is given.

@@ -170,13 +170,21 @@ TEST_CASE("contacts: a dilute gas pushes on the walls with P A = N kT") {
     }
 }
 
-TEST_CASE("substeps: a fast head-on pair tunnels through with a fixed dt and collides with max travel") {
+TEST_CASE("substeps: a fast head-on pair tunnels through the simultaneous scheme with a fixed dt, and collides "
+          "with max travel or the pairwise scheme") {
     // Closing at 50 with dt 0.1: 2.5 apart, then passed through. With max
     // travel 0.2 each step takes ceil(25 x 0.1 / 0.2) = 13 substeps.
     const std::vector<Particle> pair = {disk(40, 10, 25, 0), disk(47.5f, 10, -25, 0)};
     for (const std::string& kind : backendKinds()) {
         CAPTURE(kind);
+        // The pairwise scheme finds the contact within the step: no tunnelling at any dt.
+        const Run pairwise = run(kind, box(100, 20, 0.1f), pair, 2);
+        CHECK(pairwise.contacts.collisions == 1);
+        CHECK(pairwise.particles[0].velocity.x == doctest::Approx(-25.0f).epsilon(1e-5));
+        CHECK(pairwise.particles[0].position.x == doctest::Approx(40.5f).epsilon(1e-5));  // met at 42.75, t = 0.11
+
         WorldDef world = box(100, 20, 0.1f);
+        world.collisions = CollisionScheme::Simultaneous;
         const Run fixed = run(kind, world, pair, 2);
         CHECK(fixed.contacts.collisions == 0);
         CHECK(fixed.particles[0].position.x > fixed.particles[1].position.x);  // passed through each other
@@ -197,6 +205,7 @@ TEST_CASE("substeps: gravity counts towards the travel, and a runaway step is re
     for (const std::string& kind : backendKinds()) {
         CAPTURE(kind);
         WorldDef world = box(100, 100, 0.1f);
+        world.collisions = CollisionScheme::Simultaneous;  // the pairwise grid adds its own substeps
         world.gravity = float2{0, -30};
         world.maxTravel = 0.5f;
         // Gravity adds 30 x 0.1 = 3 to the speed over the step: ceil((10 + 3) x 0.1 / 0.5) = 3.

@@ -82,13 +82,15 @@ TEST_CASE("oblique collision with unequal masses conserves momentum and energy")
     }
 }
 
-TEST_CASE("walls clamp the disk to the boundary and reflect the velocity") {
+TEST_CASE("walls clamp the disk to the boundary and reflect the velocity (simultaneous scheme)") {
+    WorldDef world = box(40, 20);
+    world.collisions = CollisionScheme::Simultaneous;  // the pairwise walls: test_pairwise.cpp
     for (const std::string& kind : backendKinds()) {
         CAPTURE(kind);
         // Each disk crosses one wall within the step (dt 0.01, speed 1).
         const std::vector<Particle> start = {disk(1.005f, 10, -1, 0), disk(38.995f, 10, 1, 0),
                                              disk(20, 1.005f, 0, -1), disk(10, 18.995f, 0, 1)};
-        const auto after = simulate(kind, box(40, 20), start, 1);
+        const auto after = simulate(kind, world, start, 1);
         CHECK(after[0].position.x == 1.0f);
         CHECK(after[0].velocity.x == 1.0f);
         CHECK(after[1].position.x == 39.0f);
@@ -101,12 +103,12 @@ TEST_CASE("walls clamp the disk to the boundary and reflect the velocity") {
         // A disk pushed into the wall by a neighbour while moving away from it
         // is clamped but keeps its velocity (negating it would send it back out).
         const std::vector<Particle> pushed = {disk(1, 10, 0.5f, 0), disk(2.9f, 10, 2, 0)};
-        const auto afterPush = simulate(kind, box(40, 20), pushed, 1);
+        const auto afterPush = simulate(kind, world, pushed, 1);
         CHECK(afterPush[0].position.x == 1.0f);
         CHECK(afterPush[0].velocity.x == 0.5f);
 
         // After many bounces nothing has left the box.
-        const auto longRun = simulate(kind, box(40, 20), start, 5000);
+        const auto longRun = simulate(kind, world, start, 5000);
         CHECK(measure(longRun, box(40, 20)).escaped == 0);
     }
 }
@@ -118,10 +120,15 @@ TEST_CASE("gravity is off by default and accelerates when set") {
         CAPTURE(kind);
         WorldDef world = box(40, 40, 0.01f);
         world.gravity = float2{0, -2};
+        // The pairwise scheme flies the exact parabola: y = y0 + g t^2 / 2.
         const auto after = simulate(kind, world, {disk(20, 30, 0, 0)}, 100);
         CHECK(after[0].velocity.y == doctest::Approx(-2.0).epsilon(1e-4));
+        CHECK(after[0].position.y == doctest::Approx(29.0).epsilon(1e-5));
         // Semi-implicit Euler: y = y0 + g dt^2 (1 + 2 + ... + 100) = 30 - 2e-4 * 5050.
-        CHECK(after[0].position.y == doctest::Approx(30 - 2e-4 * 5050).epsilon(1e-4));
+        world.collisions = CollisionScheme::Simultaneous;
+        const auto euler = simulate(kind, world, {disk(20, 30, 0, 0)}, 100);
+        CHECK(euler[0].velocity.y == doctest::Approx(-2.0).epsilon(1e-4));
+        CHECK(euler[0].position.y == doctest::Approx(30 - 2e-4 * 5050).epsilon(1e-4));
     }
 }
 

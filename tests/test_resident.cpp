@@ -51,9 +51,10 @@ std::vector<Particle> read(Backend& backend) {
 
 namespace {
 
-Grid hostGrid(const std::vector<Particle>& ps, const WorldDef& world, float maxRadius) {
+// The shared builder's grid of the particles, in the backend's geometry.
+Grid hostGrid(const std::vector<Particle>& ps, const GridGeometry& geometry) {
     Grid grid;
-    grid.geometry = gridGeometryFor(world.width, world.height, maxRadius, ps.size());
+    grid.geometry = geometry;
     buildGrid(ps.data(), ps.size(), grid);
     return grid;
 }
@@ -94,7 +95,7 @@ TEST_CASE("resident grid: the device builds the shared builder's cells and sorte
         const std::vector<Particle> ps = randomDisks(c.seed, c.count, world, c.radius);
         auto backend = makeOpenCl(world, Pipeline::Resident);
         backend->setParticles(ps);
-        checkSameGrid(backend->readDeviceGrid(), hostGrid(ps, world, c.radius));
+        checkSameGrid(backend->readDeviceGrid(), hostGrid(ps, backend->gridGeometry()));
     }
 }
 
@@ -111,7 +112,7 @@ TEST_CASE("resident grid: the scan gives the same grid with one to four levels")
 
     const WorldDef world = box(400, 300);
     const std::vector<Particle> ps = randomDisks(11, 20000, world, 1.0f);
-    const Grid host = hostGrid(ps, world, 1.0f);
+    const Grid host = hostGrid(ps, gridGeometryFor(world.width, world.height, 1.0f, ps.size()));
     const auto upload = [&](const void* data, std::size_t bytes) {
         Buffer buffer = createBuffer(context.get(), bytes, "test data");
         check(clEnqueueWriteBuffer(queue.get(), buffer.get(), CL_TRUE, 0, bytes, data, 0, nullptr, nullptr),
@@ -150,7 +151,7 @@ TEST_CASE("resident grid: stays the shared builder's as the state evolves") {
     for (int round = 0; round < 4; ++round) {
         CAPTURE(round);
         backend->step(37);
-        checkSameGrid(backend->readDeviceGrid(), hostGrid(read(*backend), world, scene.radiusMax));
+        checkSameGrid(backend->readDeviceGrid(), hostGrid(read(*backend), backend->gridGeometry()));
     }
 }
 
@@ -200,7 +201,8 @@ TEST_CASE("pipelines: resident needs the OpenCL backend, unknown names are refus
 // (equal collision counts); all pairs sums them in another order, so the
 // positions agree to rounding only.
 TEST_CASE("all pairs: the naive baselines find the grid search's collisions") {
-    const WorldDef world = box(60, 50);
+    WorldDef world = box(60, 50);
+    world.collisions = CollisionScheme::Simultaneous;  // the baselines' scheme
     const std::vector<Particle> ps = randomDisks(9, 2500, world, 0.8f);
     std::vector<std::unique_ptr<Backend>> naive;
     naive.push_back(std::make_unique<bench::AllPairsCpuBackend>(world));
