@@ -1,5 +1,6 @@
-// `carom bench`: the performance comparison of the methods (bench/methods.h)
-// over a sweep of N on one scene, against the measured memory bandwidths.
+// `carom bench`: the performance comparison of the methods (bench/methods.h),
+// each under the collision schemes it runs, over a sweep of N on one scene,
+// against the measured memory bandwidths.
 #include <algorithm>
 #include <cmath>
 #include <iostream>
@@ -21,6 +22,7 @@ namespace {
 const std::vector<std::uint32_t> kDefaultSizes = {1000,   2000,   5000,    10000,   20000,   50000,   100000,
                                                   200000, 500000, 1000000, 2000000, 4000000, 8000000, 16000000};
 const std::vector<std::uint32_t> kQuickSizes = {1000, 4000};
+const std::vector<CollisionScheme> kSchemes = {CollisionScheme::Simultaneous, CollisionScheme::Pairwise};
 // Bandwidth buffers: well beyond the caches, and about the size of the
 // largest state swept; small for --quick.
 constexpr std::size_t kMinBandwidthBytes = std::size_t(64) << 20;
@@ -59,6 +61,37 @@ std::vector<Method> chosenMethods(const BenchOptions& o) {
     return methods;
 }
 
+std::vector<CollisionScheme> chosenSchemes(const BenchOptions& o) {
+    if (o.collisions.empty()) return kSchemes;
+    std::vector<CollisionScheme> given;
+    for (const std::string& name : o.collisions) {
+        try {
+            given.push_back(parseCollisionScheme(name));
+        } catch (const Error& e) {
+            throw Error(std::string("--collisions: ") + e.what());
+        }
+    }
+    std::vector<CollisionScheme> schemes;
+    for (CollisionScheme scheme : kSchemes)  // table order
+        if (std::find(given.begin(), given.end(), scheme) != given.end()) schemes.push_back(scheme);
+    return schemes;
+}
+
+// Each method under each scheme it runs, a method's schemes next to each
+// other; refuses a choice that leaves nothing to measure.
+std::vector<Variant> chosenVariants(const BenchOptions& o) {
+    const std::vector<Method> methods = chosenMethods(o);
+    const std::vector<CollisionScheme> schemes = chosenSchemes(o);
+    std::vector<Variant> variants;
+    for (const Method& method : methods)
+        for (CollisionScheme scheme : schemes)
+            if (runsScheme(method, scheme)) variants.push_back({method, scheme});
+    if (variants.empty())
+        throw Error("--collisions pairwise: none of the methods chosen runs the pairwise scheme (the naive methods "
+                    "run the simultaneous scheme only); add a grid method such as cpu");
+    return variants;
+}
+
 TimingPlan timingPlan(const BenchOptions& o) {
     TimingPlan plan;
     if (o.quick) {
@@ -81,42 +114,44 @@ SceneDef sceneFor(const BenchOptions& o, std::uint32_t particles) {
     return scene;
 }
 
-// Measures every method at one N; adds the rows, and drops the methods whose
-// step went over the budget.
-void benchOneSize(const BenchOptions& o, std::uint32_t particles, bool largerFollow, std::vector<Method>& methods,
+// Measures every method under each of its schemes at one N; adds the rows,
+// and drops the variants whose step went over the budget.
+void benchOneSize(const BenchOptions& o, std::uint32_t particles, bool largerFollow, std::vector<Variant>& variants,
                   Report& report) {
     const InitialState initial = makeInitialState(sceneFor(o, particles));
-    WorldDef world;
-    world.width = initial.width;
-    world.height = initial.height;
-    world.dt = o.dt;
-    const GridGeometry g = gridGeometryFor(world.width, world.height, o.radius, particles);
-    const double cellsPerParticle = double(g.cols) * g.rows / particles;
-
-    std::vector<Method> kept;
-    for (const Method& method : methods) {
-        std::unique_ptr<Backend> backend = makeMethodBackend(method, world, o.device);
+    std::vector<Variant> kept;
+    for (const Variant& variant : variants) {
+        WorldDef world;
+        world.width = initial.width;
+        world.height = initial.height;
+        world.dt = o.dt;
+        world.collisions = variant.scheme;
+        const GridGeometry g = methodGridGeometry(world, o.radius, particles);
+        std::unique_ptr<Backend> backend = makeMethodBackend(variant.method, world, o.device);
         backend->setParticles(initial.particles);
-        Row row{method, particles, cellsPerParticle, timeSteps(*backend, report.plan), {}};
+        Row row{variant, particles, double(g.cols) * g.rows / particles, timeSteps(*backend, report.plan), {}};
         backend.reset();  // free its memory before the next method allocates
         if (o.profile)
-            row.profile = profileMethod(method, world, initial.particles, o.device, row.timing.stepsPerSample);
-        std::cerr << "  " << method.name << ", N = " << particles << ": " << row.timing.secondsPerStep * 1e3
-                  << " ms/step\n";
+            row.profile = profileMethod(variant.method, world, initial.particles, o.device,
+                                        row.timing.stepsPerSample, row.timing.substepsPerStep);
+        std::cerr << "  " << variantLabel(variant) << ", N = " << particles << ": "
+                  << row.timing.secondsPerStep * 1e3 << " ms/step\n";
         report.rows.push_back(row);
         if (row.timing.secondsPerStep <= report.plan.budgetSeconds) {
-            kept.push_back(method);
+            kept.push_back(variant);
         } else if (largerFollow) {
-            report.dropped.push_back({method.name, particles, row.timing.secondsPerStep});
+            report.dropped.push_back({variant, particles, row.timing.secondsPerStep});
         }
     }
-    methods = kept;
+    variants = kept;
 }
 
 int listMethods() {
     std::cout << "methods (carom bench --methods NAME,...):\n";
     for (const Method& m : availableMethods()) std::cout << "  " << m.name << std::string(18 - m.name.size(), ' ')
                                                          << m.description << '\n';
+    std::cout << "collision schemes (--collisions NAME,...; default: both): simultaneous, pairwise; the naive "
+                 "methods run simultaneous only\n";
     std::cout << "default sizes (--sizes N,...):";
     for (std::uint32_t n : kDefaultSizes) std::cout << ' ' << n;
     std::cout << "\nquick sizes (--quick):";
@@ -129,6 +164,11 @@ int listMethods() {
 
 void addBenchOptions(CLI::App& command, BenchOptions& o) {
     command.add_option("--methods", o.methods, "Methods to compare, comma-separated (see --list; default: all)")
+        ->delimiter(',');
+    command.add_option("--collisions", o.collisions,
+                       "Collision schemes to measure each method under, comma-separated: simultaneous, pairwise "
+                       "(default: both; the naive methods run simultaneous only). The table gives pw/sim, a "
+                       "pairwise step's time over a simultaneous one's")
         ->delimiter(',');
     command.add_option("--sizes", o.sizes, "Particle counts N, comma-separated, e.g. 1e3,1e6,1.6e7 "
                                            "(default: 1e3 to 1.6e7)")
@@ -143,19 +183,22 @@ void addBenchOptions(CLI::App& command, BenchOptions& o) {
         ->check(CLI::Range(1, 1000));
     command.add_option("--budget-ms", o.budgetMs, "Drop a method for larger N once one step takes longer than this")
         ->capture_default_str();
-    command.add_option("--json", o.json, "Write the results as JSON to this file");
-    command.add_option("--csv", o.csv, "Write the results as CSV to this file");
-    command.add_option("--plot", o.plot, "Write an SVG plot of throughput against N to this file");
+    command.add_option("--json", o.json,
+                       "Write the results as JSON to this file: a result per method, scheme and N (its fields "
+                       "method, scheme, particles, ms_per_step, pairwise_over_simultaneous, ...)");
+    command.add_option("--csv", o.csv, "Write the results as CSV to this file: a row per method, scheme and N");
+    command.add_option("--plot", o.plot,
+                       "Write an SVG plot of throughput against N to this file: a line per method and scheme");
     command.add_flag("--profile", o.profile,
-                     "Also show where a step's time goes: device time per kernel (OpenCL), the serial grid "
-                     "build (cpu); from separate runs");
+                     "Also show where a step's time goes, under each scheme: device time per kernel and "
+                     "transfer (OpenCL; the pairwise kernels too), the serial grid build (cpu); from separate runs");
     command.add_flag("--quick", o.quick, "A short run for CI: N = 1000 and 4000, 3 short samples");
-    command.add_flag("--list", o.list, "List the methods and default sizes, then exit");
+    command.add_flag("--list", o.list, "List the methods, the collision schemes and the default sizes, then exit");
 }
 
 int benchCommand(const BenchOptions& o) {
     if (o.list) return listMethods();
-    std::vector<Method> methods = chosenMethods(o);
+    std::vector<Variant> variants = chosenVariants(o);
     const std::vector<std::uint32_t> sizes = chosenSizes(o);
     validate(sceneFor(o, sizes.front()));
     WorldDef unitBox;
@@ -185,11 +228,11 @@ int benchCommand(const BenchOptions& o) {
         o.quick ? kQuickBandwidthBytes
                 : std::clamp(std::size_t(sizes.back()) * 2 * sizeof(Particle), kMinBandwidthBytes, kMaxBandwidthBytes);
     report.bandwidth.hostCopy = measureHostCopy(bandwidthBytes, 5);
-    if (std::any_of(methods.begin(), methods.end(), [](const Method& m) { return m.opencl; }))
+    if (std::any_of(variants.begin(), variants.end(), [](const Variant& v) { return v.method.opencl; }))
         report.device = measureDeviceBandwidth(o.device, bandwidthBytes, 5, report.bandwidth);
 
-    for (std::size_t k = 0; k < sizes.size() && !methods.empty(); ++k)
-        benchOneSize(o, sizes[k], k + 1 < sizes.size(), methods, report);
+    for (std::size_t k = 0; k < sizes.size() && !variants.empty(); ++k)
+        benchOneSize(o, sizes[k], k + 1 < sizes.size(), variants, report);
 
     printTable(std::cout, report);
     if (json) {

@@ -35,6 +35,7 @@ int devicesCommand();
 
 struct BenchOptions {
     std::vector<std::string> methods;  // empty = every method this build has
+    std::vector<std::string> collisions;  // scheme names; empty = both (each method under those it runs)
     std::vector<std::string> sizes;    // N as written ("1e6"); empty = the default sweep
     float packing = 0.5f;
     float radius = 1.0f;
@@ -45,7 +46,7 @@ struct BenchOptions {
     int samples = 0;     // 0 = the default (7, or 3 with --quick)
     double budgetMs = 1000;
     std::string json, csv, plot;  // output files; empty = none
-    bool profile = false;  // also a per-kernel profile of the OpenCL methods
+    bool profile = false;  // also where a step's time goes (per kernel for the OpenCL methods)
     bool quick = false;
     bool list = false;
 };

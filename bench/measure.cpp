@@ -66,6 +66,8 @@ Timing timeSteps(Backend& backend, const TimingPlan& plan) {
         timing.sampleSecondsPerStep.push_back(timedSteps(backend, timing.stepsPerSample) /
                                               double(timing.stepsPerSample));
     timing.secondsPerStep = median(timing.sampleSecondsPerStep);
+    const ContactTotals& totals = backend.contacts();
+    timing.substepsPerStep = double(totals.substeps) / double(totals.steps);
     return timing;
 }
 

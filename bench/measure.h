@@ -25,6 +25,7 @@ struct Timing {
     std::vector<double> sampleSecondsPerStep;  // each sample's mean step time
     std::uint64_t stepsPerSample = 1;
     std::uint64_t warmupSteps = 0;
+    double substepsPerStep = 1;  // the mean over every step taken (Backend::step splits some)
 };
 
 // Warms the backend up, then times plan.samples samples of whole steps.

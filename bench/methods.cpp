@@ -15,6 +15,10 @@ namespace {
 constexpr double kStateBytes = 2.0 * sizeof(Particle);  // read + written
 constexpr double kIndexBytes = 2.0 * sizeof(std::uint32_t);
 constexpr double kCellBytes = 2.0 * sizeof(GridCell);
+// The pairwise scheme's forward search: a disk's state, sorted index and
+// cell read, its event written.
+constexpr double kForwardSearchBytes = sizeof(Particle) + 2.0 * sizeof(std::uint32_t) + sizeof(CaromEvent);
+constexpr double kCellOfBytes = sizeof(std::uint32_t);
 
 #ifdef CAROM_HAVE_OPENCL
 Pipeline pipelineOf(const Method& method) {
@@ -24,31 +28,35 @@ Pipeline pipelineOf(const Method& method) {
 #endif
 
 // The serial part of the CPU backend's step: the shared grid builder, timed
-// alone on the scene's particles.
+// alone on the scene's particles, once per substep.
 std::map<std::string, double> profileHostGrid(const WorldDef& world, const std::vector<Particle>& particles,
-                                              std::uint64_t steps) {
+                                              std::uint64_t steps, double substepsPerStep) {
     float maxRadius = 0;
     for (const Particle& p : particles) maxRadius = std::max(maxRadius, p.radius);
     Grid grid;
-    grid.geometry = gridGeometryFor(world.width, world.height, maxRadius, particles.size());
+    grid.geometry = methodGridGeometry(world, maxRadius, particles.size());
     buildGrid(particles.data(), particles.size(), grid);  // allocates the vectors once, as a running backend has
     const auto start = std::chrono::steady_clock::now();
     for (std::uint64_t s = 0; s < steps; ++s) buildGrid(particles.data(), particles.size(), grid);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return {{"buildGrid (host, serial)", seconds / double(steps)}};
+    return {{"buildGrid (host, serial)", seconds / double(steps) * substepsPerStep}};
 }
 
 }  // namespace
 
 const std::vector<Method>& allMethods() {
     static const std::vector<Method> methods = {
-        {"naive-cpu", "all pairs O(N^2) on the CPU, OpenMP", false, true},
-        {"naive-opencl", "all pairs O(N^2) on the OpenCL device", true, true},
+        {"naive-cpu", "all pairs O(N^2) on the CPU, OpenMP; simultaneous scheme only", false, true},
+        {"naive-opencl", "all pairs O(N^2) on the OpenCL device; simultaneous scheme only", true, true},
         {"cpu", "CPU backend: shared grid builder, OpenMP step", false, false},
         {"opencl-seed", "OpenCL seed pipeline: host grid, state read back each step", true, false},
         {"opencl-resident", "OpenCL resident pipeline: grid and state stay on the device", true, false},
     };
     return methods;
+}
+
+bool runsScheme(const Method& method, CollisionScheme scheme) {
+    return scheme == CollisionScheme::Simultaneous || !method.allPairs;
 }
 
 std::vector<Method> availableMethods() {
@@ -70,6 +78,9 @@ Method findMethod(const std::string& name) {
 }
 
 std::unique_ptr<Backend> makeMethodBackend(const Method& method, const WorldDef& world, const std::string& device) {
+    if (!runsScheme(method, world.collisions))
+        throw Error("method " + method.name + " does not run the " + collisionSchemeName(world.collisions) +
+                    " scheme");
     if (!method.opencl) {
         if (method.allPairs) return std::make_unique<AllPairsCpuBackend>(world);
         return makeBackend(BackendDef{"cpu", "", "seed"}, world);
@@ -82,11 +93,17 @@ std::unique_ptr<Backend> makeMethodBackend(const Method& method, const WorldDef&
 #endif
 }
 
+GridGeometry methodGridGeometry(const WorldDef& world, float maxRadius, std::size_t particles) {
+    const float slack = world.collisions == CollisionScheme::Pairwise ? kPairwiseCellSlack * 2.0f * maxRadius : 0.0f;
+    return gridGeometryFor(world.width, world.height, maxRadius, particles, world.boundary, slack);
+}
+
 std::map<std::string, double> profileMethod(const Method& method, const WorldDef& world,
                                             const std::vector<Particle>& particles, const std::string& device,
-                                            std::uint64_t steps) {
+                                            std::uint64_t steps, double substepsPerStep) {
     if (!method.opencl)
-        return method.allPairs ? std::map<std::string, double>{} : profileHostGrid(world, particles, steps);
+        return method.allPairs ? std::map<std::string, double>{}
+                               : profileHostGrid(world, particles, steps, substepsPerStep);
 #ifdef CAROM_HAVE_OPENCL
     OpenClBackend backend(world, device, pipelineOf(method), true);
     backend.setParticles(particles);
@@ -95,25 +112,29 @@ std::map<std::string, double> profileMethod(const Method& method, const WorldDef
     for (auto& [name, seconds] : perStep) seconds /= double(steps);
     return perStep;
 #else
-    (void)world, (void)device;
+    (void)world, (void)device, (void)substepsPerStep;
     return {};
 #endif
 }
 
-Traffic trafficPerParticleStep(const Method& method, double cellsPerParticle) {
+Traffic trafficPerParticleStep(const Variant& variant, double cellsPerParticle) {
+    const Method& method = variant.method;
+    const bool pairwise = variant.scheme == CollisionScheme::Pairwise;
     const double grid = kIndexBytes + kCellBytes * cellsPerParticle;
+    const double search = pairwise ? kForwardSearchBytes : 0.0;
     Traffic t;
     if (method.allPairs) {
         (method.opencl ? t.device : t.host) = kStateBytes;
     } else if (!method.opencl) {
-        t.host = kStateBytes + grid;
+        t.host = kStateBytes + grid + search;
     } else if (method.name == "opencl-resident") {
-        t.device = kStateBytes + grid;
+        t.device = kStateBytes + grid + search;
     } else {  // seed: the host reads its copy and writes the grid; the device reads the grid once
-        t.host = kStateBytes / 2 + grid / 2;
-        t.upload = grid / 2;
+        const double cellOf = pairwise ? kCellOfBytes : 0.0;
+        t.host = kStateBytes / 2 + grid / 2 + cellOf;
+        t.upload = grid / 2 + cellOf;
         t.download = kStateBytes / 2;
-        t.device = kStateBytes + grid / 2;
+        t.device = kStateBytes + grid / 2 + search;
     }
     return t;
 }

@@ -1,6 +1,7 @@
-// The methods `carom bench` compares, how to make each one's backend, and
-// the bytes each must move per particle-step: the model that turns a time
-// into a fraction of the memory-bandwidth floor.
+// The methods `carom bench` compares, each under the collision schemes it
+// runs, how to make each one's backend, and the bytes each must move per
+// particle-step: the model that turns a time into a fraction of the
+// memory-bandwidth floor.
 #pragma once
 
 #include <map>
@@ -16,7 +17,17 @@ struct Method {
     std::string name;
     std::string description;
     bool opencl = false;    // runs on the OpenCL device, else on the host CPU
-    bool allPairs = false;  // the naive O(N^2) baseline
+    bool allPairs = false;  // the naive O(N^2) baseline, simultaneous scheme only
+};
+
+// Whether `method` runs `scheme`: the naive baselines run the simultaneous
+// scheme only.
+bool runsScheme(const Method& method, CollisionScheme scheme);
+
+// A method under one collision scheme: what one line of the results measures.
+struct Variant {
+    Method method;
+    CollisionScheme scheme = CollisionScheme::Simultaneous;
 };
 
 // Every method, in the order of the table: the baselines first.
@@ -26,29 +37,41 @@ std::vector<Method> availableMethods();
 // The method called `name`; throws Error naming the value and the choices.
 Method findMethod(const std::string& name);
 
+// The backend of `method` under world.collisions; throws Error when the
+// method does not run that scheme.
 std::unique_ptr<Backend> makeMethodBackend(const Method& method, const WorldDef& world, const std::string& device);
 
-// Where a step's time goes, in seconds per step: for an OpenCL method each
-// kernel, transfer and host grid build, from `steps` steps of a separate run
-// with profiling on (so the timed runs carry no profiling overhead); for the
-// CPU backend its serial part, the grid build, timed alone; nothing for
-// the CPU all-pairs method.
+// The grid a backend builds for `particles` disks of at most `maxRadius` in
+// `world`, with the cells the scheme world.collisions needs (sized as
+// Backend::setParticles sizes them).
+GridGeometry methodGridGeometry(const WorldDef& world, float maxRadius, std::size_t particles);
+
+// Where a step's time goes, in seconds per step, under world.collisions: for
+// an OpenCL method each kernel, transfer and host grid build, from `steps`
+// steps of a separate run with profiling on (so the timed runs carry no
+// profiling overhead); for the CPU backend its serial part, the grid build
+// (one per substep: `substepsPerStep` of them), timed alone; nothing for the
+// CPU all-pairs method.
 std::map<std::string, double> profileMethod(const Method& method, const WorldDef& world,
                                             const std::vector<Particle>& particles, const std::string& device,
-                                            std::uint64_t steps);
+                                            std::uint64_t steps, double substepsPerStep);
 
 // Bytes a method must move per particle-step, by the memory they cross: the
 // state read and written once (2 x 32 B), the grid written and read once
 // (sortedIndices 2 x 4 B, cells 2 x 8 B per cell); neighbour reads are assumed
 // to hit in cache. The seed pipeline also builds the grid on the host from
 // its copy of the state and moves the grid up and the state down each step.
+// The pairwise scheme adds a pass, its forward search, which reads each
+// disk's state (32 B), sorted index and cell (2 x 4 B) and writes its event
+// (8 B); the seed pipeline also builds and uploads the cells (4 B). The
+// rounds touch only the few disks on their lists and are not counted.
 struct Traffic {
     double device = 0;    // the OpenCL device's memory
     double host = 0;      // host memory
     double upload = 0;    // host to device
     double download = 0;  // device to host
 };
-Traffic trafficPerParticleStep(const Method& method, double cellsPerParticle);
+Traffic trafficPerParticleStep(const Variant& variant, double cellsPerParticle);
 
 // Measured bandwidths in bytes per second; a copy counts the bytes read plus
 // the bytes written. Zero where not measured.

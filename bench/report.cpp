@@ -28,21 +28,47 @@ double fractionOfFloor(const Report& report, const Row& row) {
     return floorSecondsPerStep(report, row) / row.timing.secondsPerStep;
 }
 
+const Row* findRow(const Report& report, const std::string& method, CollisionScheme scheme, std::uint32_t particles) {
+    for (const Row& row : report.rows)
+        if (row.variant.method.name == method && row.variant.scheme == scheme && row.particles == particles)
+            return &row;
+    return nullptr;
+}
+
+// The parts of a profile, the slowest first.
+std::vector<std::pair<std::string, double>> slowestFirst(const std::map<std::string, double>& profile) {
+    std::vector<std::pair<std::string, double>> parts(profile.begin(), profile.end());
+    std::stable_sort(parts.begin(), parts.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+    return parts;
+}
+
 }  // namespace
+
+std::string variantLabel(const Variant& variant) {
+    return variant.scheme == CollisionScheme::Simultaneous ? variant.method.name
+                                                           : variant.method.name + ' ' +
+                                                                 collisionSchemeName(variant.scheme);
+}
 
 double particleStepsPerSecond(const Row& row) { return row.particles / row.timing.secondsPerStep; }
 
 std::optional<double> speedupOver(const Report& report, const Row& row, const std::string& method) {
-    for (const Row& other : report.rows)
-        if (other.method.name == method && other.particles == row.particles)
-            return other.timing.secondsPerStep / row.timing.secondsPerStep;
+    if (const Row* other = findRow(report, method, row.variant.scheme, row.particles))
+        return other->timing.secondsPerStep / row.timing.secondsPerStep;
+    return std::nullopt;
+}
+
+std::optional<double> pairwiseOverSimultaneous(const Report& report, const Row& row) {
+    if (row.variant.scheme != CollisionScheme::Pairwise) return std::nullopt;
+    if (const Row* other = findRow(report, row.variant.method.name, CollisionScheme::Simultaneous, row.particles))
+        return row.timing.secondsPerStep / other->timing.secondsPerStep;
     return std::nullopt;
 }
 
 std::string naiveCounterpart(const Method& method) { return method.opencl ? "naive-opencl" : "naive-cpu"; }
 
 double floorSecondsPerStep(const Report& report, const Row& row) {
-    const Traffic traffic = trafficPerParticleStep(row.method, row.cellsPerParticle);
+    const Traffic traffic = trafficPerParticleStep(row.variant, row.cellsPerParticle);
     return row.particles * floorSecondsPerParticleStep(traffic, report.bandwidth);
 }
 
@@ -59,34 +85,41 @@ void printTable(std::ostream& out, const Report& report) {
         << report.scene.speed << ", dt " << report.dt << "; median of " << report.plan.samples
         << " samples after warm-up\n\n";
     char line[200];
-    std::snprintf(line, sizeof line, "%-16s %10s %11s %16s %9s %9s %10s %9s\n", "method", "N", "ms/step",
-                  "particle-steps/s", "vs seed", "vs naive", "floor ms", "of floor");
+    std::snprintf(line, sizeof line, "%-16s %-12s %10s %11s %16s %7s %9s %9s %10s %9s\n", "method", "scheme", "N",
+                  "ms/step", "particle-steps/s", "pw/sim", "vs seed", "vs naive", "floor ms", "of floor");
     out << line;
     for (const Row& row : report.rows) {
+        const Method& method = row.variant.method;
         const double floorMs = floorSecondsPerStep(report, row) * 1e3;
-        std::snprintf(line, sizeof line, "%-16s %10u %11.4g %16.3g %9s %9s %10.3g %8.1f%%\n", row.method.name.c_str(),
-                      row.particles, row.timing.secondsPerStep * 1e3, particleStepsPerSecond(row),
+        std::snprintf(line, sizeof line, "%-16s %-12s %10u %11.4g %16.3g %7s %9s %9s %10.3g %8.1f%%\n",
+                      method.name.c_str(), collisionSchemeName(row.variant.scheme), row.particles,
+                      row.timing.secondsPerStep * 1e3, particleStepsPerSecond(row),
+                      optionalRatio(pairwiseOverSimultaneous(report, row)).c_str(),
                       optionalRatio(speedupOver(report, row, "opencl-seed")).c_str(),
-                      optionalRatio(speedupOver(report, row, naiveCounterpart(row.method))).c_str(), floorMs,
+                      optionalRatio(speedupOver(report, row, naiveCounterpart(method))).c_str(), floorMs,
                       100.0 * fractionOfFloor(report, row));
         out << line;
     }
+    out << "  pw/sim: a pairwise step's time over a simultaneous step's (same method and N); vs seed and vs naive "
+           "compare within a scheme\n";
     bool profiled = false;
     for (const Row& row : report.rows) {
         if (row.profile.empty()) continue;
-        if (!profiled) out << "\nprofile: time per step of each part, from a separate run\n";
+        if (!profiled) out << "\nprofile: time per step of each part, the slowest first, from a separate run\n";
         profiled = true;
         double sum = 0;
-        out << "  " << row.method.name << ", N = " << row.particles << ":";
-        for (const auto& [name, seconds] : row.profile) {
-            out << ' ' << name << ' ' << format("%.4g", seconds * 1e6) << " us,";
-            sum += seconds;
+        for (const auto& part : row.profile) sum += part.second;
+        out << "  " << row.variant.method.name << ", " << collisionSchemeName(row.variant.scheme)
+            << ", N = " << row.particles << ": parts sum to " << format("%.4g", sum * 1e6) << " us of "
+            << format("%.4g", row.timing.secondsPerStep * 1e6) << " us measured\n";
+        for (const auto& [name, seconds] : slowestFirst(row.profile)) {
+            std::snprintf(line, sizeof line, "    %11.4g us %5.1f%%  %s\n", seconds * 1e6,
+                          sum > 0 ? 100.0 * seconds / sum : 0.0, name.c_str());
+            out << line;
         }
-        out << " sum " << format("%.4g", sum * 1e6) << " us of " << format("%.4g", row.timing.secondsPerStep * 1e6)
-            << " us measured\n";
     }
     for (const Dropped& d : report.dropped)
-        out << "  " << d.method << ": dropped after N = " << d.particles << " (a step took "
+        out << "  " << variantLabel(d.variant) << ": dropped after N = " << d.particles << " (a step took "
             << format("%.3g", d.secondsPerStep * 1e3) << " ms, over the budget of "
             << format("%.3g", report.plan.budgetSeconds * 1e3) << " ms)\n";
 }
@@ -96,9 +129,10 @@ void writeJson(std::ostream& out, const Report& report) {
     const Bandwidth& b = report.bandwidth;
     json rows = json::array();
     for (const Row& row : report.rows) {
-        const Traffic t = trafficPerParticleStep(row.method, row.cellsPerParticle);
+        const Traffic t = trafficPerParticleStep(row.variant, row.cellsPerParticle);
         rows.push_back({
-            {"method", row.method.name},
+            {"method", row.variant.method.name},
+            {"scheme", collisionSchemeName(row.variant.scheme)},
             {"particles", row.particles},
             {"ms_per_step", row.timing.secondsPerStep * 1e3},
             {"sample_ms_per_step", [&] {
@@ -108,9 +142,11 @@ void writeJson(std::ostream& out, const Report& report) {
              }()},
             {"steps_per_sample", row.timing.stepsPerSample},
             {"warmup_steps", row.timing.warmupSteps},
+            {"substeps_per_step", row.timing.substepsPerStep},
             {"particle_steps_per_second", particleStepsPerSecond(row)},
+            {"pairwise_over_simultaneous", optionalJson(pairwiseOverSimultaneous(report, row))},
             {"speedup_vs_seed", optionalJson(speedupOver(report, row, "opencl-seed"))},
-            {"speedup_vs_naive", optionalJson(speedupOver(report, row, naiveCounterpart(row.method)))},
+            {"speedup_vs_naive", optionalJson(speedupOver(report, row, naiveCounterpart(row.variant.method)))},
             {"cells_per_particle", row.cellsPerParticle},
             {"bytes_per_particle_step",
              {{"device", t.device}, {"host", t.host}, {"upload", t.upload}, {"download", t.download}}},
@@ -125,8 +161,10 @@ void writeJson(std::ostream& out, const Report& report) {
     }
     json dropped = json::array();
     for (const Dropped& d : report.dropped)
-        dropped.push_back(
-            {{"method", d.method}, {"after_particles", d.particles}, {"ms_per_step", d.secondsPerStep * 1e3}});
+        dropped.push_back({{"method", d.variant.method.name},
+                           {"scheme", collisionSchemeName(d.variant.scheme)},
+                           {"after_particles", d.particles},
+                           {"ms_per_step", d.secondsPerStep * 1e3}});
     json device = nullptr;
     if (report.device)
         device = {{"name", report.device->name},
@@ -153,7 +191,9 @@ void writeJson(std::ostream& out, const Report& report) {
         {"traffic_model",
          "bytes per particle-step: state read and written once (2 x 32), sortedIndices written and read once "
          "(2 x 4), cells written and read once (2 x 8 per cell); neighbour reads hit in cache. Seed: the host "
-         "reads its state copy and writes the grid, uploads the grid, downloads the state. All pairs: the state only."},
+         "reads its state copy and writes the grid, uploads the grid, downloads the state. All pairs: the state only. "
+         "Pairwise adds its forward search: state (32), sorted index and cell (2 x 4) read, event (8) written; the "
+         "seed pipeline also writes and uploads the cells (4); the rounds' lists are small and not counted."},
         {"results", rows},
         {"dropped", dropped},
     };
@@ -161,21 +201,25 @@ void writeJson(std::ostream& out, const Report& report) {
 }
 
 void writeCsv(std::ostream& out, const Report& report) {
+    // The scheme's columns come last, so the earlier columns keep their places.
     out << "method,particles,ms_per_step,particle_steps_per_second,speedup_vs_seed,speedup_vs_naive,"
-           "floor_ms_per_step,fraction_of_floor,samples,steps_per_sample\n";
+           "floor_ms_per_step,fraction_of_floor,samples,steps_per_sample,scheme,pairwise_over_simultaneous\n";
     const auto optional = [](std::optional<double> v) { return v ? format("%.6g", *v) : std::string(); };
     for (const Row& row : report.rows)
-        out << row.method.name << ',' << row.particles << ',' << format("%.6g", row.timing.secondsPerStep * 1e3)
-            << ',' << format("%.6g", particleStepsPerSecond(row)) << ','
-            << optional(speedupOver(report, row, "opencl-seed")) << ','
-            << optional(speedupOver(report, row, naiveCounterpart(row.method))) << ','
+        out << row.variant.method.name << ',' << row.particles << ','
+            << format("%.6g", row.timing.secondsPerStep * 1e3) << ',' << format("%.6g", particleStepsPerSecond(row))
+            << ',' << optional(speedupOver(report, row, "opencl-seed")) << ','
+            << optional(speedupOver(report, row, naiveCounterpart(row.variant.method))) << ','
             << format("%.6g", floorSecondsPerStep(report, row) * 1e3) << ','
             << format("%.6g", fractionOfFloor(report, row)) << ',' << row.timing.sampleSecondsPerStep.size() << ','
-            << row.timing.stepsPerSample << '\n';
+            << row.timing.stepsPerSample << ',' << collisionSchemeName(row.variant.scheme) << ','
+            << optional(pairwiseOverSimultaneous(report, row)) << '\n';
 }
 
-// Log-log axes: N across, particle-steps/s up, one line per method, and the
-// bandwidth floor of the grid methods as dashed lines.
+// Log-log axes: N across, particle-steps/s up, one line per method and
+// scheme (pairwise dotted), and the bandwidth floor of the grid methods under
+// the simultaneous scheme as dashed lines (the table and JSON have the
+// pairwise floors).
 void writeSvgPlot(std::ostream& out, const Report& report) {
     const double width = 860, height = 540, left = 90, right = 230, top = 50, bottom = 60;
     const double plotW = width - left - right, plotH = height - top - bottom;
@@ -193,7 +237,8 @@ void writeSvgPlot(std::ostream& out, const Report& report) {
     std::map<std::string, double> floors;
     for (const Row& row : report.rows) {
         const double seconds = floorSecondsPerStep(report, row);
-        if (!row.method.allPairs && seconds > 0) floors[row.method.name] = row.particles / seconds;
+        if (!row.variant.method.allPairs && row.variant.scheme == CollisionScheme::Simultaneous && seconds > 0)
+            floors[row.variant.method.name] = row.particles / seconds;
     }
     double minN = INFINITY, maxN = 0, minY = INFINITY, maxY = 0;
     for (const Row& row : report.rows) {
@@ -227,18 +272,22 @@ void writeSvgPlot(std::ostream& out, const Report& report) {
 
     double legendY = top + 10;
     for (const Method& method : allMethods()) {
-        std::string points;
-        for (const Row& row : report.rows)
-            if (row.method.name == method.name)
-                points += format("%.1f,", px(row.particles)) + format("%.1f ", py(particleStepsPerSecond(row)));
-        if (points.empty()) continue;
-        const std::string& colour = colours.at(method.name);
-        out << "<polyline fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"2\" points=\"" << points
-            << "\"/>\n<text x=\"" << left + plotW + 12 << "\" y=\"" << legendY << "\" fill=\"" << colour << "\">"
-            << method.name << "</text>\n";
-        legendY += 20;
+        for (const CollisionScheme scheme : {CollisionScheme::Simultaneous, CollisionScheme::Pairwise}) {
+            std::string points;
+            for (const Row& row : report.rows)
+                if (row.variant.method.name == method.name && row.variant.scheme == scheme)
+                    points += format("%.1f,", px(row.particles)) + format("%.1f ", py(particleStepsPerSecond(row)));
+            if (points.empty()) continue;
+            const std::string& colour = colours.at(method.name);
+            out << "<polyline fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"2\""
+                << (scheme == CollisionScheme::Pairwise ? " stroke-dasharray=\"2,3\"" : "") << " points=\""
+                << points << "\"/>\n<text x=\"" << left + plotW + 12 << "\" y=\"" << legendY << "\" fill=\""
+                << colour << "\">" << variantLabel({method, scheme}) << "</text>\n";
+            legendY += 20;
+        }
         const auto floor = floors.find(method.name);
         if (floor == floors.end() || method.name == "opencl-seed") continue;
+        const std::string& colour = colours.at(method.name);
         out << "<line x1=\"" << left << "\" y1=\"" << py(floor->second) << "\" x2=\"" << left + plotW << "\" y2=\""
             << py(floor->second) << "\" stroke=\"" << colour << "\" stroke-dasharray=\"6,4\"/>\n<text x=\""
             << left + plotW + 12 << "\" y=\"" << legendY << "\" fill=\"" << colour << "\">" << method.name

@@ -16,17 +16,17 @@
 namespace carom::bench {
 
 struct Row {
-    Method method;
+    Variant variant;
     std::uint32_t particles = 0;
-    double cellsPerParticle = 0;  // of the grid the scene gets (gridGeometryFor)
+    double cellsPerParticle = 0;  // of the grid the scene gets under the scheme (methodGridGeometry)
     Timing timing;
     std::map<std::string, double> profile;  // with --profile: seconds per step by part (profileMethod)
 };
 
-// A method left out of the larger N, because its step at `particles` took
-// longer than the budget.
+// A method under a scheme left out of the larger N, because its step at
+// `particles` took longer than the budget.
 struct Dropped {
-    std::string method;
+    Variant variant;
     std::uint32_t particles = 0;
     double secondsPerStep = 0;
 };
@@ -45,9 +45,16 @@ struct Report {
     std::vector<Dropped> dropped;
 };
 
+// "cpu" for the simultaneous scheme, "cpu pairwise" for the pairwise one.
+std::string variantLabel(const Variant& variant);
+
 double particleStepsPerSecond(const Row& row);
-// Time per step of `method` over this row's at the same N, when measured.
+// Time per step of `method` under the row's scheme over this row's at the
+// same N, when measured.
 std::optional<double> speedupOver(const Report& report, const Row& row, const std::string& method);
+// For a pairwise row: its time per step over the same method's under the
+// simultaneous scheme at the same N, when measured.
+std::optional<double> pairwiseOverSimultaneous(const Report& report, const Row& row);
 // The naive method on the same hardware as the row's method.
 std::string naiveCounterpart(const Method& method);
 double floorSecondsPerStep(const Report& report, const Row& row);

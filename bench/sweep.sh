@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The sweeps behind bench/results/: builds carom (Release), checks on the
-# device that the OpenCL pipelines give the CPU backend's results bit for bit,
-# then runs the full `carom bench` sweep with a per-kernel profile.
+# device that the OpenCL pipelines give the CPU backend's results bit for bit
+# (both collision schemes), then runs the full `carom bench` sweep, every
+# method under each scheme it runs, with a per-kernel profile.
 #   bench/sweep.sh NAME OUTDIR [carom bench options, e.g. --device NVIDIA]
 # writes OUTDIR/NAME.json, NAME.csv, NAME.svg and NAME.txt (the table).
 # CAROM_TEST_DEVICE picks the device of the checks (as --device does);

@@ -4,7 +4,17 @@
 # values are refused (and leave no output file behind: ${out} is the JSON).
 set(bench "bench|--json|${out}")
 carom_cli_test(bench_list pass "naive-cpu +all pairs" "bench|--list")
-carom_cli_test(bench_small pass "cpu +100 .*naive-cpu +200 " "bench|--methods|cpu,naive-cpu|--sizes|200,1e2|--samples|1")
+carom_cli_test(bench_small pass "cpu +simultaneous +100 .*naive-cpu +simultaneous +200 "
+               "bench|--methods|cpu,naive-cpu|--sizes|200,1e2|--samples|1")
+# --quick measures both schemes by default: each grid method's pairwise row, with its pw/sim ratio, follows its
+# simultaneous one; the naive methods run simultaneous only (cli.bench_outputs counts the rows).
+carom_cli_test(bench_schemes pass
+               "naive-cpu +simultaneous +1000 .*cpu +simultaneous +1000 .*cpu +pairwise +1000 +[0-9.e+-]+ +[0-9.e+-]+ +[0-9.]+x .*cpu +pairwise +4000 "
+               "bench|--methods|cpu,naive-cpu|--quick")
+carom_cli_test(bench_collisions_unknown fail "--collisions: unknown collision scheme 'sideways'; allowed: pairwise, simultaneous"
+               "${bench}|--collisions|sideways")
+carom_cli_test(bench_pairwise_naive_only fail "--collisions pairwise: none of the methods chosen runs the pairwise scheme"
+               "${bench}|--methods|naive-cpu|--collisions|pairwise")
 carom_cli_test(bench_size_zero fail "--sizes: '0' is not a number of particles" "${bench}|--sizes|0")
 carom_cli_test(bench_size_fraction fail "--sizes: '1.5' is not a number of particles" "${bench}|--sizes|1.5")
 carom_cli_test(bench_size_text fail "--sizes: 'many' is not a number of particles" "${bench}|--sizes|many")
@@ -19,10 +29,21 @@ carom_cli_test(bench_unwritable_json fail "cannot write '/nonexistent-dir/bench.
 add_test(NAME cli.bench_outputs
          COMMAND ${CMAKE_COMMAND} -DCAROM=$<TARGET_FILE:carom> -DWORK_DIR=${CMAKE_CURRENT_BINARY_DIR}
                  -P ${CMAKE_CURRENT_SOURCE_DIR}/cli_bench_outputs.cmake)
+# --profile under the pairwise scheme: the parts each method's profile must show.
+function(carom_bench_profile_test name methods parts)
+    add_test(NAME cli.bench_profile_${name}
+             COMMAND ${CMAKE_COMMAND} -DCAROM=$<TARGET_FILE:carom> -DJSON=${CMAKE_CURRENT_BINARY_DIR}/bench-profile-${name}.json
+                     -DMETHODS=${methods} "-DPARTS=${parts}" -P ${CMAKE_CURRENT_SOURCE_DIR}/cli_bench_profile.cmake)
+endfunction()
+carom_bench_profile_test(cpu_pairwise cpu "buildGrid (host, serial)")
 if(OpenCL_FOUND)
     carom_cli_test(run_resident pass "\"backend\": \"opencl\""
                    "run|--backend|opencl|--pipeline|resident|--particles|100|--steps|10|--json")
     carom_cli_test(pipeline_unknown fail "--pipeline: fast not in \\{seed,resident\\}" "${run}|--pipeline|fast")
     carom_cli_test(pipeline_resident_on_cpu fail "--pipeline resident needs --backend opencl"
                    "${run}|--pipeline|resident")
+    carom_bench_profile_test(seed_pairwise opencl-seed
+        "buildGrid (host)|upload grid|findEventsForward|resolveEvents|finishStepById|read list lengths|download state")
+    carom_bench_profile_test(resident_pairwise opencl-resident
+        "scanCountsIntoCells|scatterToCells|sortCellSegments|findEventsForward|resolveEvents|finishPairwiseAndCount|read list lengths")
 endif()

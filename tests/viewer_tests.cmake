@@ -17,6 +17,13 @@ add_test(NAME view.screenshot
 add_test(NAME view.record
          COMMAND ${CMAKE_COMMAND} -DCAROM=$<TARGET_FILE:carom> -DOUT_DIR=${view_out}/record
                  "-DARGS=${view_scene}|--frames|5|--record|frames" -P ${CMAKE_CURRENT_SOURCE_DIR}/run_viewer.cmake)
+# The panels drawn under gravity with the pairwise scheme: the viewer runs the scheme asked for, and the total
+# energy (kinetic plus potential) it reports drifts by less than 1e-4 relative over the 80 steps.
+add_test(NAME view.pairwise_gravity
+         COMMAND ${CMAKE_COMMAND} -DCAROM=$<TARGET_FILE:carom> -DOUT_DIR=${view_out}/pairwise
+                 "-DARGS=view|--backend|cpu|--particles|300|--gravity|0|-1|--collisions|pairwise|--window|400|300|--frames|20"
+                 "-DOUTPUT_REGEX=pairwise collisions, total energy drift [+-][0-9.]+e-(0[5-9]|[1-9][0-9]) over 0.8 time units"
+                 -P ${CMAKE_CURRENT_SOURCE_DIR}/run_viewer.cmake)
 set_tests_properties(view.screenshot PROPERTIES FIXTURES_SETUP view_screenshot)
 set_tests_properties(view.record PROPERTIES FIXTURES_SETUP view_record)
 add_test(NAME view.check_screenshot COMMAND carom_view_check -tc=screenshot*)

@@ -1,5 +1,6 @@
-// The Dear ImGui panels of the viewer: scene, simulation, live readouts and
-// the speed distribution against Maxwell-Boltzmann.
+// The Dear ImGui panels of the viewer: scene, simulation, live readouts (the
+// energies with the total's drift, momentum) and the speed distribution
+// against Maxwell-Boltzmann.
 #include <imgui.h>
 
 #include <algorithm>
@@ -10,6 +11,15 @@
 
 namespace carom::viewer {
 namespace {
+
+// A dark rectangle the width of the panel and `height` high at the cursor,
+// for drawing into; returns its top-left corner. ImGui::Dummy(size) ends it.
+ImVec2 canvas(ImVec2 size) {
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    ImGui::GetWindowDrawList()->AddRectFilled(origin, ImVec2(origin.x + size.x, origin.y + size.y),
+                                              IM_COL32(30, 30, 36, 255));
+    return origin;
+}
 
 // The speed histogram as a probability density, with the 2D Maxwell-Boltzmann
 // (Rayleigh) density for the current temperature drawn over it.
@@ -32,9 +42,8 @@ void speedHistogram(const std::vector<Particle>& particles, double kineticEnergy
                                  rayleigh(std::sqrt(kT / meanMass)));
 
     const ImVec2 size(ImGui::GetContentRegionAvail().x, 120);
-    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    const ImVec2 origin = canvas(size);
     ImDrawList* draw = ImGui::GetWindowDrawList();
-    draw->AddRectFilled(origin, ImVec2(origin.x + size.x, origin.y + size.y), IM_COL32(30, 30, 36, 255));
     auto toScreen = [&](double v, double f) {
         return ImVec2(origin.x + float(v / vmax) * size.x, origin.y + size.y - float(f / (1.1 * peak)) * size.y);
     };
@@ -46,6 +55,44 @@ void speedHistogram(const std::vector<Particle>& particles, double kineticEnergy
     draw->AddPolyline(curve.data(), int(curve.size()), IM_COL32(250, 200, 60, 255), 0, 2.0f);
     ImGui::Dummy(size);
     ImGui::TextDisabled("bars: speeds; curve: Rayleigh for kT = %.4g, m = %.3g", kT, meanMass);
+}
+
+// The kinetic energy over the last frames and, with gravity, the potential
+// and total energies (white), on one scale that includes 0.
+void energyPlot(const std::deque<EnergySample>& history, bool gravity) {
+    constexpr ImU32 kKinetic = IM_COL32(90, 150, 220, 255), kPotential = IM_COL32(120, 200, 120, 255),
+                    kTotal = IM_COL32(240, 240, 240, 255);
+    const auto total = [](const EnergySample& e) { return e.kinetic + e.potential; };
+    float lo = 0, hi = 0;
+    for (const EnergySample& e : history)
+        for (const float value : {e.kinetic, gravity ? e.potential : 0.0f, gravity ? total(e) : 0.0f}) {
+            lo = std::min(lo, value);
+            hi = std::max(hi, value);
+        }
+    const float margin = hi > lo ? 0.05f * (hi - lo) : 1.0f;  // keeps the lines off the edges
+    lo -= margin;
+    hi += margin;
+    const ImVec2 size(ImGui::GetContentRegionAvail().x, 70);
+    const ImVec2 origin = canvas(size);
+    const auto line = [&](ImU32 colour, auto&& value) {
+        std::vector<ImVec2> points;
+        for (std::size_t k = 0; k < history.size(); ++k)
+            points.push_back(ImVec2(origin.x + size.x * float(k) / float(std::max<std::size_t>(1, history.size() - 1)),
+                                    origin.y + size.y * (1 - (value(history[k]) - lo) / (hi - lo))));
+        ImGui::GetWindowDrawList()->AddPolyline(points.data(), int(points.size()), colour, 0, 1.5f);
+    };
+    line(kKinetic, [](const EnergySample& e) { return e.kinetic; });
+    if (gravity) {
+        line(kPotential, [](const EnergySample& e) { return e.potential; });
+        line(kTotal, total);
+    }
+    ImGui::Dummy(size);
+    const EnergySample last = history.empty() ? EnergySample{} : history.back();
+    ImGui::TextColored(ImColor(kKinetic), "kinetic %.6g", last.kinetic);
+    if (gravity) {
+        ImGui::SameLine();
+        ImGui::TextColored(ImColor(kPotential), "potential %.6g", last.potential);
+    }
 }
 
 void plot(const char* label, const std::deque<float>& history) {
@@ -76,6 +123,7 @@ void Viewer::drawPanels() {
 
     if (ImGui::CollapsingHeader("Simulation", ImGuiTreeNodeFlags_DefaultOpen)) {
         ImGui::TextWrapped("%s on %s", backend_->name().c_str(), backend_->device().c_str());
+        ImGui::Text("collisions: %s (--collisions)", collisionSchemeName(backend_->world().collisions));
         float dt = dt_;
         if (ImGui::InputFloat("dt", &dt, 0, 0, "%.5f") && dt > 0 && std::isfinite(dt)) {
             dt_ = dt;
@@ -94,11 +142,15 @@ void Viewer::drawPanels() {
         ImGui::Text("%zu disks, %.0f frames/s, %.3f ms per step", particles_.size(), ImGui::GetIO().Framerate,
                     simMsPerStep_);
         ImGui::Text("collisions per second: %.0f", collisionsPerSecond_);
-        ImGui::Text("kinetic energy %.6g", kineticEnergy_);
-        plot("##energy", energyHistory_);
-        ImGui::Text("momentum (%.4g, %.4g)", momentum_[0], momentum_[1]);
+        energyPlot(energyHistory_, gravityOn_);
+        ImGui::Text("total energy %.6g, drift %+.2e", diagnostics_.totalEnergy(), relativeEnergyDrift());
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextDisabled("drift: the relative change over the last %.4g time units, since the scene, a grab, a "
+                            "burst or gravity last changed the energy", driftTime_);
+        ImGui::PopTextWrapPos();
+        ImGui::Text("momentum (%.4g, %.4g)", diagnostics_.momentum[0], diagnostics_.momentum[1]);
         plot("##momentum", momentumHistory_);
-        speedHistogram(particles_, kineticEnergy_);
+        speedHistogram(particles_, diagnostics_.kineticEnergy);
     }
     if (!message_.empty()) ImGui::TextColored(ImVec4(1, 0.7f, 0.3f, 1), "%s", message_.c_str());
     ImGui::End();

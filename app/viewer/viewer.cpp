@@ -148,6 +148,7 @@ void Viewer::start(app::Setup setup) {
     backend_->setParticles(particles_);
     energyHistory_.clear();
     momentumHistory_.clear();
+    restartEnergyDrift();
     SDL_GL_GetDrawableSize(window_, &drawableWidth_, &drawableHeight_);
     int windowWidth = 0, windowHeight = 0;
     SDL_GetWindowSize(window_, &windowWidth, &windowHeight);
@@ -158,6 +159,16 @@ void Viewer::start(app::Setup setup) {
 void Viewer::upload() {
     collisionsBeforeUpload_ += backend_->collisions();
     backend_->setParticles(particles_);
+    restartEnergyDrift();
+}
+
+void Viewer::restartEnergyDrift() {
+    energyAtDriftStart_ = measure(particles_, backend_->world()).totalEnergy();
+    driftTime_ = 0.0;
+}
+
+double Viewer::relativeEnergyDrift() const {
+    return (diagnostics_.totalEnergy() - energyAtDriftStart_) / std::abs(energyAtDriftStart_);
 }
 
 void Viewer::reset() {
@@ -185,6 +196,7 @@ void Viewer::applyScene(const SceneDef& scene) {
 void Viewer::setGravity(bool on) {
     gravityOn_ = on;
     backend_->setMotion(dt_, on ? gravity_ : float2{0, 0});
+    restartEnergyDrift();
 }
 
 double Viewer::simulatedSecondsPerSecond() const {
@@ -324,20 +336,15 @@ void Viewer::advance(int ticks) {
         const auto start = Clock::now();
         backend_->step(steps);
         simMsPerStep_ = secondsSince(start) * 1e3 / steps;
+        driftTime_ += double(steps) * dt_;
     }
     backend_->readParticles(particles_);
 }
 
 void Viewer::updateReadouts(double realSeconds) {
-    kineticEnergy_ = 0;
-    momentum_[0] = momentum_[1] = 0;
-    for (const Particle& p : particles_) {
-        kineticEnergy_ += 0.5 * p.mass * (double(p.velocity.x) * p.velocity.x + double(p.velocity.y) * p.velocity.y);
-        momentum_[0] += p.mass * double(p.velocity.x);
-        momentum_[1] += p.mass * double(p.velocity.y);
-    }
-    energyHistory_.push_back(float(kineticEnergy_));
-    momentumHistory_.push_back(float(std::hypot(momentum_[0], momentum_[1])));
+    diagnostics_ = measure(particles_, backend_->world());
+    energyHistory_.push_back({float(diagnostics_.kineticEnergy), float(diagnostics_.potentialEnergy)});
+    momentumHistory_.push_back(float(std::hypot(diagnostics_.momentum[0], diagnostics_.momentum[1])));
     if (energyHistory_.size() > kHistoryLength) energyHistory_.pop_front();
     if (momentumHistory_.size() > kHistoryLength) momentumHistory_.pop_front();
 
@@ -392,7 +399,10 @@ void Viewer::render() {
 void Viewer::saveScreenshot(const std::string& path) { writeFramePng(path, drawableWidth_, drawableHeight_); }
 
 int Viewer::run() {
-    if (!headless_) std::printf("carom view: %zu disks on %s\n%s", particles_.size(), backend_->device().c_str(), kControls);
+    const char* scheme = collisionSchemeName(backend_->world().collisions);
+    if (!headless_)
+        std::printf("carom view: %zu disks on %s, %s collisions\n%s", particles_.size(), backend_->device().c_str(),
+                    scheme, kControls);
     std::vector<double> frameMs, simulationMs, drawingMs;
     auto last = Clock::now();
     for (std::uint64_t frame = 0; running_ && (!headless_ || frame < options_.frames); ++frame) {
@@ -428,9 +438,10 @@ int Viewer::run() {
         drawingMs.push_back(frameMs.back() - simulationMs.back());
     }
     if (headless_)
-        std::printf("carom view: %llu frames of %zu disks, median frame %.2f ms (simulation %.2f ms, drawing %.2f ms)\n",
-                    static_cast<unsigned long long>(options_.frames), particles_.size(), median(frameMs),
-                    median(simulationMs), median(drawingMs));
+        std::printf("carom view: %llu frames of %zu disks, %s collisions, total energy drift %+.3g over %.4g time "
+                    "units; median frame %.2f ms (simulation %.2f ms, drawing %.2f ms)\n",
+                    static_cast<unsigned long long>(options_.frames), particles_.size(), scheme,
+                    relativeEnergyDrift(), driftTime_, median(frameMs), median(simulationMs), median(drawingMs));
     return 0;
 }
 

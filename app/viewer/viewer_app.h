@@ -6,8 +6,13 @@
 #include <deque>
 
 #include "app/viewer/viewer.h"
+#include "engine/diagnostics.h"
 
 namespace carom::viewer {
+
+struct EnergySample {
+    float kinetic = 0, potential = 0;
+};
 
 class Viewer {
 public:
@@ -43,9 +48,14 @@ private:
     void spawnBurst(Vec2 world);
     void grabNearest(Vec2 world);
     void upload();  // sends particles_ to the backend, keeping the collision count
+    // The energy changed from outside (a new state, gravity): the total's
+    // drift is measured from particles_ as they are now.
+    void restartEnergyDrift();
     void saveScreenshot(const std::string& path);
     Vec2 cursorPixel() const;
     double simulatedSecondsPerSecond() const;
+    // (E - E0) / |E0| of the total energy since restartEnergyDrift.
+    double relativeEnergyDrift() const;
 
     ViewOptions options_;
     app::Setup initial_;  // what R resets to
@@ -83,9 +93,11 @@ private:
     double secondsSinceReadout_ = 0.0;
     double collisionsPerSecond_ = 0.0;
     double simMsPerStep_ = 0.0;
-    double kineticEnergy_ = 0.0;
-    double momentum_[2] = {0, 0};
-    std::deque<float> energyHistory_, momentumHistory_;
+    Diagnostics diagnostics_;           // of particles_, once per frame
+    double energyAtDriftStart_ = 0.0;   // total energy when the drift started being measured
+    double driftTime_ = 0.0;            // simulated time since then
+    std::deque<EnergySample> energyHistory_;
+    std::deque<float> momentumHistory_;
     std::string message_;  // the last error or notice, shown in the panels
 };
 

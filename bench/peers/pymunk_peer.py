@@ -7,8 +7,8 @@ very particles `carom run` starts from (same N, packing, radius, speed, seed),
 puts them in a box of four static walls, makes the contacts elastic and
 frictionless, and times space.step(dt): the median ms per step over several
 samples after a warm-up, as particle-steps per second. With --carom-bench it
-also runs `carom bench --methods cpu` on the same scene, in the same run, and
-prints the ratio.
+also runs `carom bench --methods cpu` on the same scene (under --collisions,
+the simultaneous scheme unless given), in the same run, and prints the ratio.
 
 Chipmunk is an iterative impulse solver with its own contact model, so its
 trajectories differ from carom's: this compares the cost of a step of the
@@ -88,7 +88,8 @@ def carom_cpu_bench(args, workdir):
     results = os.path.join(workdir, "carom.json")
     command = [args.carom, "bench", "--methods", "cpu", "--sizes", str(args.particles), "--packing",
                str(args.packing), "--radius", str(args.radius), "--speed", str(args.speed), "--seed",
-               str(args.seed), "--dt", str(args.dt), "--samples", str(args.samples), "--json", results]
+               str(args.seed), "--dt", str(args.dt), "--samples", str(args.samples), "--collisions",
+               args.collisions, "--json", results]
     run = subprocess.run(command, capture_output=True, text=True)
     if run.returncode != 0:
         sys.exit(f"pymunk_peer: {' '.join(command)} failed:\n{run.stderr}")
@@ -111,6 +112,8 @@ def main():
     parser.add_argument("--sample-seconds", type=positive(float), default=1.0)
     parser.add_argument("--carom-bench", action="store_true",
                         help="also time carom's CPU backend on the same scene and print the ratio")
+    parser.add_argument("--collisions", choices=["simultaneous", "pairwise"], default="simultaneous",
+                        help="carom's collision scheme for --carom-bench")
     parser.add_argument("--json", help="write the result as JSON to this file")
     args = parser.parse_args()
 
@@ -142,7 +145,7 @@ def main():
     if carom:
         result["carom_cpu"] = carom
         result["carom_cpu_over_pymunk"] = carom["particle_steps_per_second"] / result["particle_steps_per_second"]
-        print(f"carom cpu, N = {args.particles}: {carom['ms_per_step']:.4g} ms/step, "
+        print(f"carom cpu ({carom['scheme']}), N = {args.particles}: {carom['ms_per_step']:.4g} ms/step, "
               f"{carom['particle_steps_per_second']:.3g} particle-steps/s: "
               f"{result['carom_cpu_over_pymunk']:.1f}x pymunk")
     if args.json:
