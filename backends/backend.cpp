@@ -64,6 +64,7 @@ void Backend::step(std::uint64_t steps) {
             advanceCounted(batch, dt);
             done += batch;
         }
+        awaitSteps();
         totals_.steps += steps;
         totals_.time += double(dt) * double(steps);
         return;
@@ -95,6 +96,7 @@ void Backend::step(std::uint64_t steps) {
         totals_.time += dt;
         ++totals_.steps;
     }
+    awaitSteps();
 }
 
 void Backend::recordRounds(unsigned int rounds) { totals_.maxRounds = std::max(totals_.maxRounds, rounds); }

@@ -80,6 +80,9 @@ protected:
     virtual void advance(std::uint64_t substeps, float dt) = 0;
     // The largest v.x^2 + v.y^2 of the current state.
     virtual float maxSpeedSquared() = 0;
+    // Waits until every step advance() enqueued has finished, for backends
+    // that do not wait in advance(); step() returns only after it.
+    virtual void awaitSteps() {}
     // Adds the per-particle tallies (kernels/particle.h ContactTally) to
     // `totals` in id order, in double, and zeroes them. Called often enough
     // that a float tally never sums more than kTallySubsteps substeps.

@@ -18,6 +18,11 @@ constexpr std::uint64_t kStepsPerSync = 64;
 // for the host to finish the reduction at once.
 constexpr std::size_t kReductionGroups = 256;
 
+// Work-groups of finishPairwiseAndCount per compute unit: enough to hide
+// memory latency; each work-item strides over several particles, so few
+// work-groups reduce the largest speed.
+constexpr std::size_t kFinishGroupsPerComputeUnit = 16;
+
 }  // namespace
 
 Pipeline parsePipeline(const std::string& name) {
@@ -106,8 +111,12 @@ void OpenClBackend::load(const std::vector<Particle>& particles) {
         if (pipeline_ == Pipeline::AllPairs) throw Error("the all-pairs pipeline runs the simultaneous scheme only");
         pairwise_ = DevicePairwise(context_.get(), device_, program_.get(), n, queue_.get(), profiler_.get());
         enqueueZero(queue_.get(), speedBits_.get(), 2 * sizeof(cl_uint), "largest speed squared");
+        finishItems_ = std::min((n + reductionGroupSize_ - 1) / reductionGroupSize_,
+                                std::max<std::size_t>(1, device_.computeUnits) * kFinishGroupsPerComputeUnit) *
+                       reductionGroupSize_;
     }
     speedKnown_ = false;
+    unconfirmed_ = false;
     finish();
     if (profiler_) profiler_->clear();  // the profile covers steps only
 }
@@ -146,6 +155,12 @@ void OpenClBackend::advance(std::uint64_t steps, float dt) {
         }
         if ((s + 1) % kStepsPerSync == 0) finish();
     }
+    // A resident pairwise step ends in a wait of its own (confirmStep).
+    if (!(pipeline_ == Pipeline::Resident && world_.collisions == CollisionScheme::Pairwise)) finish();
+}
+
+void OpenClBackend::awaitSteps() {
+    confirmStep();
     finish();
 }
 
@@ -198,8 +213,10 @@ void OpenClBackend::stepSeedPairwise(float dt) {
     cl_command_queue queue = queue_.get();
     const CaromPairwiseStep step = pairwiseStep(dt);
     uploadGrid();
-    recordRounds(pairwise_.resolveStep(queue, state_.get(), sortedIndices_.get(), sortedIndices_.get(),
-                                       cellOf_.get(), cells_.get(), tallies_.get(), step));
+    pairwise_.enqueueStep(queue, {state_.get(), sortedIndices_.get(), sortedIndices_.get(), cellOf_.get(),
+                                  cells_.get(), tallies_.get()},
+                          step);
+    recordRounds(pairwise_.complete(queue).rounds);
     setKernelArgs(finishByIdKernel_.get(), state_.get(), step, count, tallies_.get());
     enqueue1d(queue, finishByIdKernel_.get(), count, workGroupSize_, "finishStepById", profiler_.get());
     check(clEnqueueReadBuffer(queue, state_.get(), CL_TRUE, 0, count * sizeof(Particle), hostState_.data(), 0,
@@ -224,24 +241,45 @@ void OpenClBackend::stepResident(float dt) {
 
 // The rounds resolve the events in state_ (in the cell order of the step
 // before), then every disk finishes the step into slot k of next_, in this
-// step's cell order, counted into the next grid, as stepResident does.
+// step's cell order, counted into the next grid, as stepResident does. The
+// host does not wait: confirmStep, before anything reads the result, does
+// (one wait per step, which also reads the largest speed for the next one).
 void OpenClBackend::stepResidentPairwise(float dt) {
-    const cl_uint count = static_cast<cl_uint>(particleCount_);
+    confirmStep();
     const CaromPairwiseStep step = pairwiseStep(dt);
     deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get());
-    recordRounds(pairwise_.resolveStep(queue_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(),
-                                       deviceGrid_.cellOf(), deviceGrid_.cells(), tallies_.get(), step));
+    pairwise_.enqueueStep(queue_.get(), {state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), deviceGrid_.cellOf(),
+                                         deviceGrid_.cells(), tallies_.get()},
+                          step);
     speedParity_ = 1 - speedParity_;
+    enqueueResidentFinish(step);
+    check(clFlush(queue_.get()), "clFlush");
+    unconfirmed_ = true;
+    unconfirmedStep_ = step;
+}
+
+void OpenClBackend::enqueueResidentFinish(const CaromPairwiseStep& step) {
+    const cl_uint count = static_cast<cl_uint>(particleCount_);
     setKernelArgs(finishAndCountKernel_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), step, count,
                   next_.get(), tallies_.get(), deviceGrid_.nextCounts(), deviceGrid_.cellOf(),
                   deviceGrid_.rankInCell());
     setLocalArg(finishAndCountKernel_.get(), 10, reductionGroupSize_ * sizeof(cl_float));
-    const cl_mem speedBits = speedBits_.get();
-    const cl_uint parity = speedParity_;
+    const cl_mem speedBits = speedBits_.get(), lengths = pairwise_.lengths();
+    const cl_uint parity = speedParity_, condition = pairwise_.finishCondition();
     check(clSetKernelArg(finishAndCountKernel_.get(), 11, sizeof(cl_mem), &speedBits), "clSetKernelArg");
     check(clSetKernelArg(finishAndCountKernel_.get(), 12, sizeof(cl_uint), &parity), "clSetKernelArg");
-    enqueue1d(queue_.get(), finishAndCountKernel_.get(), count, reductionGroupSize_, "finishPairwiseAndCount",
+    check(clSetKernelArg(finishAndCountKernel_.get(), 13, sizeof(cl_mem), &lengths), "clSetKernelArg");
+    check(clSetKernelArg(finishAndCountKernel_.get(), 14, sizeof(cl_uint), &condition), "clSetKernelArg");
+    enqueue1d(queue_.get(), finishAndCountKernel_.get(), finishItems_, reductionGroupSize_, "finishPairwiseAndCount",
               profiler_.get());
+}
+
+void OpenClBackend::confirmStep() {
+    if (!unconfirmed_) return;
+    unconfirmed_ = false;
+    const DevicePairwise::Completion completion = pairwise_.complete(queue_.get());
+    if (completion.finishSkipped) enqueueResidentFinish(unconfirmedStep_);
+    recordRounds(completion.rounds);
     speedKnown_ = true;
     std::swap(state_, next_);
     std::swap(ids_, sortedIds_);
@@ -260,6 +298,7 @@ void OpenClBackend::stepAllPairs(float dt) {
 }
 
 void OpenClBackend::readParticles(std::vector<Particle>& particles) {
+    confirmStep();
     if (pipeline_ == Pipeline::Seed) {
         particles = hostState_;
         return;
@@ -285,6 +324,7 @@ void OpenClBackend::readParticles(std::vector<Particle>& particles) {
 
 float OpenClBackend::maxSpeedSquared() {
     if (pipeline_ == Pipeline::Seed) return maxSpeedSquaredOf(hostState_.data(), hostState_.size());
+    confirmStep();
     if (speedKnown_) {  // the pairwise resident step took it as it finished
         cl_float largest = 0.0f;
         check(clEnqueueReadBuffer(queue_.get(), speedBits_.get(), CL_TRUE, speedParity_ * sizeof(cl_uint),
@@ -309,6 +349,7 @@ float OpenClBackend::maxSpeedSquared() {
 }
 
 void OpenClBackend::drainTallies(ContactTotals& totals) {
+    confirmStep();
     std::vector<ContactTally> tallies(particleCount_);
     check(clEnqueueReadBuffer(queue_.get(), tallies_.get(), CL_TRUE, 0, tallies.size() * sizeof(ContactTally),
                               tallies.data(), 0, nullptr, nullptr),
@@ -319,6 +360,7 @@ void OpenClBackend::drainTallies(ContactTotals& totals) {
 
 Grid OpenClBackend::readDeviceGrid() {
     if (pipeline_ != Pipeline::Resident) throw Error("readDeviceGrid needs the resident pipeline");
+    confirmStep();
     deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get());
     return deviceGrid_.read(queue_.get(), sortedIds_.get());
 }

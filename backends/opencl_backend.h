@@ -56,12 +56,17 @@ private:
     void advance(std::uint64_t substeps, float dt) override;
     float maxSpeedSquared() override;
     void drainTallies(ContactTotals& totals) override;
+    void awaitSteps() override;
     void loadResident(std::size_t particleCount);
     void finish();  // waits for the queue; collects the profile
     void stepSeed(float dt);
     void stepResident(float dt);
     void stepSeedPairwise(float dt);
     void stepResidentPairwise(float dt);
+    void enqueueResidentFinish(const CaromPairwiseStep& step);
+    // Resident pairwise: waits for the last step's rounds (and runs the rest
+    // if its batch fell short), then makes its result the current state.
+    void confirmStep();
     void uploadGrid();  // seed: the host's grid of hostState_
     void stepAllPairs(float dt);
     cl_int periodic() const { return caromBoxOf(world_).periodic; }
@@ -94,6 +99,9 @@ private:
     opencl::Buffer speedBits_;         // pairwise, resident: the largest v^2 each step leaves (two words)
     unsigned int speedParity_ = 0;     // the word the last step wrote
     bool speedKnown_ = false;          // whether that word holds the current state's
+    bool unconfirmed_ = false;         // a resident pairwise step was enqueued and not yet confirmed
+    CaromPairwiseStep unconfirmedStep_{};  // and its parameters
+    std::size_t finishItems_ = 0;      // work-items of finishPairwiseAndCount, which stride over the particles
     opencl::DeviceGrid deviceGrid_;    // resident
     opencl::Buffer ids_;               // resident: the particle id in each slot of state_
     opencl::Buffer sortedIds_;         // resident: sortedIndices, then the ids of next_'s slots

@@ -12,8 +12,10 @@ namespace {
 // latency on a GPU; a list longer than all of them is strided over.
 constexpr std::size_t kListItemsPerComputeUnit = 2048;
 
-// counts_: three lengths per round, rounds 0 .. kMaxPairwiseRounds.
-constexpr std::size_t kCounts = 3 * (kMaxPairwiseRounds + 1);
+// counts_: three lengths per round, rounds 0 .. kMaxPairwiseRounds, and one
+// entry that stays 0 (the finish condition once the rounds are capped).
+constexpr std::size_t kCounts = 3 * (kMaxPairwiseRounds + 1) + 1;
+constexpr cl_uint kAlwaysZero = kCounts - 1;
 
 }  // namespace
 
@@ -56,52 +58,67 @@ unsigned int DevicePairwise::nextEpoch(cl_command_queue queue) {
     return epoch_;
 }
 
-void DevicePairwise::searchListed(cl_command_queue queue, cl_mem state, cl_mem slots, cl_mem ids, cl_mem cellOf,
-                                  cl_mem cells, const CaromPairwiseStep& step, int mode, cl_mem listed,
-                                  unsigned int round, unsigned int listIndex, unsigned int epoch) {
-    setKernelArgs(listedKernel_.get(), state, slots, ids, cellOf, cells, step, events_.get(), cl_int{mode}, listed,
-                  changed_.get(), changedMarks_.get(), dirty_.get(), dirtyMarks_.get(), pending_[round % 2].get(),
-                  pendingMarks_.get(), counts_.get(), cl_uint{round}, cl_uint{listIndex}, cl_uint{epoch});
+void DevicePairwise::searchListed(cl_command_queue queue, int mode, cl_mem listed, unsigned int round,
+                                  unsigned int listIndex, unsigned int epoch) {
+    const StepBuffers& b = buffers_;
+    setKernelArgs(listedKernel_.get(), b.state, b.slots, b.ids, b.cellOf, b.cells, step_, events_.get(),
+                  cl_int{mode}, listed, changed_.get(), changedMarks_.get(), dirty_.get(), dirtyMarks_.get(),
+                  pending_[round % 2].get(), pendingMarks_.get(), counts_.get(), cl_uint{round}, cl_uint{listIndex},
+                  cl_uint{epoch});
     enqueue1d(queue, listedKernel_.get(), listItems_, groupSize_,
               mode == CAROM_SEARCH_CHANGED ? "searchListed (changed)" : "searchListed (dirty)", profiler_);
 }
 
-unsigned int DevicePairwise::resolveStep(cl_command_queue queue, cl_mem state, cl_mem slots, cl_mem ids,
-                                         cl_mem cellOf, cl_mem cells, cl_mem tallies, const CaromPairwiseStep& step) {
-    const auto count = static_cast<cl_uint>(particleCount_);
-    enqueueZero(queue, counts_.get(), kCounts * sizeof(cl_uint), "list lengths");
-    unsigned int epoch = nextEpoch(queue);
-    setKernelArgs(forwardKernel_.get(), state, slots, ids, cellOf, cells, step, count, events_.get(),
-                  pending_[0].get(), pendingMarks_.get(), dirty_.get(), dirtyMarks_.get(), counts_.get(),
-                  cl_uint{epoch});
-    enqueue1d(queue, forwardKernel_.get(), particleCount_, groupSize_, "findEventsForward", profiler_);
-    searchListed(queue, state, slots, ids, cellOf, cells, step, CAROM_SEARCH_ALL, dirty_.get(), 0, 2, epoch);
+void DevicePairwise::enqueueRound(cl_command_queue queue, unsigned int round) {
+    const StepBuffers& b = buffers_;
+    const unsigned int epoch = nextEpoch(queue);
+    setKernelArgs(resolveKernel_.get(), b.state, b.slots, b.ids, events_.get(), step_, b.tallies,
+                  pending_[(round - 1) % 2].get(), pending_[round % 2].get(), pendingMarks_.get(), changed_.get(),
+                  changedMarks_.get(), counts_.get(), cl_uint{round}, cl_uint{epoch});
+    enqueue1d(queue, resolveKernel_.get(), listItems_, groupSize_, "resolveEvents", profiler_);
+    searchListed(queue, CAROM_SEARCH_CHANGED, changed_.get(), round, 3 * round + 1, epoch);
+    searchListed(queue, CAROM_SEARCH_ALL, dirty_.get(), round, 3 * round + 2, epoch);
+    lastRound_ = round;
+}
 
-    unsigned int round = 1;
-    while (round <= kMaxPairwiseRounds) {
-        const unsigned int last = std::min(kMaxPairwiseRounds, round + batch_ - 1);
-        for (; round <= last; ++round) {
-            epoch = nextEpoch(queue);
-            setKernelArgs(resolveKernel_.get(), state, slots, ids, events_.get(), step, tallies,
-                          pending_[(round - 1) % 2].get(), pending_[round % 2].get(), pendingMarks_.get(),
-                          changed_.get(), changedMarks_.get(), counts_.get(), cl_uint{round}, cl_uint{epoch});
-            enqueue1d(queue, resolveKernel_.get(), listItems_, groupSize_, "resolveEvents", profiler_);
-            searchListed(queue, state, slots, ids, cellOf, cells, step, CAROM_SEARCH_CHANGED, changed_.get(), round,
-                         3 * round + 1, epoch);
-            searchListed(queue, state, slots, ids, cellOf, cells, step, CAROM_SEARCH_ALL, dirty_.get(), round,
-                         3 * round + 2, epoch);
-        }
-        check(clEnqueueReadBuffer(queue, counts_.get(), CL_TRUE, 0, kCounts * sizeof(cl_uint), hostCounts_.data(), 0,
-                                  nullptr, eventSlot(profiler_, "read list lengths")),
-              "clEnqueueReadBuffer(list lengths)");
-        if (hostCounts_[3 * (round - 1)] == 0) break;
+void DevicePairwise::enqueueStep(cl_command_queue queue, const StepBuffers& buffers, const CaromPairwiseStep& step) {
+    buffers_ = buffers;
+    step_ = step;
+    enqueueZero(queue, counts_.get(), kCounts * sizeof(cl_uint), "list lengths");
+    const unsigned int epoch = nextEpoch(queue);
+    setKernelArgs(forwardKernel_.get(), buffers.state, buffers.slots, buffers.ids, buffers.cellOf, buffers.cells,
+                  step, static_cast<cl_uint>(particleCount_), events_.get(), pending_[0].get(), pendingMarks_.get(),
+                  dirty_.get(), dirtyMarks_.get(), counts_.get(), cl_uint{epoch});
+    enqueue1d(queue, forwardKernel_.get(), particleCount_, groupSize_, "findEventsForward", profiler_);
+    searchListed(queue, CAROM_SEARCH_ALL, dirty_.get(), 0, 2, epoch);
+    lastRound_ = 0;
+    for (unsigned int round = 1; round <= std::min(batch_, kMaxPairwiseRounds); ++round) enqueueRound(queue, round);
+}
+
+cl_uint DevicePairwise::finishCondition() const {
+    return lastRound_ == kMaxPairwiseRounds ? kAlwaysZero : 3 * lastRound_;
+}
+
+void DevicePairwise::readLengths(cl_command_queue queue) {
+    check(clEnqueueReadBuffer(queue, counts_.get(), CL_TRUE, 0, kCounts * sizeof(cl_uint), hostCounts_.data(), 0,
+                              nullptr, eventSlot(profiler_, "read list lengths")),
+          "clEnqueueReadBuffer(list lengths)");
+}
+
+DevicePairwise::Completion DevicePairwise::complete(cl_command_queue queue) {
+    Completion completion;
+    readLengths(queue);
+    while (hostCounts_[3 * lastRound_] != 0 && lastRound_ < kMaxPairwiseRounds) {
+        completion.finishSkipped = true;
+        const unsigned int last = std::min(kMaxPairwiseRounds, lastRound_ + batch_);
+        while (lastRound_ < last) enqueueRound(queue, lastRound_ + 1);
+        readLengths(queue);
     }
-    unsigned int rounds = 0;
-    for (unsigned int r = 1; r < round; ++r)
-        if (hostCounts_[3 * r + 1] > 0) rounds = r;
+    for (unsigned int r = 1; r <= lastRound_; ++r)
+        if (hostCounts_[3 * r + 1] > 0) completion.rounds = r;
     // The next step likely needs about as many rounds: enqueue them in one batch.
-    batch_ = std::max(2u, rounds + 1);
-    return rounds;
+    batch_ = std::max(2u, completion.rounds + 1);
+    return completion;
 }
 
 }  // namespace carom::opencl

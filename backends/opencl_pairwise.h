@@ -2,10 +2,14 @@
 // for both pipelines: the same passes as the CPU backend's, so the same
 // events in the same rounds, bit for bit.
 //
-// The host enqueues the rounds in batches and reads the lists' lengths after
-// each batch: a round whose pending list is empty resolves nothing, so a
-// batch may run past the last event without changing the result, and the
-// host needs one read per batch instead of one per round.
+// A step enqueues the first search and a batch of rounds, as many as the
+// step before needed and one more, without waiting: a round whose pending
+// list is empty resolves nothing, so running past the last event changes
+// nothing. The kernel that finishes the step is enqueued right behind, with
+// a condition the device checks (finishCondition): the batch left no event
+// pending. complete() later reads the lists' lengths, once; in the rare step
+// whose batch fell short it runs the remaining rounds (reading after each
+// batch), and the caller enqueues the finish again.
 #pragma once
 
 #include <cstddef>
@@ -24,19 +28,32 @@ public:
     DevicePairwise(cl_context context, const DeviceInfo& device, cl_program program, std::size_t particleCount,
                    cl_command_queue queue, Profiler* profiler = nullptr);
 
-    // Finds and resolves every event of one (sub)step: the disks of `state`
-    // end at their last event's time (kernels/pairwise.h, finishStep moves
-    // them to the end). `slots`, `ids`, `cellOf` and `cells` are the step's
-    // grid, as kernels/pairwise.cl describes. Returns the number of rounds
-    // that resolved an event.
-    unsigned int resolveStep(cl_command_queue queue, cl_mem state, cl_mem slots, cl_mem ids, cl_mem cellOf,
-                             cl_mem cells, cl_mem tallies, const CaromPairwiseStep& step);
+    // The grid and state of a step: `state[slots[k]]` is the disk at
+    // sorted position k, `ids[k]` its id, `cellOf[slots[k]]` its cell.
+    struct StepBuffers {
+        cl_mem state, slots, ids, cellOf, cells, tallies;
+    };
+
+    // Enqueues the first search and a batch of rounds of one (sub)step.
+    void enqueueStep(cl_command_queue queue, const StepBuffers& buffers, const CaromPairwiseStep& step);
+    // A finish kernel enqueued after enqueueStep runs only if
+    // lengths()[finishCondition()] is 0: no event pending after the batch.
+    cl_mem lengths() const { return counts_.get(); }
+    cl_uint finishCondition() const;
+
+    struct Completion {
+        unsigned int rounds = 0;    // rounds that resolved an event
+        bool finishSkipped = false;  // the batch fell short: enqueue the finish again (its condition now holds)
+    };
+    // Waits for the step's rounds; runs the rest if the batch fell short.
+    Completion complete(cl_command_queue queue);
 
 private:
     unsigned int nextEpoch(cl_command_queue queue);
-    void searchListed(cl_command_queue queue, cl_mem state, cl_mem slots, cl_mem ids, cl_mem cellOf, cl_mem cells,
-                      const CaromPairwiseStep& step, int mode, cl_mem listed, unsigned int round,
-                      unsigned int listIndex, unsigned int epoch);
+    void enqueueRound(cl_command_queue queue, unsigned int round);
+    void searchListed(cl_command_queue queue, int mode, cl_mem listed, unsigned int round, unsigned int listIndex,
+                      unsigned int epoch);
+    void readLengths(cl_command_queue queue);
 
     std::size_t particleCount_ = 0;
     Profiler* profiler_ = nullptr;
@@ -46,7 +63,10 @@ private:
     Buffer events_, pending_[2], changed_, dirty_, pendingMarks_, changedMarks_, dirtyMarks_, counts_;
     std::vector<cl_uint> hostCounts_;
     unsigned int epoch_ = 0;
-    unsigned int batch_ = 4;  // rounds per read of the counts, adapted to the steps before
+    unsigned int batch_ = 4;      // rounds enqueued per batch, adapted to the steps before
+    unsigned int lastRound_ = 0;  // the last round enqueued for the current step
+    StepBuffers buffers_{};       // the current step's
+    CaromPairwiseStep step_{};
 };
 
 }  // namespace carom::opencl

@@ -48,15 +48,18 @@ __kernel void resolveIntegrateAndCount(__global const Particle* state,
     carom_count_into_cell(k, moved.position, grid, nextCounts, cellOf, rankInCell);
 }
 
-/* The end of a pairwise step (its rounds: kernels/pairwise.cl): work-item k
- * finishes particle sortedIds[k], from slot cellOrder[k] of `state`, into
- * slot k of `next`, and counts it into the next step's grid. It also takes
- * the largest v.x^2 + v.y^2 of the new state, which sizes the next step's
- * substeps, so that needs no pass of its own: reduced in the work-group
- * (a power of two), then atomic_max on the float's bits (non-negative floats
- * order like their bits) into speedBits[parity]; work-item 0 zeroes the
- * other word for the step after. max is exact in any order: the result
- * equals the maxSpeedSquared reduction's bit for bit. */
+/* The end of a pairwise step (its rounds: kernels/pairwise.cl), if its
+ * rounds are done: lengths[condition] is 0 (backends/opencl_pairwise.h;
+ * otherwise the host enqueues more rounds and this kernel again). For each
+ * k, particle sortedIds[k] is finished from slot cellOrder[k] of `state`
+ * into slot k of `next` and counted into the next step's grid. The kernel
+ * also takes the largest v.x^2 + v.y^2 of the new state, which sizes the
+ * next step's substeps, so that needs no pass of its own: each work-item
+ * strides over the particles, the work-group (a power of two) reduces, and
+ * atomic_max on the float's bits (non-negative floats order like their bits)
+ * collects it in speedBits[parity]; the first work-item zeroes the other
+ * word for the step after. max is exact in any order: this equals the
+ * maxSpeedSquared reduction bit for bit. */
 __kernel void finishPairwiseAndCount(__global const Particle* state,
                                      __global const uint* cellOrder,
                                      __global const uint* sortedIds,
@@ -69,19 +72,21 @@ __kernel void finishPairwiseAndCount(__global const Particle* state,
                                      __global uint* rankInCell,
                                      __local float* scratch,
                                      __global uint* speedBits,
-                                     uint parity)
+                                     uint parity,
+                                     __global const uint* lengths,
+                                     uint condition)
 {
-    const uint k = get_global_id(0);
-    float speed2 = 0.0f;
-    if (k < count) {
+    if (lengths[condition] != 0u) return; /* the same for every work-item */
+    float largest = 0.0f;
+    for (uint k = get_global_id(0); k < count; k += get_global_size(0)) {
         const Particle moved = carom_finish_step(state[cellOrder[k]], step, &tallies[sortedIds[k]]);
         next[k] = moved;
         carom_count_into_cell(k, moved.position, step.grid, nextCounts, cellOf, rankInCell);
-        speed2 = fmax(0.0f, carom_speed_squared(moved));
+        largest = fmax(largest, carom_speed_squared(moved));
     }
-    if (k == 0) speedBits[1 - parity] = 0u;
+    if (get_global_id(0) == 0) speedBits[1 - parity] = 0u;
     const uint lid = get_local_id(0);
-    scratch[lid] = speed2;
+    scratch[lid] = largest;
     for (uint stride = get_local_size(0) / 2; stride > 0; stride /= 2) {
         barrier(CLK_LOCAL_MEM_FENCE);
         if (lid < stride) scratch[lid] = fmax(scratch[lid], scratch[lid + stride]);
