@@ -143,3 +143,37 @@ TEST_CASE("equation of state: the reference table and the closed forms") {
     // Outside the table: Luding.
     CHECK(referenceZ(0.62) == ludingZ(0.62));
 }
+
+TEST_CASE("statisticalTolerance: the target, or three standard errors where they exceed it") {
+    CHECK(statisticalTolerance(0.003, 0.0005) == 0.003);
+    CHECK(statisticalTolerance(0.003, 0.002) == doctest::Approx(0.006));
+    CHECK(statisticalTolerance(0.0, 0.01) == doctest::Approx(0.03));
+}
+
+TEST_CASE("collisionFrequency: 4 (Z - 1) / sigma sqrt(kT / pi m) from the mean normal speed of colliding pairs") {
+    // At the reference's Z(0.5) = 4.106, disks of diameter 2 and mass 1 at
+    // kT = 1 collide 3.5046 times per unit time each.
+    CHECK(collisionFrequency(4.106, 1.0, 2.0, 1.0) == doctest::Approx(4.0 * 3.106 / 2.0 / std::sqrt(kPi)));
+    CHECK(collisionFrequency(1.0, 1.0, 2.0, 1.0) == 0.0);  // no excess pressure, no collisions
+    // Faster disks (kT / m four times larger) collide twice as often; twice larger ones half as often.
+    CHECK(collisionFrequency(3.0, 4.0, 2.0, 1.0) == doctest::Approx(2.0 * collisionFrequency(3.0, 1.0, 2.0, 1.0)));
+    CHECK(collisionFrequency(3.0, 2.0, 2.0, 0.5) == doctest::Approx(2.0 * collisionFrequency(3.0, 1.0, 2.0, 1.0)));
+    CHECK(collisionFrequency(3.0, 1.0, 4.0, 1.0) == doctest::Approx(0.5 * collisionFrequency(3.0, 1.0, 2.0, 1.0)));
+
+    // The formula's premise, checked by sampling: pairs of Maxwellian disks
+    // (kT/m = 1.3) meet at a rate proportional to their normal approach speed
+    // u_n = -(v_i - v_j).n > 0, so the colliding pairs' mean u_n is
+    // <u_n^2> / <u_n> over approaching pairs, which must be sqrt(pi kT / m).
+    const double kTOverMass = 1.3;
+    std::mt19937_64 random(11);
+    std::normal_distribution<double> component(0.0, std::sqrt(kTOverMass));
+    double sum = 0.0, sumSquares = 0.0;
+    for (int i = 0; i < 400000; ++i) {
+        const double un = component(random) - component(random);  // along a fixed normal
+        if (un > 0) {
+            sum += un;
+            sumSquares += un * un;
+        }
+    }
+    CHECK(sumSquares / sum == doctest::Approx(std::sqrt(kPi * kTOverMass)).epsilon(0.005));
+}

@@ -27,6 +27,8 @@ MeanAndError blockAverage(const std::vector<double>& blockMeans) {
     return result;
 }
 
+double statisticalTolerance(double target, double error) { return std::max(target, 3.0 * error); }
+
 double rayleighCdf(double speed, double kTOverMass) {
     return -std::expm1(-speed * speed / (2.0 * kTOverMass));
 }
@@ -122,6 +124,10 @@ double ludingZ(double eta) {
 double santosZ(double eta) {
     const double closePacked = kPi / (2.0 * std::sqrt(3.0));
     return 1.0 / (1.0 - 2.0 * eta + (2.0 * closePacked - 1.0) * eta * eta / (closePacked * closePacked));
+}
+
+double collisionFrequency(double z, double kT, double diameter, double mass) {
+    return 4.0 * (z - 1.0) / diameter * std::sqrt(kT / (kPi * mass));
 }
 
 const std::vector<ReferenceZ>& referenceTable() {

@@ -21,6 +21,11 @@ struct MeanAndError {
 // Error 0 for fewer than two blocks.
 MeanAndError blockAverage(const std::vector<double>& blockMeans);
 
+// The tolerance of a comparison whose target is `target`: the target, or
+// three standard errors where the run is too short to resolve it (a
+// deviation within 3 errors is what chance gives 0.3 % of the time).
+double statisticalTolerance(double target, double error);
+
 // The Rayleigh distribution of speeds in 2D at kT/m = `kTOverMass`:
 // F(v) = 1 - exp(-v^2 / (2 kT/m)), f(v) = v / (kT/m) exp(-v^2 / (2 kT/m)).
 double rayleighCdf(double speed, double kTOverMass);
@@ -73,6 +78,14 @@ PowerLaw observedOrder(const std::vector<double>& dts, const std::vector<double>
 double hendersonZ(double packing);  // (1 + eta^2/8) / (1 - eta)^2
 double ludingZ(double packing);     // 1 + 2 eta g(sigma)
 double santosZ(double packing);     // 1 / (1 - 2 eta + (2 eta_cp - 1) eta^2 / eta_cp^2)
+
+// The collision frequency of one disk (collisions it takes part in per unit
+// time) in an equilibrium fluid of equal hard disks of diameter sigma and
+// mass m in 2D: omega = 4 (Z - 1) / sigma * sqrt(kT / (pi m)). The collision
+// virial gives Z - 1 = sigma <|v_n|> omega / (4 kT), and the normal relative
+// speed of colliding pairs averages sqrt(pi kT / m) (a flux-weighted
+// Maxwellian of variance 2 kT / m), whatever the density.
+double collisionFrequency(double z, double kT, double diameter, double mass);
 
 // One row of the reference table.
 struct ReferenceZ {
