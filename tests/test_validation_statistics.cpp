@@ -36,6 +36,38 @@ TEST_CASE("blockAverage: mean and standard error of the block means") {
     CHECK(blockAverage({}).mean == 0.0);
 }
 
+TEST_CASE("blockingAverage: the error of correlated block means") {
+    std::mt19937_64 random(3);
+    std::normal_distribution<double> normal(0.0, 1.0);
+    SUBCASE("independent blocks: about the plain standard error, never less") {
+        std::vector<double> values;
+        for (int i = 0; i < 4096; ++i) values.push_back(normal(random));
+        const MeanAndError plain = blockAverage(values), blocking = blockingAverage(values, 16);
+        CHECK(blocking.mean == plain.mean);
+        CHECK(blocking.error >= plain.error);
+        // The largest of five estimates: 0.97 to 1.57 times 1/64 for 1000 seeds.
+        CHECK(blocking.error > 0.9 / 64.0);
+        CHECK(blocking.error < 1.7 / 64.0);
+    }
+    SUBCASE("blocks correlated as x_k = 0.8 x_(k-1) + noise: the true error, three times the plain one") {
+        const double rho = 0.8;
+        std::vector<double> values;
+        double x = 0.0;
+        for (int i = 0; i < 8192; ++i) values.push_back(x = rho * x + std::sqrt(1.0 - rho * rho) * normal(random));
+        // Unit variance, so the plain error is 1/sqrt(n); correlation
+        // multiplies it by sqrt((1 + rho) / (1 - rho)) = 3.
+        const double exact = std::sqrt((1.0 + rho) / (1.0 - rho) / 8192.0);
+        CHECK(blockAverage(values).error < 0.5 * exact);
+        // 0.80 to 1.63 times the exact error for 1000 seeds.
+        CHECK(blockingAverage(values, 16).error > 0.75 * exact);
+        CHECK(blockingAverage(values, 16).error < 1.7 * exact);
+    }
+    SUBCASE("too few blocks to merge: the plain error") {
+        CHECK(blockingAverage({1.0, 2.0, 3.0, 4.0}, 8).error == blockAverage({1.0, 2.0, 3.0, 4.0}).error);
+        CHECK(blockingAverage({}, 8).mean == 0.0);
+    }
+}
+
 TEST_CASE("Rayleigh distribution: CDF, density and KS statistic") {
     const double kT = 1.7;
     CHECK(rayleighCdf(0.0, kT) == 0.0);

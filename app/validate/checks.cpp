@@ -128,6 +128,9 @@ double momentumError(const Diagnostics& start, const Diagnostics& end, const std
     return std::hypot(end.momentum[0] - start.momentum[0], end.momentum[1] - start.momentum[1]) / scale;
 }
 
+// The fewest blocks the error estimate merges blocks down to.
+constexpr std::size_t kMinMergedBlocks = 8;
+
 // Continues the backend's run (a periodic box of equal disks) for `blocks`
 // blocks of `blockTime`, measuring each from the contacts the backend
 // counts. The velocities are left alone: kT is what the energy gives.
@@ -159,8 +162,9 @@ BlockStatistics runBlocks(Backend& backend, int blocks, double blockTime) {
         result.lateContacts += contacts.lateContacts;
         result.maxRounds = std::max(result.maxRounds, contacts.maxRounds);
     }
-    result.z = blockAverage(z);
-    result.rateRatio = blockAverage(rateRatio);
+    result.zBlocks = z;
+    result.z = blockingAverage(z, kMinMergedBlocks);
+    result.rateRatio = blockingAverage(rateRatio, kMinMergedBlocks);
     result.energyChange = measure(state, world).totalEnergy() / energyStart - 1.0;
     return result;
 }

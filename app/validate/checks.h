@@ -60,7 +60,8 @@ struct Check {
 struct BlockStatistics {
     int blocks = 0;
     double blockTime = 0.0;
-    MeanAndError z;  // from the block values of the collision virial
+    std::vector<double> zBlocks;  // each block's Z from the collision virial
+    MeanAndError z;               // their mean, with blockingAverage's error
     // Per block: a disk's collision frequency (twice carom's collision rate,
     // which counts each pair once) over collisionFrequency(Z, kT) of the
     // block's own Z and kT; 1 for exact hard-disk dynamics.

@@ -322,7 +322,10 @@ void markdownEos(std::ostream& md, const EosResult& e, const SuiteResult& r) {
           "√(π kT/m), so the ratio is 1 at any density. The block's own Z keeps the statistical error of Z "
           "out of the ratio (Z is checked against the reference separately); the ratio against the reference's "
           "Z is shown too.\n\n"
-       << "Z and the ratio are the means of the block values, with the standard errors of the block means. "
+       << "Z and the ratio are the means of the block values. Their standard errors allow for correlation "
+          "between consecutive blocks (in 2D the pressure's time correlation decays slowly, as 1/t): the blocks "
+          "are merged in adjacent pairs, level by level, down to at least 8, and the largest of the levels' "
+          "standard errors is taken (Flyvbjerg & Petersen 1989). "
           "Targets: Z within 0.3 % of the reference, the ratio within 1 % of 1. Where three standard errors "
           "(for Z, the run's and the reference's own uncertainty combined) exceed the target, the run cannot "
           "resolve it and the tolerance is the three standard errors, marked (3 s.e.)"
@@ -571,6 +574,7 @@ nlohmann::ordered_json blockStatistics(const BlockStatistics& m) {
     return {{"blocks", m.blocks},
             {"block_time", m.blockTime},
             {"z", meanAndError(m.z)},
+            {"z_blocks", m.zBlocks},
             {"collision_rate", m.collisionRate},
             {"collision_frequency", 2.0 * m.collisionRate},
             {"frequency_ratio", meanAndError(m.rateRatio)},

@@ -27,6 +27,18 @@ MeanAndError blockAverage(const std::vector<double>& blockMeans) {
     return result;
 }
 
+MeanAndError blockingAverage(std::vector<double> blockMeans, std::size_t minBlocks) {
+    MeanAndError result = blockAverage(blockMeans);
+    while (blockMeans.size() / 2 >= std::max<std::size_t>(minBlocks, 2)) {
+        std::vector<double> merged;
+        for (std::size_t i = 0; i + 1 < blockMeans.size(); i += 2)
+            merged.push_back(0.5 * (blockMeans[i] + blockMeans[i + 1]));
+        blockMeans = std::move(merged);
+        result.error = std::max(result.error, blockAverage(blockMeans).error);
+    }
+    return result;
+}
+
 double statisticalTolerance(double target, double error) { return std::max(target, 3.0 * error); }
 
 double rayleighCdf(double speed, double kTOverMass) {

@@ -21,6 +21,17 @@ struct MeanAndError {
 // Error 0 for fewer than two blocks.
 MeanAndError blockAverage(const std::vector<double>& blockMeans);
 
+// The same mean with an error that allows for correlations between
+// consecutive blocks (Flyvbjerg & Petersen, J. Chem. Phys. 91, 461, 1989):
+// the blocks are merged in adjacent pairs, level by level (an odd last one
+// left out), while at least `minBlocks` remain, and the error is the largest
+// of the levels' standard errors. Independent blocks give the same error at
+// every level; correlated ones make it grow with the merged length until
+// that outlasts the correlation. In 2D the pressure's time correlation has
+// a slowly decaying (1/t) tail, so blocks of a few collision times are not
+// independent.
+MeanAndError blockingAverage(std::vector<double> blockMeans, std::size_t minBlocks);
+
 // The tolerance of a comparison whose target is `target`: the target, or
 // three standard errors where the run is too short to resolve it (a
 // deviation within 3 errors is what chance gives 0.3 % of the time).
