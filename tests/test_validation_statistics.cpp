@@ -131,24 +131,20 @@ TEST_CASE("H-function: uniform square exactly, Gaussian within the estimator's b
     }
 }
 
-TEST_CASE("observedOrder: the slope and prefactor of a power law") {
-    const std::vector<double> dts = {0.01, 0.005, 0.0025, 0.00125};
-    std::vector<double> quadratic, sqrtLaw;
-    for (double dt : dts) {
-        quadratic.push_back(3.0 * dt * dt);
-        sqrtLaw.push_back(0.2 * std::sqrt(dt));
-    }
-    const PowerLaw fit = observedOrder(dts, quadratic);
-    CHECK(fit.order == doctest::Approx(2.0));
-    CHECK(fit.coefficient == doctest::Approx(3.0));
-    CHECK(observedOrder(dts, sqrtLaw).order == doctest::Approx(0.5));
-    // Noise of +-10 % around a first-order law still gives about 1.
-    const std::vector<double> noisy = {0.011, 0.0045, 0.00255, 0.00119};
-    CHECK(observedOrder(dts, noisy).order == doctest::Approx(1.0).epsilon(0.1));
+TEST_CASE("leastSquaresLine: slope, intercept and the rms of the residuals") {
+    const Line exact = leastSquaresLine({0.0, 1.0, 2.0, 3.0}, {1.0, 3.0, 5.0, 7.0});
+    CHECK(exact.slope == doctest::Approx(2.0));
+    CHECK(exact.intercept == doctest::Approx(1.0));
+    CHECK(exact.rmsResidual == doctest::Approx(0.0));
+    // A staircase: the line 0.3 + 0.8 x leaves residuals 0.2, -0.6, 0.6, -0.2.
+    const Line stairs = leastSquaresLine({0.0, 1.0, 2.0, 3.0}, {0.5, 0.5, 2.5, 2.5});
+    CHECK(stairs.slope == doctest::Approx(0.8));
+    CHECK(stairs.intercept == doctest::Approx(0.3));
+    CHECK(stairs.rmsResidual == doctest::Approx(std::sqrt(0.2)));
 
-    CHECK_THROWS_AS(observedOrder(dts, {1.0, 0.0, 1.0, 1.0}), Error);  // log of 0
-    CHECK_THROWS_AS(observedOrder({0.01}, {1.0}), Error);
-    CHECK_THROWS_AS(observedOrder({0.01, 0.01}, {1.0, 2.0}), Error);  // no spread in dt
+    CHECK_THROWS_AS(leastSquaresLine({0.0}, {1.0}), Error);
+    CHECK_THROWS_AS(leastSquaresLine({1.0, 1.0}, {1.0, 2.0}), Error);  // no spread in x
+    CHECK_THROWS_AS(leastSquaresLine({0.0, 1.0}, {1.0, NAN}), Error);
 }
 
 TEST_CASE("equation of state: the reference table and the closed forms") {

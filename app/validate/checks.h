@@ -193,16 +193,17 @@ struct GravityResult {
 struct SimultaneousRun {
     double packing = 0.0;
     double dt = 0.0;
-    double energyChange = 0.0;  // (E_end - E_start) / E_start over the measured time
-    double z = 0.0;             // collision virial at the mean of the start and end kT
+    double energyChange = 0.0;  // (E_end - E_start) / E_start over the run, from the lattice
+    double driftRate = 0.0;     // least-squares slope of E(t) / E_start over the run [1/time]
+    double wander = 0.0;        // rms of E(t) / E_start about that line
+    double z = 0.0;             // collision virial over the second half, at the mean of its start and end kT
 };
 
 struct SimultaneousResult {
     std::uint32_t particles = 0;
-    double settleTime = 0.0;   // [time] run before E_start is taken
-    double duration = 0.0;     // [time] measured
+    double duration = 0.0;        // [time] of each run
+    double sampleInterval = 0.0;  // [time] between energy samples
     std::vector<SimultaneousRun> dtSweep;       // at one packing, dt descending
-    PowerLaw driftFit;                          // |energyChange| against dt over dtSweep
     std::vector<SimultaneousRun> packingSweep;  // at one dt
 };
 

@@ -96,32 +96,37 @@ HEstimate hFunction(const std::vector<double>& vx, const std::vector<double>& vy
 
 double hEquilibrium(double kTOverMass) { return std::log(1.0 / (2.0 * kPi * kTOverMass)) - 1.0; }
 
-PowerLaw observedOrder(const std::vector<double>& dts, const std::vector<double>& errors) {
-    if (dts.size() != errors.size() || dts.size() < 2)
-        throw Error("observedOrder needs at least two (dt, error) pairs of equal count");
+Line leastSquaresLine(const std::vector<double>& x, const std::vector<double>& y) {
+    if (x.size() != y.size() || x.size() < 2)
+        throw Error("leastSquaresLine needs at least two (x, y) pairs of equal count");
     double sx = 0, sy = 0;
-    for (std::size_t i = 0; i < dts.size(); ++i) {
-        if (!(dts[i] > 0 && errors[i] > 0 && std::isfinite(dts[i]) && std::isfinite(errors[i]))) {
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        if (!(std::isfinite(x[i]) && std::isfinite(y[i]))) {
             std::ostringstream message;
-            message << "observedOrder needs finite dt > 0 and error > 0, got dt " << dts[i] << ", error " << errors[i];
+            message << "leastSquaresLine needs finite values, got (" << x[i] << ", " << y[i] << ")";
             throw Error(message.str());
         }
-        sx += std::log(dts[i]);
-        sy += std::log(errors[i]);
+        sx += x[i];
+        sy += y[i];
     }
-    const double n = double(dts.size());
+    const double n = double(x.size());
     const double meanX = sx / n, meanY = sy / n;
     double sxx = 0, sxy = 0;
-    for (std::size_t i = 0; i < dts.size(); ++i) {
-        const double x = std::log(dts[i]) - meanX;
-        sxx += x * x;
-        sxy += x * (std::log(errors[i]) - meanY);
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        sxx += (x[i] - meanX) * (x[i] - meanX);
+        sxy += (x[i] - meanX) * (y[i] - meanY);
     }
-    if (!(sxx > 0)) throw Error("observedOrder needs at least two distinct dt values");
-    PowerLaw law;
-    law.order = sxy / sxx;
-    law.coefficient = std::exp(meanY - law.order * meanX);
-    return law;
+    if (!(sxx > 0)) throw Error("leastSquaresLine needs at least two distinct x values");
+    Line line;
+    line.slope = sxy / sxx;
+    line.intercept = meanY - line.slope * meanX;
+    double squares = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        const double residual = y[i] - (line.intercept + line.slope * x[i]);
+        squares += residual * residual;
+    }
+    line.rmsResidual = std::sqrt(squares / n);
+    return line;
 }
 
 double hendersonZ(double eta) { return (1.0 + eta * eta / 8.0) / ((1.0 - eta) * (1.0 - eta)); }

@@ -73,16 +73,17 @@ HEstimate hFunction(const std::vector<double>& vx, const std::vector<double>& vy
 // H of the equilibrium (Gaussian) distribution, ln(m / (2 pi kT)) - 1.
 double hEquilibrium(double kTOverMass);
 
-// The power law error = coefficient * dt^order fitted by least squares to
-// (log dt, log error): `order` is the observed order of convergence.
-struct PowerLaw {
-    double order = 0.0;
-    double coefficient = 0.0;
+// The straight line y = intercept + slope x fitted to (x, y) by least
+// squares, and the root mean square of the residuals about it.
+struct Line {
+    double slope = 0.0;
+    double intercept = 0.0;
+    double rmsResidual = 0.0;
 };
 
-// Needs at least two points, all dts and errors > 0 and two distinct dts;
+// Needs at least two points of equal count, all finite, and two distinct x;
 // throws Error otherwise.
-PowerLaw observedOrder(const std::vector<double>& dts, const std::vector<double>& errors);
+Line leastSquaresLine(const std::vector<double>& x, const std::vector<double>& y);
 
 // The compressibility factor Z = PA / (N kT) of the hard-disk fluid at
 // packing fraction eta, from the closed forms of the reference.
