@@ -36,12 +36,13 @@ std::string commandLine(const ValidateOptions& o) {
 void addValidateOptions(CLI::App& command, ValidateOptions& o) {
     o.dt = validation::kDefaultDt;
     command.add_flag("--quick", o.quick,
-                     "The reduced suite for CI (a minute or two on two cores): fewer disks and shorter runs, "
-                     "same tolerances");
+                     "The reduced suite for CI (under a minute on one core): fewer disks and shorter runs; where "
+                     "they cannot resolve a target, the tolerance is three standard errors");
     command.add_option("--report", o.report, "Folder for the report: README.md and its SVG plots")
         ->capture_default_str();
     command.add_option("--json", o.json, "Also write every check and measurement as JSON to this file");
-    command.add_option("--backend", o.backend, "Backend of the heavy runs (the conservation checks run on all)")
+    command.add_option("--backend", o.backend,
+                       "Backend of every run but the conservation checks, which run on all (pairwise scheme)")
         ->check(CLI::IsMember(availableBackends()))
         ->capture_default_str();
     command.add_option("--device", o.device,
@@ -53,11 +54,13 @@ void addValidateOptions(CLI::App& command, ValidateOptions& o) {
         ->capture_default_str();
     command.add_option("--seed", o.seed, "Random seed of the initial positions and velocities")->capture_default_str();
     std::ostringstream dtHelp;
-    dtHelp << "Time step of the equation-of-state, relaxation and conservation runs, in (0, " << validation::kMaxDt
-           << "]";
+    dtHelp << "Time step of the equation-of-state, relaxation, conservation, dense-gas and gravity runs, in (0, "
+           << validation::kMaxDt << "]";
     command.add_option("--dt", o.dt, dtHelp.str())->capture_default_str();
     command.add_option("--particles", o.particles,
-                       "Disks in each equation-of-state run (default 4096, 2048 with --quick)")
+                       "Disks in each equation-of-state run (default " +
+                           std::to_string(validation::kEosParticles(false)) + ", " +
+                           std::to_string(validation::kEosParticles(true)) + " with --quick)")
         ->check(CLI::Range(validation::kMinEosParticles, validation::kMaxEosParticles));
 }
 

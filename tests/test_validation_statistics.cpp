@@ -36,6 +36,38 @@ TEST_CASE("blockAverage: mean and standard error of the block means") {
     CHECK(blockAverage({}).mean == 0.0);
 }
 
+TEST_CASE("blockingAverage: the error of correlated block means") {
+    std::mt19937_64 random(3);
+    std::normal_distribution<double> normal(0.0, 1.0);
+    SUBCASE("independent blocks: about the plain standard error, never less") {
+        std::vector<double> values;
+        for (int i = 0; i < 4096; ++i) values.push_back(normal(random));
+        const MeanAndError plain = blockAverage(values), blocking = blockingAverage(values, 16);
+        CHECK(blocking.mean == plain.mean);
+        CHECK(blocking.error >= plain.error);
+        // The largest of five estimates: 0.97 to 1.57 times 1/64 for 1000 seeds.
+        CHECK(blocking.error > 0.9 / 64.0);
+        CHECK(blocking.error < 1.7 / 64.0);
+    }
+    SUBCASE("blocks correlated as x_k = 0.8 x_(k-1) + noise: the true error, three times the plain one") {
+        const double rho = 0.8;
+        std::vector<double> values;
+        double x = 0.0;
+        for (int i = 0; i < 8192; ++i) values.push_back(x = rho * x + std::sqrt(1.0 - rho * rho) * normal(random));
+        // Unit variance, so the plain error is 1/sqrt(n); correlation
+        // multiplies it by sqrt((1 + rho) / (1 - rho)) = 3.
+        const double exact = std::sqrt((1.0 + rho) / (1.0 - rho) / 8192.0);
+        CHECK(blockAverage(values).error < 0.5 * exact);
+        // 0.80 to 1.63 times the exact error for 1000 seeds.
+        CHECK(blockingAverage(values, 16).error > 0.75 * exact);
+        CHECK(blockingAverage(values, 16).error < 1.7 * exact);
+    }
+    SUBCASE("too few blocks to merge: the plain error") {
+        CHECK(blockingAverage({1.0, 2.0, 3.0, 4.0}, 8).error == blockAverage({1.0, 2.0, 3.0, 4.0}).error);
+        CHECK(blockingAverage({}, 8).mean == 0.0);
+    }
+}
+
 TEST_CASE("Rayleigh distribution: CDF, density and KS statistic") {
     const double kT = 1.7;
     CHECK(rayleighCdf(0.0, kT) == 0.0);
@@ -99,24 +131,20 @@ TEST_CASE("H-function: uniform square exactly, Gaussian within the estimator's b
     }
 }
 
-TEST_CASE("observedOrder: the slope and prefactor of a power law") {
-    const std::vector<double> dts = {0.01, 0.005, 0.0025, 0.00125};
-    std::vector<double> quadratic, sqrtLaw;
-    for (double dt : dts) {
-        quadratic.push_back(3.0 * dt * dt);
-        sqrtLaw.push_back(0.2 * std::sqrt(dt));
-    }
-    const PowerLaw fit = observedOrder(dts, quadratic);
-    CHECK(fit.order == doctest::Approx(2.0));
-    CHECK(fit.coefficient == doctest::Approx(3.0));
-    CHECK(observedOrder(dts, sqrtLaw).order == doctest::Approx(0.5));
-    // Noise of +-10 % around a first-order law still gives about 1.
-    const std::vector<double> noisy = {0.011, 0.0045, 0.00255, 0.00119};
-    CHECK(observedOrder(dts, noisy).order == doctest::Approx(1.0).epsilon(0.1));
+TEST_CASE("leastSquaresLine: slope, intercept and the rms of the residuals") {
+    const Line exact = leastSquaresLine({0.0, 1.0, 2.0, 3.0}, {1.0, 3.0, 5.0, 7.0});
+    CHECK(exact.slope == doctest::Approx(2.0));
+    CHECK(exact.intercept == doctest::Approx(1.0));
+    CHECK(exact.rmsResidual == doctest::Approx(0.0));
+    // A staircase: the line 0.3 + 0.8 x leaves residuals 0.2, -0.6, 0.6, -0.2.
+    const Line stairs = leastSquaresLine({0.0, 1.0, 2.0, 3.0}, {0.5, 0.5, 2.5, 2.5});
+    CHECK(stairs.slope == doctest::Approx(0.8));
+    CHECK(stairs.intercept == doctest::Approx(0.3));
+    CHECK(stairs.rmsResidual == doctest::Approx(std::sqrt(0.2)));
 
-    CHECK_THROWS_AS(observedOrder(dts, {1.0, 0.0, 1.0, 1.0}), Error);  // log of 0
-    CHECK_THROWS_AS(observedOrder({0.01}, {1.0}), Error);
-    CHECK_THROWS_AS(observedOrder({0.01, 0.01}, {1.0, 2.0}), Error);  // no spread in dt
+    CHECK_THROWS_AS(leastSquaresLine({0.0}, {1.0}), Error);
+    CHECK_THROWS_AS(leastSquaresLine({1.0, 1.0}, {1.0, 2.0}), Error);  // no spread in x
+    CHECK_THROWS_AS(leastSquaresLine({0.0, 1.0}, {1.0, NAN}), Error);
 }
 
 TEST_CASE("equation of state: the reference table and the closed forms") {
@@ -142,4 +170,38 @@ TEST_CASE("equation of state: the reference table and the closed forms") {
     CHECK(between == doctest::Approx(ludingZ(0.45)).epsilon(0.002));
     // Outside the table: Luding.
     CHECK(referenceZ(0.62) == ludingZ(0.62));
+}
+
+TEST_CASE("statisticalTolerance: the target, or three standard errors where they exceed it") {
+    CHECK(statisticalTolerance(0.003, 0.0005) == 0.003);
+    CHECK(statisticalTolerance(0.003, 0.002) == doctest::Approx(0.006));
+    CHECK(statisticalTolerance(0.0, 0.01) == doctest::Approx(0.03));
+}
+
+TEST_CASE("collisionFrequency: 4 (Z - 1) / sigma sqrt(kT / pi m) from the mean normal speed of colliding pairs") {
+    // At the reference's Z(0.5) = 4.106, disks of diameter 2 and mass 1 at
+    // kT = 1 collide 3.5046 times per unit time each.
+    CHECK(collisionFrequency(4.106, 1.0, 2.0, 1.0) == doctest::Approx(4.0 * 3.106 / 2.0 / std::sqrt(kPi)));
+    CHECK(collisionFrequency(1.0, 1.0, 2.0, 1.0) == 0.0);  // no excess pressure, no collisions
+    // Faster disks (kT / m four times larger) collide twice as often; twice larger ones half as often.
+    CHECK(collisionFrequency(3.0, 4.0, 2.0, 1.0) == doctest::Approx(2.0 * collisionFrequency(3.0, 1.0, 2.0, 1.0)));
+    CHECK(collisionFrequency(3.0, 2.0, 2.0, 0.5) == doctest::Approx(2.0 * collisionFrequency(3.0, 1.0, 2.0, 1.0)));
+    CHECK(collisionFrequency(3.0, 1.0, 4.0, 1.0) == doctest::Approx(0.5 * collisionFrequency(3.0, 1.0, 2.0, 1.0)));
+
+    // The formula's premise, checked by sampling: pairs of Maxwellian disks
+    // (kT/m = 1.3) meet at a rate proportional to their normal approach speed
+    // u_n = -(v_i - v_j).n > 0, so the colliding pairs' mean u_n is
+    // <u_n^2> / <u_n> over approaching pairs, which must be sqrt(pi kT / m).
+    const double kTOverMass = 1.3;
+    std::mt19937_64 random(11);
+    std::normal_distribution<double> component(0.0, std::sqrt(kTOverMass));
+    double sum = 0.0, sumSquares = 0.0;
+    for (int i = 0; i < 400000; ++i) {
+        const double un = component(random) - component(random);  // along a fixed normal
+        if (un > 0) {
+            sum += un;
+            sumSquares += un * un;
+        }
+    }
+    CHECK(sumSquares / sum == doctest::Approx(std::sqrt(kPi * kTOverMass)).epsilon(0.005));
 }

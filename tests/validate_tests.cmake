@@ -27,12 +27,13 @@ if(OpenCL_FOUND)
                    "${validate}|--backend|opencl|--device|99")
 endif()
 
-# The quick suite itself, about a minute and a half on one core. It runs
-# alone and on one OpenMP thread: the CPU backend's threads meet at a barrier
-# several times a step, and when other processes hold the cores each meeting
-# waits for a time slice, which made a two-thread run take over 20 minutes
-# beside a parallel build. Its results do not depend on the thread count (the
-# backend sums in a fixed order).
+# The quick suite itself, about 25 s of one core (the OpenCL conservation
+# runs are listed as not run until the OpenCL backend runs the pairwise
+# scheme). It runs alone and on one OpenMP thread: the CPU backend's threads
+# meet at a barrier several times a step, and when other processes hold the
+# cores each meeting waits for a time slice, which made a two-thread run take
+# over 20 minutes beside a parallel build. Its results do not depend on the
+# thread count (the backend sums in a fixed order).
 add_test(NAME validate.quick
          COMMAND $<TARGET_FILE:carom> validate --quick --report ${CMAKE_CURRENT_BINARY_DIR}/validation-quick
                  --json ${CMAKE_CURRENT_BINARY_DIR}/validation-quick.json)

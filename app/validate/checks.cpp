@@ -12,6 +12,7 @@
 #include "backends/backend.h"
 #include "engine/diagnostics.h"
 #include "engine/observables.h"
+#include "engine/scene_file.h"
 
 namespace carom::validation {
 
@@ -43,16 +44,8 @@ std::string format(const char* pattern, double value) {
 
 Check makeCheck(const std::string& section, const std::string& name, double measured, double expected,
                 double deviation, double limit, const std::string& criterion) {
-    Check c{section, name, measured, expected, deviation, limit, false, criterion, false};
+    Check c{section, name, measured, expected, deviation, limit, criterion, false};
     c.passed = deviation <= limit;  // false for NaN
-    return c;
-}
-
-// A check that passes when `value` > `bound`.
-Check makeLowerBoundCheck(const std::string& section, const std::string& name, double value, double bound,
-                          const std::string& criterion) {
-    Check c{section, name, value, NAN, value, bound, true, criterion, false};
-    c.passed = value > bound;  // false for NaN
     return c;
 }
 
@@ -98,8 +91,10 @@ struct Box {
 };
 
 // A periodic box of N disks of radius 1 and mass 1 at the packing fraction
-// (makeInitialState's hexagonal lattice) with thermal velocities at kT = 1.
-Box periodicBox(std::uint32_t particles, double packing, float dt, std::uint64_t seed) {
+// (makeInitialState's hexagonal lattice) with thermal velocities at kT = 1,
+// run by the collision scheme given.
+Box periodicBox(std::uint32_t particles, double packing, float dt, std::uint64_t seed,
+                CollisionScheme scheme = CollisionScheme::Pairwise) {
     SceneDef scene;
     scene.particles = particles;
     scene.packing = float(packing);
@@ -110,6 +105,7 @@ Box periodicBox(std::uint32_t particles, double packing, float dt, std::uint64_t
     box.world.height = initial.height;
     box.world.dt = dt;
     box.world.boundary = Boundary::Periodic;
+    box.world.collisions = scheme;
     box.particles = std::move(initial.particles);
     thermalVelocities(box.particles, 1.0, seed ^ 0x9e3779b97f4a7c15ull);
     return box;
@@ -117,60 +113,83 @@ Box periodicBox(std::uint32_t particles, double packing, float dt, std::uint64_t
 
 std::uint64_t stepsFor(double time, double dt) { return std::max<std::uint64_t>(1, std::llround(time / dt)); }
 
-// Blocks of a run at kT = 1: before each block the centre-of-mass velocity
-// is removed and the velocities are rescaled to kT = 1, because the scheme's
-// simultaneous contacts change the energy (the convergence and conservation
-// checks measure by how much), and Z's bias grows with the distance a disk
-// moves per step, so the step must stay what it is called. Z of a block is
-// the collision virial at the mean of the temperatures at its start and end.
-struct Blocks {
-    std::vector<double> z;
-    std::vector<double> energyChange;  // (E_end - E_start) / E_start per block
-    double collisionRate = 0.0;        // mean over the blocks
-    double kT = 0.0;                   // mean over the blocks
-};
+// The backend `def` on a box, loaded with its particles.
+std::unique_ptr<Backend> loaded(const BackendDef& def, const Box& box) {
+    std::unique_ptr<Backend> backend = makeBackend(def, box.world);
+    backend->setParticles(box.particles);
+    return backend;
+}
 
-Blocks runBlocks(Backend& backend, std::vector<Particle>& state, int blocks, double blockTime) {
-    Blocks result;
+// |P_end - P_start| / sum m|v| at the end: momentum lost or gained, relative
+// to the momentum the disks carry.
+double momentumError(const Diagnostics& start, const Diagnostics& end, const std::vector<Particle>& state) {
+    double scale = 0;
+    for (const Particle& p : state) scale += p.mass * std::hypot(double(p.velocity.x), double(p.velocity.y));
+    return std::hypot(end.momentum[0] - start.momentum[0], end.momentum[1] - start.momentum[1]) / scale;
+}
+
+// The fewest blocks the error estimate merges blocks down to.
+constexpr std::size_t kMinMergedBlocks = 8;
+
+// Continues the backend's run (a periodic box of equal disks) for `blocks`
+// blocks of `blockTime`, measuring each from the contacts the backend
+// counts. The velocities are left alone: kT is what the energy gives.
+BlockStatistics runBlocks(Backend& backend, int blocks, double blockTime) {
     const WorldDef& world = backend.world();
     const std::uint64_t steps = stepsFor(blockTime, world.dt);
+    std::vector<Particle> state;
+    backend.readParticles(state);
+    const double diameter = 2.0 * state.front().radius, mass = state.front().mass;
+    const double energyStart = measure(state, world).totalEnergy();
+    double kTStart = temperature(state, world.boundary);
+    BlockStatistics result;
+    result.blocks = blocks;
+    result.blockTime = blockTime;
+    std::vector<double> z, rateRatio;
     for (int b = 0; b < blocks; ++b) {
-        removeDrift(state);
-        scaleToTemperature(state, 1.0);
-        const double kTStart = temperature(state, Boundary::Periodic);
-        const double energyStart = measure(state, world).kineticEnergy;
-        backend.setParticles(state);
+        backend.resetContacts();
         backend.step(steps);
         backend.readParticles(state);
-        const double kT = 0.5 * (kTStart + temperature(state, Boundary::Periodic));
-        const Thermodynamics t = thermodynamics(backend.contacts(), kT, state.size(), world);
-        result.z.push_back(t.virialZ);
-        result.energyChange.push_back(measure(state, world).kineticEnergy / energyStart - 1.0);
+        const double kTEnd = temperature(state, world.boundary);
+        const double kT = 0.5 * (kTStart + kTEnd);
+        kTStart = kTEnd;
+        const ContactTotals& contacts = backend.contacts();
+        const Thermodynamics t = thermodynamics(contacts, kT, state.size(), world);
+        z.push_back(t.virialZ);
+        rateRatio.push_back(2.0 * t.collisionRate / collisionFrequency(t.virialZ, kT, diameter, mass));
         result.collisionRate += t.collisionRate / blocks;
         result.kT += kT / blocks;
+        result.lateContacts += contacts.lateContacts;
+        result.maxRounds = std::max(result.maxRounds, contacts.maxRounds);
     }
+    result.zBlocks = z;
+    result.z = blockingAverage(z, kMinMergedBlocks);
+    result.rateRatio = blockingAverage(rateRatio, kMinMergedBlocks);
+    result.energyChange = measure(state, world).totalEnergy() / energyStart - 1.0;
     return result;
 }
 
-double rootMeanSquare(const std::vector<double>& values) {
-    double sum = 0;
-    for (double v : values) sum += v * v;
-    return values.empty() ? 0.0 : std::sqrt(sum / double(values.size()));
+// The check of a disk's collision frequency against collisionFrequency(Z, kT).
+Check rateCheck(const std::string& section, const std::string& name, const MeanAndError& ratio,
+                double tolerance) {
+    return makeCheck(section, name, ratio.mean, 1.0, std::abs(ratio.mean - 1.0), tolerance,
+                     "|omega / (4 (Z-1)/sigma sqrt(kT/pi m)) - 1| <= max(1 %, 3 standard errors) = " +
+                         format("%.2g", 100 * tolerance) + " %");
 }
 
-// --- 1. Equation of state ---------------------------------------------------
+// The mean time between two collisions of one disk at kT = 1 (m = 1, sigma = 2).
+double collisionTime(double packing) { return 1.0 / collisionFrequency(referenceZ(packing), 1.0, 2.0, 1.0); }
 
-// The mean time between collisions of a disk at kT = 1, m = 1, sigma = 2:
-// the collision virial gives the rate of collisions per disk (each pair
-// once) as (Z - 1) 2 kT / (sigma <|v_n|>) with <|v_n|> = sqrt(pi kT / m)
-// over collisions, and each collision involves two disks.
-double collisionTime(double packing) { return std::sqrt(kPi) / (2.0 * (referenceZ(packing) - 1.0)); }
+// --- 1. Equation of state ---------------------------------------------------
 
 EosResult equationOfState(const SuiteOptions& o, std::vector<Check>& checks, std::ostream& progress) {
     EosResult result;
     result.dt = o.dt;
-    result.blocks = 20;
-    const std::uint32_t particles = o.eosParticles ? o.eosParticles : (o.quick ? 2048u : 4096u);
+    const std::uint32_t particles = o.eosParticles ? o.eosParticles : kEosParticles(o.quick);
+    // The full suite resolves the 0.3 % target at every packing: three
+    // standard errors, its own and the reference's combined, stay under
+    // 0.3 %. The quick suite's, about a third of a percent to a half, do not.
+    const int blocks = o.quick ? 30 : 40;
     for (const ReferenceZ& reference : referenceTable()) {
         const double packing = reference.packing;
         // Long enough, even at low density, for 20 collisions per disk to
@@ -179,24 +198,28 @@ EosResult equationOfState(const SuiteOptions& o, std::vector<Check>& checks, std
         point.packing = packing;
         point.particles = particles;
         point.equilibrationTime = std::max(o.quick ? 20.0 : 50.0, 20.0 * collisionTime(packing));
-        point.blockTime = std::max(o.quick ? 5.0 : 10.0, 2.0 * collisionTime(packing));
-        Box box = periodicBox(particles, packing, o.dt, o.seed);
-        std::unique_ptr<Backend> backend = makeBackend(o.backend, box.world);
-        runBlocks(*backend, box.particles, 10, point.equilibrationTime / 10);
-        const Blocks blocks = runBlocks(*backend, box.particles, result.blocks, point.blockTime);
-        point.z = blockAverage(blocks.z);
+        const double blockTime = std::max(o.quick ? 5.0 : 10.0, 2.0 * collisionTime(packing));
+        const Box box = periodicBox(particles, packing, o.dt, o.seed);
+        const std::unique_ptr<Backend> backend = loaded(o.backend, box);
+        backend->step(stepsFor(point.equilibrationTime, o.dt));
+        point.measured = runBlocks(*backend, blocks, blockTime);
         point.zReference = referenceZ(packing);
-        point.kT = blocks.kT;
-        point.collisionRate = blocks.collisionRate;
-        point.energyChangeRms = rootMeanSquare(blocks.energyChange);
-        point.tolerance = packing <= 0.5 + 1e-9 ? 0.01 : 0.02;
+        point.zReferenceError = reference.uncertainty;
+        const MeanAndError& z = point.measured.z;
+        point.zTolerance =
+            statisticalTolerance(kZTarget, std::hypot(z.error, point.zReferenceError) / point.zReference);
+        point.rateTolerance = statisticalTolerance(kRateTarget, point.measured.rateRatio.error);
         result.points.push_back(point);
-        const double deviation = std::abs(point.z.mean - point.zReference) / point.zReference;
-        checks.push_back(makeCheck("equation of state", "Z at eta = " + format("%.1f", packing), point.z.mean,
-                                   point.zReference, deviation, point.tolerance,
-                                   "|Z - Z_ref| / Z_ref <= " + format("%g", point.tolerance * 100) + " %"));
-        progress << "  equation of state, eta " << packing << ": Z " << point.z.mean << " +- " << point.z.error
-                 << " (reference " << point.zReference << ")" << std::endl;
+        const std::string at = "eta = " + format("%.1f", packing);
+        checks.push_back(makeCheck("equation of state", "Z at " + at, z.mean, point.zReference,
+                                   std::abs(z.mean - point.zReference) / point.zReference, point.zTolerance,
+                                   "|Z - Z_ref| / Z_ref <= max(0.3 %, 3 standard errors of Z and Z_ref) = " +
+                                       format("%.2g", 100 * point.zTolerance) + " %"));
+        checks.push_back(rateCheck("equation of state", "collision frequency at " + at, point.measured.rateRatio,
+                                   point.rateTolerance));
+        progress << "  equation of state, eta " << packing << ": Z " << z.mean << " +- " << z.error << " (reference "
+                 << point.zReference << "), rate ratio " << point.measured.rateRatio.mean << ", energy change "
+                 << point.measured.energyChange << std::endl;
     }
     return result;
 }
@@ -206,48 +229,47 @@ EosResult equationOfState(const SuiteOptions& o, std::vector<Check>& checks, std
 ConvergenceResult convergence(const SuiteOptions& o, std::vector<Check>& checks, std::ostream& progress) {
     ConvergenceResult result;
     result.packing = 0.5;
-    result.particles = o.quick ? 1024 : 4096;
+    result.particles = o.quick ? 1024 : 8192;
     result.zReference = referenceZ(result.packing);
-    // Many short blocks: the rms energy change of n blocks is known to about
-    // 1/sqrt(2n), 11 % (quick) or 7 %, against the 30 % that a halving of dt
-    // changes it by at order 1/2.
-    result.blocks = o.quick ? 40 : 100;
-    result.blockTime = 1.0;
     result.equilibrationTime = o.quick ? 10.0 : 20.0;
-    std::vector<double> dts = {0.01, 0.005, 0.0025, 0.00125};
-    if (!o.quick) dts.push_back(0.000625);
+    const int blocks = 20;
+    const double blockTime = o.quick ? 2.0 : 5.0;
+    // Up to dt = 0.04, where the pairwise grid's allowance splits steps of
+    // the fastest disks into substeps.
+    const std::vector<double> dts = {0.04, 0.02, 0.01, 0.005, 0.0025};
 
     // One melted state, continued at each dt.
-    Box box = periodicBox(result.particles, result.packing, float(dts.front()), o.seed);
-    std::unique_ptr<Backend> backend = makeBackend(o.backend, box.world);
-    runBlocks(*backend, box.particles, 10, result.equilibrationTime / 10);
-    std::vector<double> zErrors, drifts;
+    const Box box = periodicBox(result.particles, result.packing, kDefaultDt, o.seed);
+    const std::unique_ptr<Backend> backend = loaded(o.backend, box);
+    backend->step(stepsFor(result.equilibrationTime, kDefaultDt));
+    std::vector<Particle> melted;
+    backend->readParticles(melted);
     for (double dt : dts) {
-        std::vector<Particle> state = box.particles;
         backend->setMotion(float(dt), box.world.gravity);
-        runBlocks(*backend, state, 2, result.blockTime);  // settles the contacts at this dt
-        const Blocks blocks = runBlocks(*backend, state, result.blocks, result.blockTime);
+        backend->setParticles(melted);
+        backend->step(stepsFor(blockTime, dt));  // the contacts settle at this dt
         ConvergencePoint point;
         point.dt = dt;
-        point.z = blockAverage(blocks.z);
-        point.zError = std::abs(point.z.mean - result.zReference);
-        point.energyDriftRate = rootMeanSquare(blocks.energyChange) / result.blockTime;
+        point.measured = runBlocks(*backend, blocks, blockTime);
         result.points.push_back(point);
-        zErrors.push_back(point.zError);
-        drifts.push_back(point.energyDriftRate);
-        progress << "  convergence, dt " << dt << ": Z " << point.z.mean << " +- " << point.z.error
-                 << ", energy drift " << point.energyDriftRate << " per unit time" << std::endl;
+        progress << "  convergence, dt " << dt << ": Z " << point.measured.z.mean << " +- "
+                 << point.measured.z.error << ", energy change " << point.measured.energyChange
+                 << ", late contacts " << point.measured.lateContacts << std::endl;
     }
-    result.zErrorFit = observedOrder(dts, zErrors);
-    result.driftFit = observedOrder(dts, drifts);
-
-    const double ratio = drifts.back() / drifts.front();
-    checks.push_back(makeCheck("convergence",
-                               "energy drift falls from dt = " + format("%g", dts.front()) + " to " +
-                                   format("%g", dts.back()),
-                               ratio, NAN, ratio, 1.0, "drift(smallest dt) / drift(largest dt) < 1"));
-    checks.push_back(makeLowerBoundCheck("convergence", "observed order of the energy drift", result.driftFit.order,
-                                         0.0, "order of the log-log least-squares fit > 0"));
+    // Exact contact times: Z should not depend on dt. Each dt against the smallest.
+    const MeanAndError& finest = result.points.back().measured.z;
+    for (ConvergencePoint& point : result.points) {
+        point.zDifference = point.measured.z.mean - finest.mean;
+        point.differenceError = std::hypot(point.measured.z.error, finest.error);
+        if (&point == &result.points.back()) continue;
+        const double tolerance = statisticalTolerance(0.0, point.differenceError);
+        checks.push_back(makeCheck("convergence",
+                                   "Z at dt = " + format("%g", point.dt) + " equals Z at dt = " +
+                                       format("%g", dts.back()),
+                                   point.measured.z.mean, finest.mean, std::abs(point.zDifference), tolerance,
+                                   "|Z - Z(dt = " + format("%g", dts.back()) + ")| <= 3 standard errors = " +
+                                       format("%.2g", tolerance)));
+    }
     return result;
 }
 
@@ -356,10 +378,13 @@ RelaxationResult relaxation(const SuiteOptions& o, std::vector<Check>& checks, s
 // --- 4. Exact cases -----------------------------------------------------------
 
 constexpr float kExactDt = 1e-4f;
-// Contact is found up to |u| dt late, which tilts the collision normal by at
-// most |u| dt / sigma (5e-5 rad here); these tolerances are 20 times that.
-constexpr double kVelocityTolerance = 1e-3;           // of the incoming relative speed
-constexpr double kAngleTolerance = 0.06;             // [degrees]
+// The pairwise scheme collides a pair at the exact contact time and normal:
+// only the rounding of float positions near 50 (2^-18 = 3.8e-6) separates
+// it from the formula, tilting the normal by up to about 2 x 3.8e-6 / sigma
+// = 4e-6 rad (2e-4 degrees, 4e-6 of the speed); these tolerances are five
+// times that.
+constexpr double kVelocityTolerance = 2e-5;  // of the incoming relative speed
+constexpr double kAngleTolerance = 1e-3;     // [degrees]
 
 struct Vector {
     double x = 0, y = 0;
@@ -406,6 +431,7 @@ std::array<Vector, 2> simulatePair(const BackendDef& def, const std::array<Parti
     WorldDef world;
     world.width = world.height = 100.0f;
     world.dt = kExactDt;
+    world.collisions = CollisionScheme::Pairwise;
     std::unique_ptr<Backend> backend = makeBackend(def, world);
     backend->setParticles({pair[0], pair[1]});
     std::vector<Particle> state;
@@ -425,14 +451,14 @@ std::array<Vector, 2> simulatePair(const BackendDef& def, const std::array<Parti
 void addVelocityCheck(std::vector<Check>& checks, const std::string& name, double measured, double expected,
                       double incoming) {
     checks.push_back(makeCheck("exact cases", name, measured, expected, std::abs(measured - expected) / incoming,
-                               kVelocityTolerance, "|v - v_exact| / |u_in| <= 1e-3"));
+                               kVelocityTolerance, "|v - v_exact| / |u_in| <= 2e-5"));
 }
 
 void addAngleCheck(std::vector<Check>& checks, const std::string& name, double measuredDegrees,
                    double expectedDegrees) {
     checks.push_back(makeCheck("exact cases", name, measuredDegrees, expectedDegrees,
                                std::abs(measuredDegrees - expectedDegrees), kAngleTolerance,
-                               "|angle - exact| <= 0.06 degrees"));
+                               "|angle - exact| <= 1e-3 degrees"));
 }
 
 void headOn(const BackendDef& def, double m1, double m2, double v1, double expected1, double expected2,
@@ -470,10 +496,10 @@ void heavyProjectile(const BackendDef& def, std::vector<Check>& checks) {
         worst = std::max(worst, std::abs(deflection - exact));
     }
     checks.push_back(makeCheck("exact cases", "m = 4 on 1: deflections at b = 0.1 ... 0.9 sigma", worst, 0.0,
-                               worst, kAngleTolerance, "largest |angle - exact| <= 0.06 degrees"));
+                               worst, kAngleTolerance, "largest |angle - exact| <= 1e-3 degrees"));
     checks.push_back(makeCheck("exact cases", "m = 4 on 1: largest deflection <= asin(1/4) = 14.48 degrees",
                                largest, bound, largest - bound, kAngleTolerance,
-                               "deflection - asin(m2/m1) <= 0.06 degrees"));
+                               "deflection - asin(m2/m1) <= 1e-3 degrees"));
 }
 
 // One disk between walls: the period of its x motion from the times it
@@ -483,6 +509,7 @@ void wallBounce(const BackendDef& def, std::vector<Check>& checks) {
     world.width = 10.0f;
     world.height = 7.0f;
     world.dt = 1e-3f;
+    world.collisions = CollisionScheme::Pairwise;
     const double vx = 3.0;
     std::unique_ptr<Backend> backend = makeBackend(def, world);
     backend->setParticles({disk(5, 3.5, vx, 0.4, 1)});
@@ -499,10 +526,10 @@ void wallBounce(const BackendDef& def, std::vector<Check>& checks) {
     }
     const double measured = bounces.size() >= 2 ? (bounces.back() - bounces.front()) / double(bounces.size() - 1)
                                                 : NAN;
-    // Each bounce time is known to a step, and the wall clamps a disk that
-    // went through it back to the wall, which shortens a period by less than 2 dt.
+    // The wall reflects at the exact contact time; each bounce time is known
+    // to the step that contains it, so the mean period is off by less than dt.
     checks.push_back(makeCheck("exact cases", "wall bounce period 2 (L - 2r) / |v_x|", measured, period,
-                               std::abs(measured - period), 3.0 * world.dt, "|T - T_exact| <= 3 dt"));
+                               std::abs(measured - period), world.dt, "|T - T_exact| <= dt"));
 }
 
 void exactCases(const SuiteOptions& o, std::vector<Check>& checks, std::ostream& progress) {
@@ -517,7 +544,11 @@ void exactCases(const SuiteOptions& o, std::vector<Check>& checks, std::ostream&
 // --- 5. Conservation per backend -----------------------------------------------
 
 constexpr double kMomentumTolerance = 1e-5;  // of sum m|v|
-constexpr double kEnergyTolerance = 0.01;    // relative, over the run
+// Each collision conserves kinetic energy exactly but for the rounding of
+// the new float velocities, a relative error of the pair's energy of about
+// the unit roundoff 2^-24: the tolerance is that, of one sign, for every
+// collision of every disk. (Random signs would give far less.)
+constexpr double kRoundingPerCollision = 0x1.0p-24;
 
 std::vector<BackendDef> everyBackend(const BackendDef& chosen) {
     std::vector<BackendDef> defs;
@@ -531,42 +562,212 @@ std::vector<BackendDef> everyBackend(const BackendDef& chosen) {
     return defs;
 }
 
+// TODO(issue #10): makeBackend refuses the pairwise scheme on OpenCL until
+// the OpenCL backend runs it; remove this guard (and SuiteResult::notRun
+// with it) when it does. Until then the runs are listed as not made, in the
+// summary and the report, not skipped silently.
+const char* pairwisePending(const BackendDef& def) {
+    return def.kind == "opencl" ? "the OpenCL backend does not run the pairwise scheme yet (TODO, issue #10)"
+                                : nullptr;
+}
+
 std::vector<ConservationRun> conservation(const SuiteOptions& o, std::vector<Check>& checks,
-                                          std::ostream& progress) {
+                                          std::vector<std::string>& notRun, std::ostream& progress) {
     std::vector<ConservationRun> runs;
     const double packing = 0.3, duration = 10.0;
     const std::uint32_t particles = o.quick ? 1024 : 4096;
+    const Box box = periodicBox(particles, packing, o.dt, o.seed);
+    const Diagnostics start = measure(box.particles, box.world);
     for (const BackendDef& def : everyBackend(o.backend)) {
-        const Box box = periodicBox(particles, packing, o.dt, o.seed);
-        std::unique_ptr<Backend> backend = makeBackend(def, box.world);
-        backend->setParticles(box.particles);
-        const Diagnostics start = measure(box.particles, box.world);
         ConservationRun run;
         run.backend = def.kind == "opencl" ? "opencl " + def.pipeline : def.kind;
-        run.device = backend->device();
         run.particles = particles;
         run.packing = packing;
         run.dt = o.dt;
         run.steps = stepsFor(duration, o.dt);
+        if (const char* pending = pairwisePending(def)) {
+            run.notRun = pending;
+            runs.push_back(run);
+            notRun.push_back("conservation: " + run.backend + ": " + pending);
+            progress << "  conservation, " << run.backend << ": NOT RUN: " << pending << std::endl;
+            continue;
+        }
+        const std::unique_ptr<Backend> backend = loaded(def, box);
+        run.device = backend->device();
         backend->step(run.steps);
         std::vector<Particle> state;
         backend->readParticles(state);
         const Diagnostics end = measure(state, box.world);
-        double scale = 0;
-        for (const Particle& p : state) scale += p.mass * std::hypot(double(p.velocity.x), double(p.velocity.y));
-        const double dpx = end.momentum[0] - start.momentum[0], dpy = end.momentum[1] - start.momentum[1];
-        run.momentumError = std::hypot(dpx, dpy) / scale;
-        run.energyChange = end.kineticEnergy / start.kineticEnergy - 1.0;
+        run.momentumError = momentumError(start, end, state);
+        run.energyChange = end.totalEnergy() / start.totalEnergy() - 1.0;
+        run.lateContacts = backend->contacts().lateContacts;
+        run.collisionsPerDisk = 2.0 * double(backend->contacts().collisions) / particles;
+        const double energyTolerance = kRoundingPerCollision * run.collisionsPerDisk;
         runs.push_back(run);
         checks.push_back(makeCheck("conservation", run.backend + ": total momentum", run.momentumError, 0.0,
                                    run.momentumError, kMomentumTolerance, "|P_end - P_start| / sum m|v| <= 1e-5"));
         checks.push_back(makeCheck("conservation", run.backend + ": kinetic energy", run.energyChange, 0.0,
-                                   std::abs(run.energyChange), kEnergyTolerance,
-                                   "|E_end - E_start| / E_start <= 1 % over 10 time units"));
+                                   std::abs(run.energyChange), energyTolerance,
+                                   "|E_end - E_start| / E_start <= 2^-24 x collisions per disk = " +
+                                       format("%.2g", energyTolerance)));
         progress << "  conservation, " << run.backend << ": momentum " << run.momentumError << ", energy "
                  << run.energyChange << std::endl;
     }
     return runs;
+}
+
+// --- 6. Dense gas -------------------------------------------------------------------
+
+constexpr double kDenseEnergyTolerance = 1e-4;  // relative, over the run
+constexpr double kOverlapTolerance = 2e-3;       // 1e-3 sigma [length]
+
+DenseResult dense(const SuiteOptions& o, std::vector<Check>& checks, std::ostream& progress) {
+    DenseResult result;
+    result.packing = 0.7;
+    result.particles = o.quick ? 1024 : 4096;
+    result.dt = o.dt;
+    result.equilibrationTime = o.quick ? 5.0 : 20.0;
+    const Box box = periodicBox(result.particles, result.packing, o.dt, o.seed);
+    const Diagnostics start = measure(box.particles, box.world);
+    const std::unique_ptr<Backend> backend = loaded(o.backend, box);
+    backend->step(stepsFor(result.equilibrationTime, o.dt));
+    result.measured = runBlocks(*backend, 10, o.quick ? 1.0 : 2.0);
+    std::vector<Particle> state;
+    backend->readParticles(state);
+    const Diagnostics end = measure(state, box.world);
+    result.energyChange = end.totalEnergy() / start.totalEnergy() - 1.0;
+    result.momentumError = momentumError(start, end, state);
+    result.maxOverlap = end.maxOverlap;
+    result.escaped = end.escaped;
+    result.rateTolerance = statisticalTolerance(kRateTarget, result.measured.rateRatio.error);
+    checks.push_back(makeCheck("dense gas", "energy at eta = 0.7", result.energyChange, 0.0,
+                               std::abs(result.energyChange), kDenseEnergyTolerance,
+                               "|E_end - E_start| / E_start <= 1e-4 over the run"));
+    checks.push_back(makeCheck("dense gas", "every disk finite and in the box", double(result.escaped), 0.0,
+                               double(result.escaped), 0.0, "disks outside the box or non-finite = 0"));
+    checks.push_back(makeCheck("dense gas", "largest overlap at the end", result.maxOverlap, 0.0, result.maxOverlap,
+                               kOverlapTolerance, "max(r_i + r_j - |x_i - x_j|) <= 1e-3 sigma"));
+    checks.push_back(rateCheck("dense gas", "collision frequency at eta = 0.7", result.measured.rateRatio,
+                               result.rateTolerance));
+    progress << "  dense gas: energy change " << result.energyChange << ", Z " << result.measured.z.mean
+             << ", rate ratio " << result.measured.rateRatio.mean << ", late contacts "
+             << result.measured.lateContacts << ", max overlap " << result.maxOverlap << std::endl;
+    return result;
+}
+
+// --- 7. Gravity ------------------------------------------------------------------------
+
+constexpr double kGravityEnergyTolerance = 1e-3;  // relative, over the run
+
+// scenes/gravity_settle.toml at the suite's dt and seed, with the pairwise
+// scheme: 800 polydisperse disks of unequal mass released in the upper part
+// of a walled box fall and pile up on the floor.
+GravityResult gravity(const SuiteOptions& o, std::vector<Check>& checks, std::ostream& progress) {
+    SceneFile scene;
+    scene.world.width = 60.0f;
+    scene.world.height = 80.0f;
+    scene.world.dt = o.dt;
+    scene.world.gravity = float2{0.0f, -2.0f};
+    scene.world.collisions = CollisionScheme::Pairwise;
+    scene.seed = o.seed;
+    GroupDef grains;
+    grains.name = "grains";
+    grains.count = 800;
+    grains.radiusMin = 0.5f;
+    grains.radiusMax = 1.0f;
+    grains.massMin = 0.5f;
+    grains.massMax = 2.0f;
+    grains.speed = 0.5f;
+    grains.region = Region{0.0f, 30.0f, 60.0f, 80.0f};
+    scene.groups.push_back(grains);
+    const InitialState initial = makeInitialState(scene);
+
+    GravityResult result;
+    result.particles = grains.count;
+    result.width = scene.world.width;
+    result.height = scene.world.height;
+    result.gravity = -scene.world.gravity.y;
+    result.dt = o.dt;
+    result.duration = 20.0;
+    const Diagnostics start = measure(initial.particles, scene.world);
+    const std::unique_ptr<Backend> backend = makeBackend(o.backend, scene.world);
+    backend->setParticles(initial.particles);
+    backend->step(stepsFor(result.duration, o.dt));
+    std::vector<Particle> state;
+    backend->readParticles(state);
+    const Diagnostics end = measure(state, scene.world);
+    result.kineticStart = start.kineticEnergy;
+    result.kineticEnd = end.kineticEnergy;
+    result.potentialStart = start.potentialEnergy;
+    result.potentialEnd = end.potentialEnergy;
+    result.energyChange = end.totalEnergy() / start.totalEnergy() - 1.0;
+    result.lateContacts = backend->contacts().lateContacts;
+    result.maxRounds = backend->contacts().maxRounds;
+    result.escaped = end.escaped;
+    checks.push_back(makeCheck("gravity", "K + U under gravity", result.energyChange, 0.0,
+                               std::abs(result.energyChange), kGravityEnergyTolerance,
+                               "|(K+U)_end - (K+U)_start| / (K+U)_start <= 1e-3 over the run"));
+    checks.push_back(makeCheck("gravity", "every disk finite and in the box", double(result.escaped), 0.0,
+                               double(result.escaped), 0.0, "disks outside the box or non-finite = 0"));
+    progress << "  gravity: K " << result.kineticStart << " -> " << result.kineticEnd << ", U "
+             << result.potentialStart << " -> " << result.potentialEnd << ", (K+U) change " << result.energyChange
+             << ", late contacts " << result.lateContacts << std::endl;
+    return result;
+}
+
+// --- 8. The simultaneous scheme, for comparison ---------------------------------------
+
+// One run of the simultaneous scheme from the lattice at kT = 1: the energy
+// every `sampleInterval` and its least-squares line, and Z over the second
+// half, when the lattice has begun to melt.
+SimultaneousRun simultaneousRun(const SuiteOptions& o, std::uint32_t particles, double packing, double dt,
+                                double duration, double sampleInterval) {
+    const Box box = periodicBox(particles, packing, float(dt), o.seed, CollisionScheme::Simultaneous);
+    const std::unique_ptr<Backend> backend = loaded(o.backend, box);
+    const double energyStart = measure(box.particles, box.world).totalEnergy();
+    std::vector<double> times = {0.0}, energies = {1.0};  // E(t) / E(0)
+    std::vector<Particle> state = box.particles;
+    const auto sample = [&](int count) {
+        for (int k = 0; k < count; ++k) {
+            backend->step(stepsFor(sampleInterval, dt));
+            backend->readParticles(state);
+            times.push_back(double(times.size()) * sampleInterval);
+            energies.push_back(measure(state, box.world).totalEnergy() / energyStart);
+        }
+    };
+    const int samples = int(std::lround(duration / sampleInterval));
+    sample(samples / 2);
+    const double kTHalf = temperature(state, Boundary::Periodic);
+    backend->resetContacts();
+    sample(samples - samples / 2);
+    SimultaneousRun run;
+    run.packing = packing;
+    run.dt = dt;
+    run.energyChange = energies.back() - 1.0;
+    const Line line = leastSquaresLine(times, energies);
+    run.driftRate = line.slope;
+    run.wander = line.rmsResidual;
+    const double kT = 0.5 * (kTHalf + temperature(state, Boundary::Periodic));
+    run.z = thermodynamics(backend->contacts(), kT, state.size(), box.world).virialZ;
+    return run;
+}
+
+// Measurements only: how the simultaneous scheme's energy drifts with dt and
+// density, beside the pairwise scheme's.
+SimultaneousResult simultaneous(const SuiteOptions& o, std::ostream& progress) {
+    SimultaneousResult result;
+    result.particles = o.quick ? 1024 : 4096;
+    result.duration = o.quick ? 10.0 : 20.0;
+    result.sampleInterval = 1.0;
+    const auto add = [&](std::vector<SimultaneousRun>& runs, double packing, double dt) {
+        runs.push_back(simultaneousRun(o, result.particles, packing, dt, result.duration, result.sampleInterval));
+        progress << "  simultaneous scheme, eta " << packing << ", dt " << dt << ": energy change "
+                 << runs.back().energyChange << ", drift " << runs.back().driftRate << " per unit time, Z "
+                 << runs.back().z << std::endl;
+    };
+    for (double dt : {0.02, 0.01, 0.005, 0.0025}) add(result.dtSweep, 0.5, dt);
+    for (const ReferenceZ& reference : referenceTable()) add(result.packingSweep, reference.packing, 0.01);
+    return result;
 }
 
 }  // namespace
@@ -591,6 +792,7 @@ bool SuiteResult::passed() const {
 std::string describeBackend(const BackendDef& def) {
     WorldDef world;
     world.width = world.height = 10.0f;
+    world.collisions = CollisionScheme::Pairwise;  // refuses a backend that cannot run the suite
     const std::unique_ptr<Backend> backend = makeBackend(def, world);
     return backend->name() + (def.kind == "opencl" ? " (" + def.pipeline + " pipeline)" : "") + ": " +
            backend->device();
@@ -625,7 +827,11 @@ SuiteResult runSuite(const SuiteOptions& o, std::ostream& progress) {
     runPart("convergence", checks, progress, [&] { result.convergence = convergence(o, checks, progress); });
     runPart("relaxation", checks, progress, [&] { result.relaxation = relaxation(o, checks, progress); });
     runPart("exact cases", checks, progress, [&] { exactCases(o, checks, progress); });
-    runPart("conservation", checks, progress, [&] { result.conservation = conservation(o, checks, progress); });
+    runPart("conservation", checks, progress,
+            [&] { result.conservation = conservation(o, checks, result.notRun, progress); });
+    runPart("dense gas", checks, progress, [&] { result.dense = dense(o, checks, progress); });
+    runPart("gravity", checks, progress, [&] { result.gravity = gravity(o, checks, progress); });
+    runPart("simultaneous scheme", checks, progress, [&] { result.simultaneous = simultaneous(o, progress); });
     result.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
 }

@@ -27,6 +27,20 @@ MeanAndError blockAverage(const std::vector<double>& blockMeans) {
     return result;
 }
 
+MeanAndError blockingAverage(std::vector<double> blockMeans, std::size_t minBlocks) {
+    MeanAndError result = blockAverage(blockMeans);
+    while (blockMeans.size() / 2 >= std::max<std::size_t>(minBlocks, 2)) {
+        std::vector<double> merged;
+        for (std::size_t i = 0; i + 1 < blockMeans.size(); i += 2)
+            merged.push_back(0.5 * (blockMeans[i] + blockMeans[i + 1]));
+        blockMeans = std::move(merged);
+        result.error = std::max(result.error, blockAverage(blockMeans).error);
+    }
+    return result;
+}
+
+double statisticalTolerance(double target, double error) { return std::max(target, 3.0 * error); }
+
 double rayleighCdf(double speed, double kTOverMass) {
     return -std::expm1(-speed * speed / (2.0 * kTOverMass));
 }
@@ -82,32 +96,37 @@ HEstimate hFunction(const std::vector<double>& vx, const std::vector<double>& vy
 
 double hEquilibrium(double kTOverMass) { return std::log(1.0 / (2.0 * kPi * kTOverMass)) - 1.0; }
 
-PowerLaw observedOrder(const std::vector<double>& dts, const std::vector<double>& errors) {
-    if (dts.size() != errors.size() || dts.size() < 2)
-        throw Error("observedOrder needs at least two (dt, error) pairs of equal count");
+Line leastSquaresLine(const std::vector<double>& x, const std::vector<double>& y) {
+    if (x.size() != y.size() || x.size() < 2)
+        throw Error("leastSquaresLine needs at least two (x, y) pairs of equal count");
     double sx = 0, sy = 0;
-    for (std::size_t i = 0; i < dts.size(); ++i) {
-        if (!(dts[i] > 0 && errors[i] > 0 && std::isfinite(dts[i]) && std::isfinite(errors[i]))) {
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        if (!(std::isfinite(x[i]) && std::isfinite(y[i]))) {
             std::ostringstream message;
-            message << "observedOrder needs finite dt > 0 and error > 0, got dt " << dts[i] << ", error " << errors[i];
+            message << "leastSquaresLine needs finite values, got (" << x[i] << ", " << y[i] << ")";
             throw Error(message.str());
         }
-        sx += std::log(dts[i]);
-        sy += std::log(errors[i]);
+        sx += x[i];
+        sy += y[i];
     }
-    const double n = double(dts.size());
+    const double n = double(x.size());
     const double meanX = sx / n, meanY = sy / n;
     double sxx = 0, sxy = 0;
-    for (std::size_t i = 0; i < dts.size(); ++i) {
-        const double x = std::log(dts[i]) - meanX;
-        sxx += x * x;
-        sxy += x * (std::log(errors[i]) - meanY);
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        sxx += (x[i] - meanX) * (x[i] - meanX);
+        sxy += (x[i] - meanX) * (y[i] - meanY);
     }
-    if (!(sxx > 0)) throw Error("observedOrder needs at least two distinct dt values");
-    PowerLaw law;
-    law.order = sxy / sxx;
-    law.coefficient = std::exp(meanY - law.order * meanX);
-    return law;
+    if (!(sxx > 0)) throw Error("leastSquaresLine needs at least two distinct x values");
+    Line line;
+    line.slope = sxy / sxx;
+    line.intercept = meanY - line.slope * meanX;
+    double squares = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        const double residual = y[i] - (line.intercept + line.slope * x[i]);
+        squares += residual * residual;
+    }
+    line.rmsResidual = std::sqrt(squares / n);
+    return line;
 }
 
 double hendersonZ(double eta) { return (1.0 + eta * eta / 8.0) / ((1.0 - eta) * (1.0 - eta)); }
@@ -122,6 +141,10 @@ double ludingZ(double eta) {
 double santosZ(double eta) {
     const double closePacked = kPi / (2.0 * std::sqrt(3.0));
     return 1.0 / (1.0 - 2.0 * eta + (2.0 * closePacked - 1.0) * eta * eta / (closePacked * closePacked));
+}
+
+double collisionFrequency(double z, double kT, double diameter, double mass) {
+    return 4.0 * (z - 1.0) / diameter * std::sqrt(kT / (kPi * mass));
 }
 
 const std::vector<ReferenceZ>& referenceTable() {

@@ -21,6 +21,22 @@ struct MeanAndError {
 // Error 0 for fewer than two blocks.
 MeanAndError blockAverage(const std::vector<double>& blockMeans);
 
+// The same mean with an error that allows for correlations between
+// consecutive blocks (Flyvbjerg & Petersen, J. Chem. Phys. 91, 461, 1989):
+// the blocks are merged in adjacent pairs, level by level (an odd last one
+// left out), while at least `minBlocks` remain, and the error is the largest
+// of the levels' standard errors. Independent blocks give the same error at
+// every level; correlated ones make it grow with the merged length until
+// that outlasts the correlation. In 2D the pressure's time correlation has
+// a slowly decaying (1/t) tail, so blocks of a few collision times are not
+// independent.
+MeanAndError blockingAverage(std::vector<double> blockMeans, std::size_t minBlocks);
+
+// The tolerance of a comparison whose target is `target`: the target, or
+// three standard errors where the run is too short to resolve it (a
+// deviation within 3 errors is what chance gives 0.3 % of the time).
+double statisticalTolerance(double target, double error);
+
 // The Rayleigh distribution of speeds in 2D at kT/m = `kTOverMass`:
 // F(v) = 1 - exp(-v^2 / (2 kT/m)), f(v) = v / (kT/m) exp(-v^2 / (2 kT/m)).
 double rayleighCdf(double speed, double kTOverMass);
@@ -57,22 +73,31 @@ HEstimate hFunction(const std::vector<double>& vx, const std::vector<double>& vy
 // H of the equilibrium (Gaussian) distribution, ln(m / (2 pi kT)) - 1.
 double hEquilibrium(double kTOverMass);
 
-// The power law error = coefficient * dt^order fitted by least squares to
-// (log dt, log error): `order` is the observed order of convergence.
-struct PowerLaw {
-    double order = 0.0;
-    double coefficient = 0.0;
+// The straight line y = intercept + slope x fitted to (x, y) by least
+// squares, and the root mean square of the residuals about it.
+struct Line {
+    double slope = 0.0;
+    double intercept = 0.0;
+    double rmsResidual = 0.0;
 };
 
-// Needs at least two points, all dts and errors > 0 and two distinct dts;
+// Needs at least two points of equal count, all finite, and two distinct x;
 // throws Error otherwise.
-PowerLaw observedOrder(const std::vector<double>& dts, const std::vector<double>& errors);
+Line leastSquaresLine(const std::vector<double>& x, const std::vector<double>& y);
 
 // The compressibility factor Z = PA / (N kT) of the hard-disk fluid at
 // packing fraction eta, from the closed forms of the reference.
 double hendersonZ(double packing);  // (1 + eta^2/8) / (1 - eta)^2
 double ludingZ(double packing);     // 1 + 2 eta g(sigma)
 double santosZ(double packing);     // 1 / (1 - 2 eta + (2 eta_cp - 1) eta^2 / eta_cp^2)
+
+// The collision frequency of one disk (collisions it takes part in per unit
+// time) in an equilibrium fluid of equal hard disks of diameter sigma and
+// mass m in 2D: omega = 4 (Z - 1) / sigma * sqrt(kT / (pi m)). The collision
+// virial gives Z - 1 = sigma <|v_n|> omega / (4 kT), and the normal relative
+// speed of colliding pairs averages sqrt(pi kT / m) (a flux-weighted
+// Maxwellian of variance 2 kT / m), whatever the density.
+double collisionFrequency(double z, double kT, double diameter, double mass);
 
 // One row of the reference table.
 struct ReferenceZ {
