@@ -27,7 +27,11 @@ Thermodynamics thermodynamics(const ContactTotals& contacts, double kT, std::siz
     const double time = contacts.time;
     if (n == 0 || !(time > 0)) return t;
     t.collisionRate = double(contacts.collisions) / (n * time);
-    t.virialPressure = (n * kT + contacts.virial / (2.0 * time)) / area;
+    // P A = E_kin + virial / (2 t), with the thermal kinetic energy: in a
+    // periodic box the centre of mass takes one of the N degree-of-freedom
+    // pairs (temperature() divides by N - 1 there), so E_kin = (N - 1) kT.
+    const double thermalPairs = world.boundary == Boundary::Periodic ? n - 1.0 : n;
+    t.virialPressure = (thermalPairs * kT + contacts.virial / (2.0 * time)) / area;
     if (kT > 0) t.virialZ = t.virialPressure * area / (n * kT);
     if (world.boundary == Boundary::Walls) {
         const double lengths[4] = {world.height, world.height, world.width, world.width};

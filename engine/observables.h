@@ -40,8 +40,10 @@ struct Thermodynamics {
     double temperature = 0.0;    // kT, as given
     double collisionRate = 0.0;  // collisions per particle per unit time, each pair once
                                  //   (a disk's own collision frequency is twice this)
-    // Collision virial pressure: P A = N kT + virial / (2 t). Exact for a
-    // periodic box; with walls it misses the walls' share (use wallPressure).
+    // Collision virial pressure: P A = E_kin + virial / (2 t), E_kin the
+    // thermal kinetic energy ((N - 1) kT in a periodic box, N kT with walls).
+    // Exact for a periodic box; with walls it misses the walls' share (use
+    // wallPressure).
     double virialPressure = 0.0;  // [mass/time^2]
     double virialZ = 0.0;         // P A / (N kT), the compressibility factor
     // Walls only (zero in a periodic box): impulse / (t x wall length).

@@ -146,7 +146,6 @@ struct RelaxationResult {
 struct ConservationRun {
     std::string backend;  // "cpu", "opencl seed", "opencl resident"
     std::string device;
-    std::string notRun;   // why the run was not made; empty when it was
     std::uint32_t particles = 0;
     double packing = 0.0;
     double dt = 0.0;
@@ -218,7 +217,6 @@ struct SuiteResult {
     GravityResult gravity;
     SimultaneousResult simultaneous;
     std::vector<Check> checks;   // every check of every part, in order
-    std::vector<std::string> notRun;  // "section: run: why" for each run the suite could not make
     double wallSeconds = 0.0;
     bool passed() const;
 };

