@@ -100,19 +100,22 @@ GridGeometry methodGridGeometry(const WorldDef& world, float maxRadius, std::siz
 
 std::map<std::string, double> profileMethod(const Method& method, const WorldDef& world,
                                             const std::vector<Particle>& particles, const std::string& device,
-                                            std::uint64_t steps, double substepsPerStep) {
+                                            std::uint64_t steps, double substepsPerStep,
+                                            std::uint64_t warmupSteps) {
     if (!method.opencl)
         return method.allPairs ? std::map<std::string, double>{}
                                : profileHostGrid(world, particles, steps, substepsPerStep);
 #ifdef CAROM_HAVE_OPENCL
     OpenClBackend backend(world, device, pipelineOf(method), true);
     backend.setParticles(particles);
+    backend.step(warmupSteps);
+    backend.profiler()->clear();
     backend.step(steps);
     std::map<std::string, double> perStep = backend.profiler()->seconds();
     for (auto& [name, seconds] : perStep) seconds /= double(steps);
     return perStep;
 #else
-    (void)world, (void)device, (void)substepsPerStep;
+    (void)world, (void)device, (void)substepsPerStep, (void)warmupSteps;
     return {};
 #endif
 }

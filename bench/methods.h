@@ -49,12 +49,16 @@ GridGeometry methodGridGeometry(const WorldDef& world, float maxRadius, std::siz
 // Where a step's time goes, in seconds per step, under world.collisions: for
 // an OpenCL method each kernel, transfer and host grid build, from `steps`
 // steps of a separate run with profiling on (so the timed runs carry no
-// profiling overhead); for the CPU backend its serial part, the grid build
+// profiling overhead), after `warmupSteps` unprofiled steps that bring it to
+// the state the timed samples saw (the pairwise scheme's rounds cost what
+// the collisions of the moment ask for; the scene starts on a lattice, with
+// none); for the CPU backend its serial part, the grid build
 // (one per substep: `substepsPerStep` of them), timed alone; nothing for the
 // CPU all-pairs method.
 std::map<std::string, double> profileMethod(const Method& method, const WorldDef& world,
                                             const std::vector<Particle>& particles, const std::string& device,
-                                            std::uint64_t steps, double substepsPerStep);
+                                            std::uint64_t steps, double substepsPerStep,
+                                            std::uint64_t warmupSteps);
 
 // Bytes a method must move per particle-step, by the memory they cross: the
 // state read and written once (2 x 32 B), the grid written and read once
