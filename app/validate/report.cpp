@@ -285,7 +285,7 @@ void markdownHeader(std::ostream& md, const SuiteResult& r, const RunContext& c)
     md << "; simultaneous scheme: ";
     for (std::size_t k = 0; k < r.simultaneous.dtSweep.size(); ++k)
         md << (k ? ", " : "") << general(r.simultaneous.dtSweep[k].dt);
-    md << "; two-body cases 1e-4, wall bounce 1e-3 |\n"
+    md << "; two-body cases 0.01, wall bounce 1e-3 |\n"
        << "| seed | " << r.options.seed << " |\n"
        << "| wall time | " << fixed(r.wallSeconds, 1) << " s |\n\n"
        << "Units: disks of radius 1 (σ = 2) and mass 1 at kT = 1; a disk's mean speed is then √(π/2) ≈ 1.25 "
