@@ -7,21 +7,24 @@
  * and velocity hold at that time, and it flies freely, under gravity, until
  * its next event. The step runs in rounds:
  *
- *   find      every disk finds its earliest event in the rest of the step:
- *             the first contact with a neighbour while approaching (the first
- *             root of |dx + dv t|^2 = sigma^2: both disks fall alike, so
- *             their relative motion is linear), or a wall (a quadratic under
+ *   find      every disk finds its earliest event in the rest of the step
+ *             (carom_find_event, first forward over each pair once, then all
+ *             neighbours for the disks met from behind): the first contact
+ *             with a neighbour while approaching (the first root of
+ *             |dx + dv t|^2 = sigma^2: both disks fall alike, so their
+ *             relative motion is linear), or a wall (a quadratic under
  *             gravity);
  *   resolve   pairs whose earliest events are each other, and wall events,
- *             are resolved: the disks fly to the contact time and receive the
- *             elastic impulse along the exact contact normal. A disk takes
- *             part in at most one impulse per round;
+ *             are resolved (carom_resolve_event): the disks fly to the
+ *             contact time and receive the elastic impulse along the exact
+ *             contact normal. A disk takes part in at most one impulse per
+ *             round;
  *   search    the disks that changed look again, and mark the unchanged
  *             neighbours whose earliest event they invalidate or beat
- *             (searchChanged); those look again too (searchDirty);
+ *             (CAROM_SEARCH_CHANGED); those look again too;
  *
  * until no event is left before the end of the step; then every disk flies to
- * the end (finishStep). Events are ordered by (time, lower id, higher id), so
+ * the end (carom_finish_step). Events are ordered by (time, lower id, higher id), so
  * the earliest event of a disk is a minimum, not a sum: it does not depend on
  * the order in which disks or neighbours are visited, and the backends agree
  * bit for bit. The globally earliest event is always mutual, so each round
