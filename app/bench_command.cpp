@@ -131,11 +131,12 @@ void benchOneSize(const BenchOptions& o, std::uint32_t particles, bool largerFol
         backend->setParticles(initial.particles);
         Row row{variant, particles, double(g.cols) * g.rows / particles, timeSteps(*backend, report.plan), {}};
         backend.reset();  // free its memory before the next method allocates
-        const std::uint64_t stepsTimed =
-            row.timing.warmupSteps + row.timing.stepsPerSample * row.timing.sampleSecondsPerStep.size();
-        if (o.profile)
+        if (o.profile) {
+            const std::uint64_t stepsTimed =
+                row.timing.warmupSteps + row.timing.stepsPerSample * row.timing.sampleSecondsPerStep.size();
             row.profile = profileMethod(variant.method, world, initial.particles, o.device,
                                         row.timing.stepsPerSample, row.timing.substepsPerStep, stepsTimed);
+        }
         std::cerr << "  " << variantLabel(variant) << ", N = " << particles << ": "
                   << row.timing.secondsPerStep * 1e3 << " ms/step\n";
         report.rows.push_back(row);

@@ -19,15 +19,8 @@ WorldDef periodicBox(float width, float height, float dt = 0.01f) {
     return world;
 }
 
-struct Run {
-    std::vector<Particle> particles;
-    ContactTotals contacts;
-};
-
 Run run(const std::string& kind, const WorldDef& world, const std::vector<Particle>& particles, std::uint64_t steps) {
-    Run r;
-    r.particles = simulate(kind, world, particles, steps, nullptr, &r.contacts);
-    return r;
+    return carom::test::run(testBackendDef(kind), world, particles, steps);
 }
 
 double momentumError(const std::vector<Particle>& before, const std::vector<Particle>& after, double* scale) {

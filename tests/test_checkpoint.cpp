@@ -15,13 +15,13 @@ using namespace carom::test;
 
 namespace {
 
-struct Run {
+struct Scenario {
     WorldDef world;
     std::vector<Particle> particles;
 };
 
 // Polydisperse, unequal masses, under gravity: every field of the state matters.
-Run polydisperseRun() {
+Scenario polydisperseScenario() {
     SceneDef scene;
     scene.particles = 1500;
     scene.packing = 0.4f;
@@ -33,7 +33,7 @@ Run polydisperseRun() {
     const InitialState s = makeInitialState(scene);
     WorldDef world = box(s.width, s.height, 0.005f);
     world.gravity = float2{0.0f, -0.5f};
-    return Run{world, s.particles};
+    return Scenario{world, s.particles};
 }
 
 bool sameBits(const std::vector<Particle>& a, const std::vector<Particle>& b) {
@@ -84,12 +84,12 @@ void reseal(std::string& bytes) {
 }
 
 // 2N steps in one run equal N steps, a checkpoint and N resumed, on `kind`.
-void checkResumeBitForBit(const std::string& kind, const Run& run, std::uint64_t half) {
-    const Checkpoint start{run.world, 0, 0.0, 0, run.particles};
+void checkResumeBitForBit(const std::string& kind, const Scenario& scenario, std::uint64_t half) {
+    const Checkpoint start{scenario.world, 0, 0.0, 0, scenario.particles};
     const Checkpoint whole = runAndCheckpoint(kind, start, 2 * half);
     writeCheckpoint("half.ckpt", runAndCheckpoint(kind, start, half));
     const Checkpoint halfway = readCheckpoint("half.ckpt");
-    CHECK(halfway.world.collisions == run.world.collisions);
+    CHECK(halfway.world.collisions == scenario.world.collisions);
     const Checkpoint resumed = runAndCheckpoint(kind, halfway, half);
     CHECK(resumed.step == 2 * half);
     CHECK(resumed.time == whole.time);
@@ -102,14 +102,14 @@ void checkResumeBitForBit(const std::string& kind, const Run& run, std::uint64_t
 }  // namespace
 
 TEST_CASE("checkpoint: every field reads back bit for bit") {
-    const Run run = polydisperseRun();
+    const Scenario scenario = polydisperseScenario();
     Checkpoint c;
-    c.world = run.world;
+    c.world = scenario.world;
     c.world.collisions = CollisionScheme::Pairwise;
     c.step = 123456789012ull;
     c.time = 617283.945060;
     c.collisions = 98765;
-    c.particles = run.particles;
+    c.particles = scenario.particles;
     writeCheckpoint("roundtrip.ckpt", c);
     const Checkpoint back = readCheckpoint("roundtrip.ckpt");
     CHECK(back.world.width == c.world.width);
@@ -129,17 +129,17 @@ TEST_CASE("checkpoint: every field reads back bit for bit") {
 }
 
 TEST_CASE("checkpoint: 2000 steps in one run equal 1000, a checkpoint and 1000 resumed, on each backend") {
-    const Run run = polydisperseRun();
+    const Scenario scenario = polydisperseScenario();
     for (const std::string& kind : backendKinds()) {
         CAPTURE(kind);
-        checkResumeBitForBit(kind, run, 1000);
+        checkResumeBitForBit(kind, scenario, 1000);
     }
 }
 
 TEST_CASE("checkpoint: 400 pairwise steps equal 200, a checkpoint and 200 resumed with the same scheme (CPU)") {
-    Run run = polydisperseRun();
-    run.world.collisions = CollisionScheme::Pairwise;
-    checkResumeBitForBit("cpu", run, 200);
+    Scenario scenario = polydisperseScenario();
+    scenario.world.collisions = CollisionScheme::Pairwise;
+    checkResumeBitForBit("cpu", scenario, 200);
 }
 
 TEST_CASE("checkpoint: a version-1 file (before the collision schemes) reads as the simultaneous scheme") {
@@ -198,12 +198,12 @@ TEST_CASE("checkpoint: a run resumed on another backend continues bit for bit wh
         MESSAGE("this build has no OpenCL backend: nothing to compare");
         return;
     }
-    const Run run = polydisperseRun();
-    if (!makeTestBackend("opencl", run.world)->exactArithmetic()) {
+    const Scenario scenario = polydisperseScenario();
+    if (!makeTestBackend("opencl", scenario.world)->exactArithmetic()) {
         MESSAGE("the OpenCL device lacks correctly rounded divide/sqrt: the backends do not agree bitwise");
         return;
     }
-    const Checkpoint start{run.world, 0, 0.0, 0, run.particles};
+    const Checkpoint start{scenario.world, 0, 0.0, 0, scenario.particles};
     const Checkpoint whole = runAndCheckpoint("cpu", start, 2000);
     for (const auto& [first, second] : {std::pair{"cpu", "opencl"}, std::pair{"opencl", "cpu"}}) {
         CAPTURE(first);

@@ -10,7 +10,6 @@
 // test says so.
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 
 #include "engine/diagnostics.h"
@@ -24,8 +23,7 @@ namespace {
 // One OpenCL run of the scene on the given pipeline, compared with the CPU run.
 void compareWithCpu(const std::string& pipeline, const WorldDef& world, const InitialState& s,
                     std::uint64_t steps, const std::vector<Particle>& cpu, const ContactTotals& cpuContacts) {
-    const char* device = std::getenv("CAROM_TEST_DEVICE");
-    auto opencl = makeBackend(BackendDef{"opencl", device ? device : "", pipeline}, world);
+    auto opencl = makeBackend(testBackendDef("opencl", pipeline), world);
     MESSAGE("OpenCL device: " << opencl->device());
     const std::string scheme = collisionSchemeName(world.collisions);
     CAPTURE(scheme);

@@ -17,19 +17,6 @@ namespace {
 
 constexpr double kEps = 1e-5;
 
-// Every backend and pipeline this build has.
-std::vector<BackendDef> pairwiseBackends() {
-    std::vector<BackendDef> defs = {BackendDef{"cpu", "", "seed"}};
-    const char* device = std::getenv("CAROM_TEST_DEVICE");
-    for (const std::string& kind : availableBackends())
-        if (kind == "opencl")
-            for (const char* pipeline : {"seed", "resident"})
-                defs.push_back(BackendDef{"opencl", device ? device : "", pipeline});
-    return defs;
-}
-
-std::string describe(const BackendDef& def) { return def.kind == "cpu" ? "cpu" : "opencl " + def.pipeline; }
-
 WorldDef pairwiseWorld(float width, float height, float dt = 0.01f, float2 gravity = {0, 0},
                        Boundary boundary = Boundary::Walls) {
     WorldDef world = box(width, height, dt);
@@ -37,21 +24,6 @@ WorldDef pairwiseWorld(float width, float height, float dt = 0.01f, float2 gravi
     world.gravity = gravity;
     world.boundary = boundary;
     return world;
-}
-
-struct Run {
-    std::vector<Particle> particles;
-    ContactTotals contacts;
-};
-
-Run run(const BackendDef& def, const WorldDef& world, const std::vector<Particle>& start, std::uint64_t steps) {
-    auto backend = makeBackend(def, world);
-    backend->setParticles(start);
-    backend->step(steps);
-    Run r;
-    backend->readParticles(r.particles);
-    r.contacts = backend->contacts();
-    return r;
 }
 
 double speed(const Particle& p) { return std::hypot(p.velocity.x, p.velocity.y); }
@@ -117,7 +89,7 @@ TEST_CASE("pairwise: head-on collisions at dt = 0.01 happen at the contact time,
     };
     // Contact at t = 0.5, mid-step; after t = 1 the positions follow from the
     // exact velocities: a time-stepped impulse would be off by up to v dt.
-    for (const BackendDef& def : pairwiseBackends()) {
+    for (const BackendDef& def : backendPipelines()) {
         for (const Case c : {Case{1, 3, 2, 0, 13.0f, -1, 1}, Case{3, 1, 1, 0, 12.5f, 0.5f, 1.5f}}) {
             CAPTURE(describe(def));
             CAPTURE(c.m1);
@@ -138,7 +110,7 @@ TEST_CASE("pairwise: equal masses, impact parameter sigma/2, from apart at dt = 
     // The target sits 1 below the line of flight: at contact the line of
     // centres points 30 degrees down, so the target leaves at 0.866 v at -30
     // degrees and the projectile at 0.5 v at +60.
-    for (const BackendDef& def : pairwiseBackends()) {
+    for (const BackendDef& def : backendPipelines()) {
         CAPTURE(describe(def));
         const std::vector<Particle> start = {disk(10, 10, 1, 0), disk(15, 9, 0, 0)};
         const Run r = run(def, pairwiseWorld(40, 20), start, 500);
@@ -154,7 +126,7 @@ TEST_CASE("pairwise: equal masses, impact parameter sigma/2, from apart at dt = 
 }
 
 TEST_CASE("pairwise: a disk between walls bounces with period 2 (L - 2r) / |v|") {
-    for (const BackendDef& def : pairwiseBackends()) {
+    for (const BackendDef& def : backendPipelines()) {
         CAPTURE(describe(def));
         // L = 8, r = 1, v = 3: period 4 = 400 steps, back where it started
         // (to the rounding of 400 float steps of 0.03 each, about 1e-4).
@@ -171,7 +143,7 @@ TEST_CASE("pairwise: a disk between walls bounces with period 2 (L - 2r) / |v|")
 }
 
 TEST_CASE("pairwise: Newton's cradle at dt = 0.01: the striker stops and the last disk leaves") {
-    for (const BackendDef& def : pairwiseBackends()) {
+    for (const BackendDef& def : backendPipelines()) {
         CAPTURE(describe(def));
         std::vector<Particle> start = {disk(16, 5, 2, 0)};
         for (float x : {20.0f, 22.0f, 24.0f, 26.0f, 28.0f}) start.push_back(disk(x, 5, 0, 0));
@@ -183,7 +155,7 @@ TEST_CASE("pairwise: Newton's cradle at dt = 0.01: the striker stops and the las
 }
 
 TEST_CASE("pairwise: an overlapping, approaching pair is a late contact: impulse, pushed to contact, counted") {
-    for (const BackendDef& def : pairwiseBackends()) {
+    for (const BackendDef& def : backendPipelines()) {
         CAPTURE(describe(def));
         const Run r = run(def, pairwiseWorld(40, 20), {disk(10, 10, 1, 0), disk(11.5f, 10, -1, 0)}, 1);
         CHECK(r.contacts.lateContacts == 1);
@@ -201,7 +173,7 @@ TEST_CASE("pairwise: kinetic energy is conserved to rounding in a dense gas (pac
     scene.packing = 0.7f;
     scene.seed = 3;
     const InitialState s = makeInitialState(scene);
-    for (const BackendDef& def : pairwiseBackends()) {
+    for (const BackendDef& def : backendPipelines()) {
         CAPTURE(describe(def));
         for (Boundary boundary : {Boundary::Walls, Boundary::Periodic}) {
             CAPTURE(std::string(boundaryName(boundary)));
@@ -229,7 +201,7 @@ TEST_CASE("pairwise: momentum is conserved to rounding in a periodic box") {
     scene.seed = 4;
     const InitialState s = makeInitialState(scene);
     const WorldDef world = pairwiseWorld(s.width, s.height, 0.01f, {0, 0}, Boundary::Periodic);
-    const Run r = run(BackendDef{"cpu", "", "seed"}, world, s.particles, 500);
+    const Run r = run(testBackendDef("cpu"), world, s.particles, 500);
     const Diagnostics before = measure(s.particles, world), after = measure(r.particles, world);
     double scale = 0;  // sum of m |v|: the momentum a rounding error is relative to
     for (const Particle& p : s.particles) scale += p.mass * speed(p);
@@ -248,7 +220,7 @@ TEST_CASE("pairwise: kinetic plus potential energy is conserved as polydisperse 
     scene.massMax = 5.0f;
     scene.seed = 8;
     const InitialState s = makeInitialState(scene);
-    for (const BackendDef& def : pairwiseBackends()) {
+    for (const BackendDef& def : backendPipelines()) {
         CAPTURE(describe(def));
         const WorldDef world = pairwiseWorld(s.width, s.height, 0.01f, {0.0f, -10.0f});
         const Run r = run(def, world, s.particles, 300);
@@ -266,7 +238,7 @@ TEST_CASE("pairwise: a stack resting on the floor under gravity stays put, with 
     std::vector<Particle> start;
     for (int row = 0; row < 5; ++row)
         for (int column = 0; column < 8; ++column) start.push_back(disk(1.0f + 2.0f * column, 1.0f + 2.0f * row, 0, 0));
-    for (const BackendDef& def : pairwiseBackends()) {
+    for (const BackendDef& def : backendPipelines()) {
         CAPTURE(describe(def));
         const WorldDef world = pairwiseWorld(16, 40, 0.01f, {0.0f, -10.0f});
         const Run r = run(def, world, start, 100);
@@ -298,7 +270,7 @@ TEST_CASE("pairwise: the backend's rounds equal a naive reference bit for bit") 
         CAPTURE(std::string(boundaryName(boundary)));
         const float2 gravity = boundary == Boundary::Walls ? float2{0.0f, -1.0f} : float2{0.0f, 0.0f};
         const WorldDef world = pairwiseWorld(s.width, s.height, 0.01f, gravity, boundary);
-        const Run r = run(BackendDef{"cpu", "", "seed"}, world, s.particles, 200);
+        const Run r = run(testBackendDef("cpu"), world, s.particles, 200);
         REQUIRE(r.contacts.substeps == 200);  // the reference takes no substeps
         ContactTotals reference;
         const std::vector<Particle> expected = naivePairwise(s.particles, world, 200, reference);
