@@ -7,9 +7,8 @@
 
 namespace carom {
 
-Diagnostics measure(const std::vector<Particle>& particles, const WorldDef& world) {
+Diagnostics measureMotion(const std::vector<Particle>& particles, const WorldDef& world) {
     Diagnostics d;
-    float maxRadius = 0.0f;
     for (const Particle& p : particles) {
         const double vx = p.velocity.x, vy = p.velocity.y;
         d.kineticEnergy += 0.5 * p.mass * (vx * vx + vy * vy);
@@ -19,8 +18,14 @@ Diagnostics measure(const std::vector<Particle>& particles, const WorldDef& worl
         const float2 x = p.position;
         const bool inside = x.x >= 0.0f && x.x <= world.width && x.y >= 0.0f && x.y <= world.height;
         if (!inside) ++d.escaped;  // also counts NaN
-        maxRadius = std::max(maxRadius, p.radius);
     }
+    return d;
+}
+
+Diagnostics measure(const std::vector<Particle>& particles, const WorldDef& world) {
+    Diagnostics d = measureMotion(particles, world);
+    float maxRadius = 0.0f;
+    for (const Particle& p : particles) maxRadius = std::max(maxRadius, p.radius);
 
     Grid grid;
     grid.geometry = gridGeometryFor(world.width, world.height, maxRadius, particles.size(), world.boundary);

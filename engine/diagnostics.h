@@ -19,6 +19,10 @@ struct Diagnostics {
     double totalEnergy() const { return kineticEnergy + potentialEnergy; }
 };
 
+// Every field.
 Diagnostics measure(const std::vector<Particle>& particles, const WorldDef& world);
+// Energies, momentum and escaped particles: one pass, no grid search
+// (maxOverlap stays 0), for callers that measure every frame.
+Diagnostics measureMotion(const std::vector<Particle>& particles, const WorldDef& world);
 
 }  // namespace carom

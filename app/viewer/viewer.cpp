@@ -163,7 +163,7 @@ void Viewer::upload() {
 }
 
 void Viewer::restartEnergyDrift() {
-    energyAtDriftStart_ = measure(particles_, backend_->world()).totalEnergy();
+    energyAtDriftStart_ = measureMotion(particles_, backend_->world()).totalEnergy();
     driftTime_ = 0.0;
 }
 
@@ -342,7 +342,7 @@ void Viewer::advance(int ticks) {
 }
 
 void Viewer::updateReadouts(double realSeconds) {
-    diagnostics_ = measure(particles_, backend_->world());
+    diagnostics_ = measureMotion(particles_, backend_->world());
     energyHistory_.push_back({float(diagnostics_.kineticEnergy), float(diagnostics_.potentialEnergy)});
     momentumHistory_.push_back(float(std::hypot(diagnostics_.momentum[0], diagnostics_.momentum[1])));
     if (energyHistory_.size() > kHistoryLength) energyHistory_.pop_front();
