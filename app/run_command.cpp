@@ -24,6 +24,7 @@
 #include "engine/atomic_file.h"
 #include "engine/checkpoint.h"
 #include "engine/diagnostics.h"
+#include "engine/output_paths.h"
 #include "engine/state_csv.h"
 #include "engine/stats.h"
 #include "engine/trajectory.h"
@@ -143,8 +144,9 @@ public:
         requireDistinctPaths();
         if (!def.trajectory.empty()) trajectory_.emplace(def.trajectory);
         if (!def.stats.empty()) stats_.emplace(def.stats);
+        // Opening a FIFO would wait for its reader, and closing it would end the reader's input.
         for (const std::string& path : {def.checkpoint, def.state})
-            if (!path.empty()) AtomicFile probe(path);
+            if (!path.empty() && !isSpecialFile(path)) AtomicFile probe(path);
     }
 
     void sample(std::uint64_t step, const WorldDef& world, const std::vector<Particle>& particles,

@@ -3,6 +3,11 @@
 // is destroyed without commit() (an error, an exception), the temporary file
 // is removed and the target is untouched. A crash leaves at most the
 // temporary file, never a half-written target.
+//
+// A symlink is followed: the temporary file goes beside its target, which
+// is replaced, and the link stays a link. A FIFO or a device (/dev/null, a
+// terminal) is written directly, with no temporary name: it is never
+// replaced by a regular file (engine/output_paths.h).
 #pragma once
 
 #include <fstream>
@@ -13,8 +18,8 @@ namespace carom {
 
 class AtomicFile {
 public:
-    // Opens the temporary file; throws Error if it cannot be created (so a
-    // bad output path is refused before any work is done).
+    // Opens the temporary file, or a special file directly; throws Error if
+    // it cannot (so a bad output path is refused before any work is done).
     explicit AtomicFile(std::string path);
     ~AtomicFile();
     AtomicFile(const AtomicFile&) = delete;
@@ -27,16 +32,18 @@ public:
     void append(std::string_view text);
 
     // Flushes, checks that every write succeeded, and renames into place
-    // (replacing the target, on every platform).
+    // (replacing the target, on every platform). A special file is flushed
+    // only.
     void commit();
 
     const std::string& path() const { return path_; }
 
 private:
-    [[noreturn]] void failWrite() const;
+    [[noreturn]] void failWrite(int error) const;
 
-    std::string path_;
-    std::string temporaryPath_;
+    std::string path_;           // as given, for messages
+    std::string target_;         // path_ with its symlinks followed: what commit() replaces
+    std::string temporaryPath_;  // empty for a special file, written directly
     std::ofstream stream_;
     bool committed_ = false;
 };

@@ -14,9 +14,11 @@ import os
 import re
 import shutil
 import signal
+import stat
 import struct
 import subprocess
 import sys
+import threading
 import time
 import zlib
 
@@ -278,6 +280,74 @@ def test_json_and_quiet_print_no_progress():
     for flag in ("--json", "--quiet"):
         _, err = carom("run", "--backend", "cpu", "--particles", 100, "--steps", 20, flag)
         assert "ETA" not in err and "\r" not in err, err
+
+
+def refused(*args):
+    """Runs carom, which must refuse: a non-zero exit and nothing on stdout; returns its stderr."""
+    done = subprocess.run([ARGS.carom, *map(str, args)], capture_output=True, text=True, timeout=600)
+    assert done.returncode != 0 and done.stdout == "", \
+        f"carom {' '.join(map(str, args))}: status {done.returncode}\n{done.stdout}{done.stderr}"
+    return done.stderr
+
+
+SMALL_RUN = ["run", "--backend", "cpu", "--particles", 10, "--steps", 5, "--quiet"]
+
+
+def device_node(d, name, device):
+    """A character device to write to: the system's (e.g. /dev/full) when carom cannot replace it, a
+    private node of the same device when running as root (so that a regression cannot replace the
+    system's), or None when root may not create one."""
+    if os.geteuid() != 0:
+        return device
+    path = os.path.join(d, name)
+    try:
+        os.mknod(path, 0o666 | stat.S_IFCHR, os.stat(device).st_rdev)
+    except OSError as e:
+        print(f"cannot create a device node ({e}): {device} not tested")
+        return None
+    return path
+
+
+def test_special_files():
+    """A symlink is followed (the link stays, its target is replaced); a FIFO and character devices
+    are written directly, never replaced by a regular file; a write error on one (/dev/full) is
+    reported with its path and a non-zero exit."""
+    d = work("special")
+    reference = os.path.join(d, "reference.csv")
+    carom(*SMALL_RUN, "--output-state", reference, "--stats", os.path.join(d, "reference-stats.csv"))
+
+    os.makedirs(os.path.join(d, "data"))
+    with open(os.path.join(d, "data", "target.csv"), "w") as f:
+        f.write("old")
+    os.symlink(os.path.join("data", "target.csv"), os.path.join(d, "link.csv"))
+    carom(*SMALL_RUN, "--output-state", os.path.join(d, "link.csv"))
+    assert os.readlink(os.path.join(d, "link.csv")) == os.path.join("data", "target.csv")
+    assert read_bytes(os.path.join(d, "data", "target.csv")) == read_bytes(reference)
+    no_partial_files(d)
+    no_partial_files(os.path.join(d, "data"))
+
+    fifo = os.path.join(d, "fifo")
+    os.mkfifo(fifo)
+    received = []
+    reader = threading.Thread(target=lambda: received.append(read_bytes(fifo)), daemon=True)
+    reader.start()
+    carom(*SMALL_RUN, "--output-state", fifo)
+    reader.join(timeout=60)
+    assert received == [read_bytes(reference)], received
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode)
+
+    null = device_node(d, "null", "/dev/null")
+    if null:
+        carom(*SMALL_RUN, "--trajectory", null, "--stats", os.path.join(d, "stats.csv"))
+        assert stat.S_ISCHR(os.stat(null).st_mode)
+        assert read_bytes(os.path.join(d, "stats.csv")) == read_bytes(os.path.join(d, "reference-stats.csv"))
+    full = device_node(d, "full", "/dev/full")
+    if full:
+        for option in ("--output-state", "--trajectory", "--stats", "--checkpoint"):
+            err = refused(*SMALL_RUN, option, full)
+            assert f"writing '{full}' failed: No space left on device" in err, (option, err)
+            assert stat.S_ISCHR(os.stat(full).st_mode), option
+    no_partial_files(d)
 
 
 def main():
