@@ -6,11 +6,41 @@
 #include <filesystem>
 #include <system_error>
 
+#if __has_include(<unistd.h>) && !defined(_WIN32)
+#include <fcntl.h>
+#include <unistd.h>
+#endif
+
 #include "engine/carom.h"
 #include "engine/output_paths.h"
 
 namespace carom {
 namespace fs = std::filesystem;
+
+namespace {
+
+// Flushes what the system holds of `path` (a file's data, a folder's
+// entries) to the disk, so that a power loss after a rename leaves either
+// the old or the new file under the final name, never an empty one. Returns
+// false, with errno set, if it could not.
+bool syncToDisk(const fs::path& path) {
+#if __has_include(<unistd.h>) && !defined(_WIN32)
+    const int descriptor = ::open(path.c_str(), O_RDONLY);
+    if (descriptor < 0) return false;
+    const bool synced = ::fsync(descriptor) == 0;
+    const int error = errno;
+    ::close(descriptor);
+    errno = error;
+    return synced;
+#else
+    // Windows: the std::ofstream is closed and _commit needs a descriptor
+    // open for writing; NTFS journals the rename. Nothing more to do here.
+    (void)path;
+    return true;
+#endif
+}
+
+}  // namespace
 
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
     if (path_.empty()) throw Error("an output file name is empty");
@@ -53,12 +83,19 @@ void AtomicFile::commit() {
     stream_.close();
     if (!written || stream_.fail()) failWrite(errno);
     if (!temporaryPath_.empty()) {
+        if (!syncToDisk(temporaryPath_))
+            throw Error("writing '" + path_ + "' failed: syncing it to the disk: " + std::strerror(errno) +
+                        "; the previous file, if any, is unchanged");
         // std::filesystem::rename replaces an existing target on Windows too,
         // where std::rename refuses.
         std::error_code error;
         fs::rename(temporaryPath_, target_, error);
         if (error)
             throw Error("cannot rename '" + temporaryPath_ + "' to '" + target_ + "': " + error.message());
+        // The file is in place now; a folder that cannot be synced (some file
+        // systems refuse) leaves it as safe as a plain rename would.
+        const fs::path folder = fs::path(target_).parent_path();
+        syncToDisk(folder.empty() ? fs::path(".") : folder);
     }
     committed_ = true;
 }

@@ -2,7 +2,8 @@
 // name beside the target and renamed into place by commit(). If the writer
 // is destroyed without commit() (an error, an exception), the temporary file
 // is removed and the target is untouched. A crash leaves at most the
-// temporary file, never a half-written target.
+// temporary file, never a half-written target; commit() syncs the file and
+// its folder to the disk, so neither can a power loss.
 //
 // A symlink is followed: the temporary file goes beside its target, which
 // is replaced, and the link stays a link. A FIFO or a device (/dev/null, a
@@ -31,9 +32,9 @@ public:
     // stops a long run then, not at its end).
     void append(std::string_view text);
 
-    // Flushes, checks that every write succeeded, and renames into place
-    // (replacing the target, on every platform). A special file is flushed
-    // only.
+    // Flushes, checks that every write succeeded, syncs the file to the
+    // disk and renames it into place (replacing the target, on every
+    // platform), then syncs the folder. A special file is flushed only.
     void commit();
 
     const std::string& path() const { return path_; }

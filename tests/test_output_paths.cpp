@@ -70,6 +70,22 @@ TEST_CASE("atomic files: a symlink stays a link to the new file") {
     CHECK_FALSE(fs::exists(folder.path / "data" / "target.csv.partial"));
 }
 
+TEST_CASE("atomic files: commit syncs and renames, here and in another folder") {
+    // That fsync is called cannot be observed from here (it takes a power
+    // loss); this checks that the synced commit still puts the file in place.
+    const Folder folder("synced");
+    for (const fs::path& path : {fs::path("synced-here.txt"), folder.path / "there.txt"}) {
+        {
+            AtomicFile file(path.string());
+            file.append("complete");
+            file.commit();
+        }
+        CHECK(contents(path) == "complete");
+        CHECK_FALSE(fs::exists(path.string() + ".partial"));
+    }
+    fs::remove("synced-here.txt");
+}
+
 #ifdef __linux__
 TEST_CASE("atomic files: a device is written directly and its write errors reported") {
     if (!fs::exists("/dev/full") || !fs::exists("/dev/null")) {
