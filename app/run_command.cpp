@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <tuple>
 #include <utility>
 
 #ifdef _WIN32
@@ -80,6 +81,12 @@ private:
 // ---------------------------------------------------------------------------
 // What the run starts from: a scene (options or file) or a checkpoint.
 
+// A file the run reads or writes, and the option or scene key that named it.
+struct NamedFile {
+    std::string name;  // "--stats", "output.stats" (from the scene file)
+    std::string path;
+};
+
 struct Start {
     WorldDef world;
     std::vector<Particle> particles;
@@ -88,11 +95,21 @@ struct Start {
     std::uint64_t steps = 0;       // steps this run takes
     bool resumed = false;          // from a checkpoint, whose step the previous run sampled
     OutputDef outputs;
+    std::vector<NamedFile> outputFiles;  // outputs' paths with their names, for the checks and messages
+    std::vector<NamedFile> inputFiles;   // the files this run reads: no output may replace them
 };
 
 // A command-line path wins over the scene file's.
-void preferGiven(std::string& path, const std::string& given) {
-    if (!given.empty()) path = given;
+void chooseOutputs(const RunOptions& o, Start& start) {
+    const std::tuple<const char*, const char*, std::string*, const std::string*> outputs[] = {
+        {"--trajectory", "output.trajectory", &start.outputs.trajectory, &o.trajectory},
+        {"--stats", "output.stats", &start.outputs.stats, &o.stats},
+        {"--checkpoint", "output.checkpoint", &start.outputs.checkpoint, &o.checkpoint},
+        {"--output-state", "output.state", &start.outputs.state, &o.outputState}};
+    for (const auto& [option, sceneKey, path, given] : outputs) {
+        if (!given->empty()) *path = *given;
+        if (!path->empty()) start.outputFiles.push_back({given->empty() ? sceneKey : option, *path});
+    }
 }
 
 Start planRun(const RunOptions& o) {
@@ -118,10 +135,10 @@ Start planRun(const RunOptions& o) {
     }
     if (start.steps > std::numeric_limits<std::uint64_t>::max() - start.step)
         throw Error("--steps " + std::to_string(start.steps) + " would take the step count past 2^64");
-    preferGiven(start.outputs.trajectory, o.trajectory);
-    preferGiven(start.outputs.stats, o.stats);
-    preferGiven(start.outputs.checkpoint, o.checkpoint);
-    preferGiven(start.outputs.state, o.outputState);
+    chooseOutputs(o, start);
+    for (const NamedFile& input : {NamedFile{"--resume", o.resume}, NamedFile{"--input-state", o.scene.inputState},
+                                   NamedFile{"--scene", o.scene.sceneFile}})
+        if (!input.path.empty()) start.inputFiles.push_back(input);
     if (o.scene.given.count("--every") || o.scene.sceneFile.empty()) start.outputs.every = o.every;
     return start;
 }
@@ -140,12 +157,12 @@ bool allFinite(const std::vector<Particle>& particles) {
 class Outputs {
 public:
     // Opens every output before the simulation, so a bad path is refused at once.
-    explicit Outputs(const OutputDef& def) : def_(def) {
-        requireDistinctPaths();
-        if (!def.trajectory.empty()) trajectory_.emplace(def.trajectory);
-        if (!def.stats.empty()) stats_.emplace(def.stats);
+    explicit Outputs(const Start& start) : def_(start.outputs) {
+        requireDistinctPaths(start);
+        if (!def_.trajectory.empty()) trajectory_.emplace(def_.trajectory);
+        if (!def_.stats.empty()) stats_.emplace(def_.stats);
         // Opening a FIFO would wait for its reader, and closing it would end the reader's input.
-        for (const std::string& path : {def.checkpoint, def.state})
+        for (const std::string& path : {def_.checkpoint, def_.state})
             if (!path.empty() && !isSpecialFile(path)) AtomicFile probe(path);
     }
 
@@ -197,16 +214,31 @@ public:
     const std::string& statePath() const { return def_.state; }
 
 private:
-    void requireDistinctPaths() const {
-        const std::pair<const char*, const std::string*> outputs[] = {{"--trajectory", &def_.trajectory},
-                                                                      {"--stats", &def_.stats},
-                                                                      {"--checkpoint", &def_.checkpoint},
-                                                                      {"--output-state", &def_.state}};
-        for (std::size_t a = 0; a < std::size(outputs); ++a)
-            for (std::size_t b = a + 1; b < std::size(outputs); ++b)
-                if (!outputs[a].second->empty() && *outputs[a].second == *outputs[b].second)
-                    throw Error(std::string(outputs[a].first) + " and " + outputs[b].first + " name the same file '" +
-                                *outputs[a].second + "'; give each output its own file");
+    // Refuses, before any work, outputs that would write over each other or
+    // over the run's inputs, under any spelling: through symlinks, hard
+    // links, "./" or a temporary name (FILE.partial). The one file that may
+    // be both is a checkpoint resumed from and written by --checkpoint: it
+    // is replaced whole.
+    static void requireDistinctPaths(const Start& start) {
+        const std::vector<NamedFile>& outputs = start.outputFiles;
+        for (const NamedFile& a : outputs) {
+            const std::string temporary = temporaryPath(a.path);
+            for (const NamedFile& b : outputs) {
+                if (&a < &b && sameFile(a.path, b.path))
+                    throw Error(a.name + " and " + b.name + " name the same file ('" + a.path + "' and '" + b.path +
+                                "'); give each output its own file");
+                if (&a != &b && !temporary.empty() && sameFile(temporary, b.path))
+                    throw Error(b.name + " '" + b.path + "' is the temporary name of " + a.name + " '" + a.path +
+                                "' (written there first, then renamed); give " + b.name + " another name");
+            }
+            for (const NamedFile& input : start.inputFiles) {
+                const bool replacesResumed = input.name == "--resume" && a.name == "--checkpoint";
+                if ((!replacesResumed && sameFile(a.path, input.path)) ||
+                    (!temporary.empty() && sameFile(temporary, input.path)))
+                    throw Error(a.name + " '" + a.path + "' would overwrite the input " + input.name + " '" +
+                                input.path + "'; write the output to another file");
+            }
+        }
     }
 
     OutputDef def_;
@@ -505,7 +537,7 @@ void reportInterruption(const Start& start, std::uint64_t step, std::uint64_t la
 
 int runCommand(const RunOptions& o) {
     Start start = planRun(o);
-    Outputs outputs(start.outputs);
+    Outputs outputs(start);
     std::unique_ptr<Backend> backend = makeBackend(o.scene.backend, start.world);
     backend->setParticles(start.particles);
 

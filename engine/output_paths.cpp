@@ -12,6 +12,16 @@ namespace {
 // As POSIX's SYMLOOP_MAX on Linux: a longer chain is a loop.
 constexpr int kMaxSymlinks = 40;
 
+// The absolute path with symlinks (also in the folders above), "." and ".."
+// resolved; its missing tail, if any, kept as written.
+fs::path resolved(const std::string& path) {
+    std::error_code error;
+    const fs::path absolute = fs::absolute(followSymlinks(path), error);
+    if (error) return fs::path(path).lexically_normal();
+    const fs::path canonical = fs::weakly_canonical(absolute, error);
+    return error ? absolute.lexically_normal() : canonical;
+}
+
 }  // namespace
 
 fs::path followSymlinks(const std::string& path) {
@@ -35,6 +45,12 @@ bool isSpecialFile(const std::string& path) {
 std::string temporaryPath(const std::string& path) {
     if (isSpecialFile(path)) return "";
     return followSymlinks(path).string() + ".partial";
+}
+
+bool sameFile(const std::string& a, const std::string& b) {
+    if (resolved(a) == resolved(b)) return true;
+    std::error_code error;  // set (and the result false) unless both exist
+    return fs::equivalent(a, b, error);
 }
 
 }  // namespace carom

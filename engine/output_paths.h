@@ -24,4 +24,9 @@ bool isSpecialFile(const std::string& path);
 // target's name + ".partial"; empty for a special file (no temporary).
 std::string temporaryPath(const std::string& path);
 
+// Whether two paths name one file: the same absolute path once symlinks,
+// "." and ".." are resolved, or (for existing files) the same file through
+// hard links or case-insensitive names.
+bool sameFile(const std::string& a, const std::string& b);
+
 }  // namespace carom

@@ -25,9 +25,9 @@ import zlib
 ARGS = None
 
 
-def carom(*args, check=True):
-    """Runs carom; returns (stdout, stderr). Fails the test on an unexpected status."""
-    done = subprocess.run([ARGS.carom, *map(str, args)], capture_output=True, text=True, timeout=600)
+def carom(*args, check=True, cwd=None):
+    """Runs carom (in `cwd`); returns (stdout, stderr). Fails the test on an unexpected status."""
+    done = subprocess.run([ARGS.carom, *map(str, args)], capture_output=True, text=True, timeout=600, cwd=cwd)
     if check and done.returncode != 0:
         sys.exit(f"carom {' '.join(map(str, args))} failed ({done.returncode}):\n{done.stderr}")
     return done.stdout, done.stderr
@@ -282,15 +282,72 @@ def test_json_and_quiet_print_no_progress():
         assert "ETA" not in err and "\r" not in err, err
 
 
-def refused(*args):
+def refused(*args, cwd=None):
     """Runs carom, which must refuse: a non-zero exit and nothing on stdout; returns its stderr."""
-    done = subprocess.run([ARGS.carom, *map(str, args)], capture_output=True, text=True, timeout=600)
+    done = subprocess.run([ARGS.carom, *map(str, args)], capture_output=True, text=True, timeout=600, cwd=cwd)
     assert done.returncode != 0 and done.stdout == "", \
         f"carom {' '.join(map(str, args))}: status {done.returncode}\n{done.stdout}{done.stderr}"
     return done.stderr
 
 
 SMALL_RUN = ["run", "--backend", "cpu", "--particles", 10, "--steps", 5, "--quiet"]
+
+
+def test_same_file_under_two_spellings():
+    """Two outputs that are one file under two spellings ("./", "sub/..", a symlink, a hard link) or
+    an output named as another's temporary file (FILE.partial) are refused before any work, naming
+    both; the files already there are left as they were."""
+    d = work("two-spellings")
+    for name in ("c.ckpt", "a.csv"):
+        with open(os.path.join(d, name), "w") as f:
+            f.write("old")
+    os.link(os.path.join(d, "a.csv"), os.path.join(d, "hard.csv"))
+    os.symlink("a.csv", os.path.join(d, "link.csv"))
+    cases = [(["--checkpoint", "c.ckpt", "--output-state", "./c.ckpt"], "--checkpoint and --output-state"),
+             (["--trajectory", "t.xyz", "--stats", "./t.xyz"], "--trajectory and --stats"),
+             (["--stats", "a.csv", "--output-state", "./a.csv"], "--stats and --output-state"),
+             (["--stats", "a.csv", "--output-state", "hard.csv"], "--stats and --output-state"),
+             (["--trajectory", "link.csv", "--checkpoint", "sub/../a.csv"], "--trajectory and --checkpoint"),
+             (["--stats", "s.csv", "--trajectory", "s.csv.partial"],
+              "--trajectory 's.csv.partial' is the temporary name of --stats 's.csv'"),
+             (["--stats", "link.csv", "--trajectory", "a.csv.partial"],  # the temporary goes beside the target
+              "--trajectory 'a.csv.partial' is the temporary name of --stats 'link.csv'")]
+    for args, message in cases:
+        err = refused(*SMALL_RUN, *args, cwd=d)
+        assert message in err, (args, err)
+    for name in ("c.ckpt", "a.csv"):
+        with open(os.path.join(d, name)) as f:
+            assert f.read() == "old", name
+    assert sorted(os.listdir(d)) == ["a.csv", "c.ckpt", "hard.csv", "link.csv"], os.listdir(d)
+
+
+def test_outputs_never_replace_inputs():
+    """An output that would replace the run's input state, resumed checkpoint or scene file is refused
+    before any work, and the input is left as it was. A checkpoint resumed from and written with
+    --checkpoint is the one file that may be both: it is replaced whole."""
+    d = work("inputs")
+    carom(*SMALL_RUN, "--box", 20, 20, "--output-state", os.path.join(d, "in.csv"), "--checkpoint",
+          os.path.join(d, "c.ckpt"), cwd=d)
+    scene = os.path.join(d, "s.toml")
+    with open(scene, "w") as f:
+        f.write('box = [20, 20]\nsteps = 5\n[[group]]\ncount = 10\ntemperature = 1\n[output]\nstate = "./s.toml"\n')
+    before = {name: read_bytes(os.path.join(d, name)) for name in ("in.csv", "c.ckpt", "s.toml")}
+    cases = [(["--input-state", "in.csv", "--box", 20, 20, "--output-state", "in.csv"],
+              "--output-state 'in.csv' would overwrite the input --input-state 'in.csv'"),
+             (["--input-state", "in.csv", "--box", 20, 20, "--stats", "./in.csv"],
+              "--stats './in.csv' would overwrite the input --input-state 'in.csv'"),
+             (["--resume", "c.ckpt", "--output-state", "c.ckpt"],
+              "--output-state 'c.ckpt' would overwrite the input --resume 'c.ckpt'"),
+             (["--scene", "s.toml"], "output.state './s.toml' would overwrite the input --scene 's.toml'")]
+    for args, message in cases:
+        err = refused("run", "--backend", "cpu", "--quiet", *args, cwd=d)
+        assert message in err, (args, err)
+    for name, content in before.items():
+        assert read_bytes(os.path.join(d, name)) == content, name
+    step = checkpoint_step(os.path.join(d, "c.ckpt"))
+    carom("run", "--backend", "cpu", "--quiet", "--resume", "c.ckpt", "--checkpoint", "./c.ckpt", "--steps", 7, cwd=d)
+    assert checkpoint_step(os.path.join(d, "c.ckpt")) == step + 7
+    no_partial_files(d)
 
 
 def device_node(d, name, device):

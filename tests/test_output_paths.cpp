@@ -1,5 +1,5 @@
-// Where outputs go: symlinks and special files (engine/output_paths.h,
-// atomic_file.h).
+// Where outputs go: symlinks, special files, one file under two names
+// (engine/output_paths.h, atomic_file.h).
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -33,11 +33,19 @@ struct Folder {
 
 }  // namespace
 
-TEST_CASE("output paths: symlinks followed, special files without a temporary name") {
-    const Folder folder("output-paths");
+TEST_CASE("output paths: one file under two names") {
+    const Folder folder("same-file");
     const std::string a = (folder.path / "a.csv").string();
+    CHECK(sameFile(a, (folder.path / "." / "a.csv").string()));
+    CHECK(sameFile(a, (folder.path / "sub" / ".." / "a.csv").string()));  // before either exists
+    CHECK_FALSE(sameFile(a, (folder.path / "b.csv").string()));
     write(a, "a");
+    fs::create_hard_link(a, folder.path / "hard.csv");
+    CHECK(sameFile(a, (folder.path / "hard.csv").string()));
     fs::create_symlink("a.csv", folder.path / "link.csv");
+    CHECK(sameFile(a, (folder.path / "link.csv").string()));
+    fs::create_symlink("new.csv", folder.path / "dangling.csv");  // names a file still to be written
+    CHECK(sameFile((folder.path / "new.csv").string(), (folder.path / "dangling.csv").string()));
 
     // The temporary name is beside the link's target; a device has none.
     CHECK(fs::path(temporaryPath((folder.path / "link.csv").string())) == folder.path / "a.csv.partial");
