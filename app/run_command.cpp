@@ -156,11 +156,14 @@ bool allFinite(const std::vector<Particle>& particles) {
 
 class Outputs {
 public:
-    // Opens every output before the simulation, so a bad path is refused at once.
+    // Opens every output before the simulation, so a bad path is refused at
+    // once. A resumed run appends to its trajectory and statistics (see
+    // TrajectoryWriter), so that they continue the previous run's.
     explicit Outputs(const Start& start) : def_(start.outputs) {
         requireDistinctPaths(start);
-        if (!def_.trajectory.empty()) trajectory_.emplace(def_.trajectory);
-        if (!def_.stats.empty()) stats_.emplace(def_.stats);
+        const std::optional<std::uint64_t> resumedAt = start.resumed ? std::optional(start.step) : std::nullopt;
+        if (!def_.trajectory.empty()) trajectory_.emplace(def_.trajectory, resumedAt);
+        if (!def_.stats.empty()) stats_.emplace(def_.stats, resumedAt);
         // Opening a FIFO would wait for its reader, and closing it would end the reader's input.
         for (const std::string& path : {def_.checkpoint, def_.state})
             if (!path.empty() && !isSpecialFile(path)) AtomicFile probe(path);

@@ -42,7 +42,7 @@ bool syncToDisk(const fs::path& path) {
 
 }  // namespace
 
-AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
+AtomicFile::AtomicFile(std::string path, Existing existing) : path_(std::move(path)) {
     if (path_.empty()) throw Error("an output file name is empty");
     std::error_code error;
     if (fs::is_directory(path_, error)) throw Error("cannot write '" + path_ + "': it is a directory");
@@ -53,8 +53,15 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
         return;
     }
     target_ = followSymlinks(path_).string();
-    stream_.open(temporaryPath_, std::ios::binary | std::ios::trunc);
-    if (!stream_) throw Error("cannot write '" + path_ + "': " + std::strerror(errno));
+    continues_ = existing == Existing::Append && hasContent(target_);
+    if (continues_ && !fs::copy_file(target_, temporaryPath_, fs::copy_options::overwrite_existing, error))
+        throw Error("cannot write '" + path_ + "': copying it to '" + temporaryPath_ + "' failed: " + error.message());
+    stream_.open(temporaryPath_, std::ios::binary | (continues_ ? std::ios::app : std::ios::trunc));
+    if (!stream_) {
+        const int openError = errno;
+        if (continues_) std::remove(temporaryPath_.c_str());
+        throw Error("cannot write '" + path_ + "': " + std::strerror(openError));
+    }
 }
 
 AtomicFile::~AtomicFile() {

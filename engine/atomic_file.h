@@ -17,11 +17,18 @@
 
 namespace carom {
 
+// What an AtomicFile does with a regular file already at its path.
+enum class Existing {
+    Replace,  // start empty; commit() replaces it
+    Append,   // start from a copy of it; commit() replaces it with the copy and what was appended
+};
+
 class AtomicFile {
 public:
-    // Opens the temporary file, or a special file directly; throws Error if
-    // it cannot (so a bad output path is refused before any work is done).
-    explicit AtomicFile(std::string path);
+    // Opens the temporary file (with Existing::Append, a copy of an existing
+    // regular file at `path`), or a special file directly; throws Error if it
+    // cannot (so a bad output path is refused before any work is done).
+    explicit AtomicFile(std::string path, Existing existing = Existing::Replace);
     ~AtomicFile();
     AtomicFile(const AtomicFile&) = delete;
     AtomicFile& operator=(const AtomicFile&) = delete;
@@ -39,6 +46,10 @@ public:
 
     const std::string& path() const { return path_; }
 
+    // Whether the file starts with an existing file's content (Existing::Append
+    // and a non-empty regular file was there).
+    bool continues() const { return continues_; }
+
 private:
     [[noreturn]] void failWrite(int error) const;
 
@@ -46,6 +57,7 @@ private:
     std::string target_;         // path_ with its symlinks followed: what commit() replaces
     std::string temporaryPath_;  // empty for a special file, written directly
     std::ofstream stream_;
+    bool continues_ = false;
     bool committed_ = false;
 };
 

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "engine/atomic_file.h"
@@ -19,8 +20,11 @@ namespace carom {
 class StatsWriter {
 public:
     // Opens a temporary file beside `path` and writes the header; throws
-    // Error if it cannot.
-    explicit StatsWriter(const std::string& path);
+    // Error if it cannot. A run resumed from a checkpoint at step `resumedAt`
+    // continues an existing `path` (its rows, then this run's: one long run's
+    // statistics); Error if its header is not this one or its last row is
+    // after that step, since appending would repeat steps.
+    explicit StatsWriter(const std::string& path, std::optional<std::uint64_t> resumedAt = std::nullopt);
 
     // Appends one row; throws Error if the write fails (disk full).
     void write(std::uint64_t step, double time, const Diagnostics& diagnostics, std::uint64_t collisions);

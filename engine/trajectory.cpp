@@ -2,11 +2,35 @@
 
 #include <algorithm>
 
+#include "engine/output_paths.h"
 #include "engine/text_format.h"
 
 namespace carom {
+namespace {
 
-TrajectoryWriter::TrajectoryWriter(const std::string& path) : file_(path) {}
+// How a run resumed at `resumedAt` (if it is) opens `path`: appending, once
+// the frames already there are found to end at or before that step.
+Existing continuation(const std::string& path, std::optional<std::uint64_t> resumedAt) {
+    if (!resumedAt) return Existing::Replace;
+    if (!hasContent(path)) return Existing::Append;
+    LinesFromEnd lines(path);
+    for (std::string line; lines.previous(line);) {
+        if (line.rfind("Lattice=", 0) != 0) continue;
+        const std::size_t value = line.find(" step=");
+        std::uint64_t step = 0;
+        if (value == std::string::npos ||
+            !parseStep(line.substr(value + 6, line.find(' ', value + 6) - (value + 6)), step))
+            break;
+        requireAppendable(path, "frame", step, *resumedAt);
+        return Existing::Append;
+    }
+    refuseToAppend(path, "it has no frame header with a step=, so it is no carom trajectory");
+}
+
+}  // namespace
+
+TrajectoryWriter::TrajectoryWriter(const std::string& path, std::optional<std::uint64_t> resumedAt)
+    : file_(path, continuation(path, resumedAt)) {}
 
 void TrajectoryWriter::write(const std::vector<Particle>& particles, const WorldDef& world, std::uint64_t step,
                              double time) {

@@ -350,6 +350,42 @@ def test_outputs_never_replace_inputs():
     no_partial_files(d)
 
 
+def test_resume_appends_to_its_outputs():
+    """A run resumed with the same trajectory and statistics names appends to them: 100 steps and
+    100 resumed steps give the very files of one 200-step run. Resuming again from the older
+    checkpoint would repeat steps: refused, naming the file, its last step and the checkpoint's,
+    and the files are left as they were. A resumed run creates a missing file (statistics with
+    their header); a new run replaces an existing one."""
+    d = work("resume-append")
+    scene = ["--backend", "cpu", "--particles", 60, "--seed", 5, "--every", 20, "--quiet"]
+    carom("run", *scene, "--steps", 200, "--trajectory", "whole.xyz", "--stats", "whole.csv", cwd=d)
+    carom("run", *scene, "--steps", 100, "--trajectory", "t.xyz", "--stats", "s.csv", "--checkpoint", "c.ckpt", cwd=d)
+    shutil.copy(os.path.join(d, "c.ckpt"), os.path.join(d, "step100.ckpt"))
+    resumed = ["run", "--backend", "cpu", "--every", 20, "--quiet", "--steps", 100]
+    carom(*resumed, "--resume", "c.ckpt", "--trajectory", "t.xyz", "--stats", "s.csv", "--checkpoint", "c.ckpt",
+          cwd=d)
+    for one, whole in (("t.xyz", "whole.xyz"), ("s.csv", "whole.csv")):
+        assert read_bytes(os.path.join(d, one)) == read_bytes(os.path.join(d, whole)), one
+    for name, item in (("t.xyz", "frame"), ("s.csv", "row")):
+        before = read_bytes(os.path.join(d, name))
+        err = refused(*resumed, "--resume", "step100.ckpt", "--trajectory" if item == "frame" else "--stats", name,
+                      cwd=d)
+        assert f"cannot append to '{name}': its last {item} is at step 200, after the checkpoint's step 100" in err, err
+        assert read_bytes(os.path.join(d, name)) == before, name
+    with open(os.path.join(d, "other.csv"), "w") as f:
+        f.write("id,x,y\n")
+    err = refused(*resumed, "--resume", "step100.ckpt", "--stats", "other.csv", cwd=d)
+    assert "cannot append to 'other.csv': its header is 'id,x,y'" in err, err
+
+    carom(*resumed, "--resume", "step100.ckpt", "--stats", "new.csv", cwd=d)
+    with open(os.path.join(d, "new.csv")) as f:
+        assert [int(r["step"]) for r in csv.DictReader(f)] == [120, 140, 160, 180, 200]
+    carom("run", *scene, "--steps", 20, "--trajectory", "t.xyz", cwd=d)
+    with open(os.path.join(d, "t.xyz")) as f:
+        assert [int(s) for s in re.findall(r" step=(\d+)", f.read())] == [0, 20]
+    no_partial_files(d)
+
+
 def device_node(d, name, device):
     """A character device to write to: the system's (e.g. /dev/full) when carom cannot replace it, a
     private node of the same device when running as root (so that a regression cannot replace the

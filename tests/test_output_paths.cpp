@@ -1,12 +1,14 @@
-// Where outputs go: symlinks, special files, one file under two names
-// (engine/output_paths.h, atomic_file.h).
+// Where outputs go (symlinks, special files, one file under two names) and
+// how a resumed run continues them (engine/output_paths.h, atomic_file.h).
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 #include "engine/atomic_file.h"
 #include "engine/output_paths.h"
+#include "engine/stats.h"
 #include "support.h"
 
 using namespace carom;
@@ -21,6 +23,15 @@ std::string contents(const fs::path& path) {
 
 void write(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
 
+std::vector<std::string> linesFromEnd(const std::string& text) {
+    write("lines.txt", text);
+    LinesFromEnd lines("lines.txt");
+    std::vector<std::string> result;
+    for (std::string line; lines.previous(line);) result.push_back(line);
+    fs::remove("lines.txt");
+    return result;
+}
+
 // A fresh folder for one test case, removed at its end.
 struct Folder {
     explicit Folder(const std::string& name) : path(name) {
@@ -32,6 +43,21 @@ struct Folder {
 };
 
 }  // namespace
+
+TEST_CASE("output paths: lines read from the end") {
+    CHECK(linesFromEnd("") == std::vector<std::string>{});
+    CHECK(linesFromEnd("\n") == std::vector<std::string>{""});
+    CHECK(linesFromEnd("a\nb\n") == std::vector<std::string>{"b", "a"});
+    CHECK(linesFromEnd("a\nb") == std::vector<std::string>{"b", "a"});
+    CHECK(linesFromEnd("a\n\nb\n") == std::vector<std::string>{"b", "", "a"});
+    const std::string longLine(200000, 'x');  // over several blocks
+    CHECK(linesFromEnd("first\n" + longLine + "\nlast\n") == std::vector<std::string>{"last", longLine, "first"});
+
+    std::uint64_t step = 0;
+    CHECK((parseStep("18446744073709551615", step) && step == 18446744073709551615u));
+    for (const char* bad : {"", "-1", "+1", "1.5", "18446744073709551616", "1 ", "x"})
+        CHECK_MESSAGE(!parseStep(bad, step), bad);
+}
 
 TEST_CASE("output paths: one file under two names") {
     const Folder folder("same-file");
@@ -78,6 +104,30 @@ TEST_CASE("atomic files: a symlink stays a link to the new file") {
     CHECK_FALSE(fs::exists(folder.path / "data" / "target.csv.partial"));
 }
 
+TEST_CASE("atomic files: appending is atomic too") {
+    const Folder folder("append");
+    const std::string path = (folder.path / "s.txt").string();
+    write(path, "old\n");
+    {
+        AtomicFile file(path, Existing::Append);
+        CHECK(file.continues());
+        file.append("new\n");
+    }  // destroyed without commit: the original is untouched
+    CHECK(contents(path) == "old\n");
+    CHECK_FALSE(fs::exists(path + ".partial"));
+    {
+        AtomicFile file(path, Existing::Append);
+        file.append("new\n");
+        file.commit();
+    }
+    CHECK(contents(path) == "old\nnew\n");
+    CHECK_FALSE(fs::exists(path + ".partial"));
+    {
+        AtomicFile file((folder.path / "absent.txt").string(), Existing::Append);
+        CHECK_FALSE(file.continues());
+    }
+}
+
 TEST_CASE("atomic files: commit syncs and renames, here and in another folder") {
     // That fsync is called cannot be observed from here (it takes a power
     // loss); this checks that the synced commit still puts the file in place.
@@ -116,3 +166,28 @@ TEST_CASE("atomic files: a device is written directly and its write errors repor
     CHECK(fs::is_character_file("/dev/null"));
 }
 #endif
+
+TEST_CASE("statistics: a resumed run appends after the rows already there") {
+    const Folder folder("stats-append");
+    const std::string path = (folder.path / "s.csv").string();
+    const std::string header = "step,time,kinetic_energy,momentum_x,momentum_y,collisions,max_overlap,escaped\n";
+    const Diagnostics d{};
+    {
+        StatsWriter stats(path, 100);  // no file yet: created with its header
+        stats.write(200, 2.0, d, 0);
+        stats.commit();
+    }
+    CHECK(contents(path).rfind(header + "200,", 0) == 0);
+    {
+        StatsWriter stats(path, 200);
+        stats.write(300, 3.0, d, 0);
+        stats.commit();
+    }
+    CHECK(contents(path).find("\n200,") < contents(path).find("\n300,"));
+    CHECK_THROWS_WITH_AS(StatsWriter(path, 250),
+                         doctest::Contains("its last row is at step 300, after the checkpoint's step 250"), Error);
+    write(path, header);  // no rows yet
+    CHECK_NOTHROW(StatsWriter(path, 0));
+    write(path, "id,x,y\n0,1,2\n");
+    CHECK_THROWS_WITH_AS(StatsWriter(path, 0), doctest::Contains("its header is 'id,x,y'"), Error);
+}
