@@ -51,6 +51,11 @@ void addRunOptions(CLI::App& command, RunOptions& o) {
                               "--radius-min", "--radius-max", "--mass", "--mass-min", "--mass-max", "--speed",
                               "--seed", "--dt", "--gravity", "--boundary", "--collisions"})
         resume->excludes(command.get_option(scene));
+    // An empty name would silently mean "no output".
+    for (const char* output : {"--output-state", "--trajectory", "--stats", "--checkpoint"})
+        command.get_option(output)->check([](const std::string& path) {
+            return path.empty() ? std::string("an empty file name; give a path, or leave the option out") : "";
+        });
     command.add_flag("--quiet", o.quiet, "No progress line on stderr");
 }
 

@@ -443,6 +443,20 @@ def test_special_files():
     no_partial_files(d)
 
 
+def test_empty_output_names_are_refused():
+    """An empty output name, on the command line or in a scene's [output], is refused, not taken as
+    "no output"."""
+    for option in ("--output-state", "--trajectory", "--stats", "--checkpoint"):
+        err = refused(*SMALL_RUN, option, "")
+        assert f"{option}: an empty file name; give a path, or leave the option out" in err, err
+    scene = os.path.join(work("empty-names"), "s.toml")
+    for key in ("state", "trajectory", "stats", "checkpoint"):
+        with open(scene, "w") as f:
+            f.write(f'box = [20, 20]\nsteps = 5\n[[group]]\ncount = 10\n[output]\n{key} = ""\n')
+        err = refused("run", "--backend", "cpu", "--scene", scene)
+        assert f'output.{key} = "": must be a non-empty string' in err, err
+
+
 def main():
     global ARGS
     parser = argparse.ArgumentParser()
