@@ -6,6 +6,11 @@
 #include <string>
 #include <vector>
 
+#ifdef __linux__
+#include <sys/stat.h>
+#include <unistd.h>
+#endif
+
 #include "engine/atomic_file.h"
 #include "engine/output_paths.h"
 #include "engine/stats.h"
@@ -145,25 +150,43 @@ TEST_CASE("atomic files: commit syncs and renames, here and in another folder") 
 }
 
 #ifdef __linux__
+namespace {
+
+// A character device to write to: the system's `device` when this process
+// cannot replace it, else (as root) a private node of the same device, so a
+// regression cannot replace the system's; empty when neither is possible.
+std::string deviceNode(const std::string& device, const fs::path& folder) {
+    struct stat status {};
+    if (::stat(device.c_str(), &status) != 0) return "";
+    if (::geteuid() != 0) return device;
+    const fs::path node = folder / fs::path(device).filename();
+    return ::mknod(node.c_str(), S_IFCHR | 0666, status.st_rdev) == 0 ? node.string() : "";
+}
+
+}  // namespace
+
 TEST_CASE("atomic files: a device is written directly and its write errors reported") {
-    if (!fs::exists("/dev/full") || !fs::exists("/dev/null")) {
-        MESSAGE("no /dev/full or /dev/null here: nothing to test");
+    const Folder folder("devices");
+    const std::string null = deviceNode("/dev/null", folder.path), full = deviceNode("/dev/full", folder.path);
+    if (null.empty() || full.empty()) {
+        MESSAGE("no /dev/full or /dev/null to write here: nothing to test");
         return;
     }
     {
-        AtomicFile file("/dev/null");
+        AtomicFile file(null);
         file.append("discarded");
         file.commit();
     }
-    AtomicFile file("/dev/full");
+    AtomicFile file(full);
+    const std::string message = "writing '" + full + "' failed: No space left on device";
     CHECK_THROWS_WITH_AS(
         [&] {
             file.append(std::string(1 << 20, 'x'));
             file.commit();
         }(),
-        doctest::Contains("writing '/dev/full' failed: No space left on device"), Error);
-    CHECK(fs::is_character_file("/dev/full"));
-    CHECK(fs::is_character_file("/dev/null"));
+        doctest::Contains(message.c_str()), Error);
+    CHECK(fs::is_character_file(full));
+    CHECK(fs::is_character_file(null));
 }
 #endif
 
