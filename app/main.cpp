@@ -1,4 +1,5 @@
 // carom: the command line. Parsing lives here; each subcommand is in its own file.
+#include <csignal>
 #include <iostream>
 #include <new>
 
@@ -6,7 +7,9 @@
 
 #include "app/commands.h"
 
-int main(int argc, char** argv) {
+namespace {
+
+int runCarom(int argc, char** argv) {
     using namespace carom::app;
     CLI::App app{"carom: 2D elastic disk collisions on OpenCL and CPU backends"};
     app.require_subcommand(1, 1);
@@ -43,4 +46,15 @@ int main(int argc, char** argv) {
         std::cerr << "carom: error: " << e.what() << '\n';
     }
     return 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+#ifdef SIGXFSZ
+    // Past a file size limit (ulimit -f) a write fails (EFBIG) and is
+    // reported, keeping the other outputs, instead of killing carom.
+    std::signal(SIGXFSZ, SIG_IGN);
+#endif
+    return runCarom(argc, argv);
 }
