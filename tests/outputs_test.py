@@ -407,6 +407,23 @@ def test_output_failures_at_the_end_are_all_reported():
         no_partial_files(d)
 
 
+def test_stdout_write_errors_are_reported():
+    """A summary, JSON or listing that cannot reach stdout (here /dev/full) is an error, not a silent
+    exit 0, for every subcommand; with the reason when the failed write came in the final flush (the
+    outputs up to stdio's buffer, 4 KiB)."""
+    if not os.path.exists("/dev/full"):
+        return
+    for arguments in (["run", "--backend", "cpu", "--particles", 10, "--steps", 10, "--json"],
+                      ["run", "--backend", "cpu", "--particles", 10, "--steps", 10], ["devices"],
+                      ["bench", "--list"], ["--help"], ["run", "--help"]):
+        with open("/dev/full", "w") as full:
+            done = subprocess.run([ARGS.carom, *map(str, arguments)], stdout=full, stderr=subprocess.PIPE, text=True,
+                                  timeout=600)
+        assert done.returncode == 1, (arguments, done.returncode, done.stderr)
+        reason = ": No space left on device" if arguments != ["run", "--help"] else ""
+        assert f"writing to standard output failed{reason}" in done.stderr, (arguments, done.stderr)
+
+
 def main():
     global ARGS
     parser = argparse.ArgumentParser()
