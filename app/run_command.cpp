@@ -210,11 +210,11 @@ public:
     std::string holdings() const {
         std::string lines;
         auto samples = [](std::size_t count, const char* unit, const std::optional<std::uint64_t>& last) {
-            return std::to_string(count) + " " + unit +
+            return std::to_string(count) + " " + unit + (count == 1 ? "" : "s") +
                    (last ? ", the last at step " + std::to_string(*last) : std::string());
         };
-        if (trajectory_) lines += line(kTrajectory, samples(trajectory_->frames(), "frames", trajectoryStep_));
-        if (stats_) lines += line(kStats, samples(stats_->rows(), "rows", statsStep_));
+        if (trajectory_) lines += line(kTrajectory, samples(trajectory_->frames(), "frame", trajectoryStep_));
+        if (stats_) lines += line(kStats, samples(stats_->rows(), "row", statsStep_));
         if (checkpointStep_) lines += line(kCheckpoint, "step " + std::to_string(*checkpointStep_));
         if (stateStep_) lines += line(kState, "step " + std::to_string(*stateStep_));
         return lines;

@@ -296,11 +296,11 @@ def check_holdings(err, paths):
     trajectory and statistics their frames and rows up to the last sample, the checkpoint
     and the final state the step the run reached. Returns the checkpoint's step."""
     if "xyz" in paths:
-        frames, last = map(int, re.search(rf"trajectory {re.escape(paths['xyz'])}: (\d+) frames, the last at step "
+        frames, last = map(int, re.search(rf"trajectory {re.escape(paths['xyz'])}: (\d+) frames?, the last at step "
                                           r"(\d+)", err).groups())
         assert xyz_steps(paths["xyz"])[-1] == last and len(xyz_steps(paths["xyz"])) == frames, err
     if "csv" in paths:
-        rows, last = map(int, re.search(rf"statistics {re.escape(paths['csv'])}: (\d+) rows, the last at step (\d+)",
+        rows, last = map(int, re.search(rf"statistics {re.escape(paths['csv'])}: (\d+) rows?, the last at step (\d+)",
                                         err).groups())
         assert csv_steps(paths["csv"])[-1] == last and len(csv_steps(paths["csv"])) == rows, err
     step = int(re.search(rf"checkpoint {re.escape(paths['ckpt'])}: step (\d+)", err).group(1))
@@ -401,7 +401,8 @@ def test_output_failures_at_the_end_are_all_reported():
         assert done.returncode == 1, (limit, done.returncode, done.stderr)
         assert f"the run stopped at step {step} of 200: writing an output failed" in done.stderr, done.stderr
         assert re.findall(r"  (.*) \S+: FAILED", done.stderr) == failed, done.stderr
-        assert f"statistics {paths['csv']}: {step // 100 + 1} rows, the last at step {step}" in done.stderr
+        rows = f"{step // 100 + 1} row" + ("s" if step else "")
+        assert f"statistics {paths['csv']}: {rows}, the last at step {step}" in done.stderr, done.stderr
         assert csv_steps(paths["csv"]) == list(range(0, step + 1, 100))
         assert os.path.exists(paths["ckpt"]) == ("checkpoint" not in failed) and not os.path.exists(paths["state"])
         no_partial_files(d)
