@@ -26,8 +26,9 @@ struct RunOptions {
 void addRunOptions(CLI::App& command, RunOptions& options);
 
 // `carom run`: simulate, writing trajectory, statistics and checkpoints as
-// asked, then print a summary (or JSON) and write the state. Ctrl-C stops at
-// the next step and still writes every output (exit status 130).
+// asked, then print a summary (or JSON) and write the state. Ctrl-C, SIGTERM
+// or SIGHUP stops at the next step and still writes every output (exit status
+// 128 + the signal); an output that fails stops the run and keeps the others.
 int runCommand(const RunOptions& options);
 
 // `carom devices`: list the OpenCL platforms and devices with their index.

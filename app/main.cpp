@@ -1,4 +1,8 @@
 // carom: the command line. Parsing lives here; each subcommand is in its own file.
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <new>
 
@@ -6,7 +10,9 @@
 
 #include "app/commands.h"
 
-int main(int argc, char** argv) {
+namespace {
+
+int runCarom(int argc, char** argv) {
     using namespace carom::app;
     CLI::App app{"carom: 2D elastic disk collisions on OpenCL and CPU backends"};
     app.require_subcommand(1, 1);
@@ -43,4 +49,29 @@ int main(int argc, char** argv) {
         std::cerr << "carom: error: " << e.what() << '\n';
     }
     return 1;
+}
+
+// What was printed on stdout (a summary, JSON, a list) reached it: a full
+// disk or a closed pipe behind `> file` is an error, not a silent exit 0.
+int checkStandardOutput(int status) {
+    errno = 0;
+    std::cout.flush();
+    std::fflush(stdout);
+    const int error = errno;  // of the write that failed, if it came in these flushes
+    if (!std::ferror(stdout) && std::cout.good()) return status;
+    std::cerr << "carom: error: writing to standard output failed"
+              << (error != 0 ? std::string(": ") + std::strerror(error) : std::string())
+              << "; what was printed there is incomplete\n";
+    return status != 0 ? status : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+#ifdef SIGXFSZ
+    // Past a file size limit (ulimit -f) a write fails (EFBIG) and is
+    // reported, keeping the other outputs, instead of killing carom.
+    std::signal(SIGXFSZ, SIG_IGN);
+#endif
+    return checkStandardOutput(runCarom(argc, argv));
 }

@@ -1,7 +1,7 @@
 #include <algorithm>
 #include <chrono>
+#include <cctype>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <iostream>
 #include <iterator>
@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <string_view>
 #include <tuple>
 #include <utility>
 
@@ -21,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/stop_signals.h"
 #include "backends/backend.h"
 #include "engine/atomic_file.h"
 #include "engine/checkpoint.h"
@@ -60,28 +62,6 @@ void addRunOptions(CLI::App& command, RunOptions& o) {
 }
 
 namespace {
-
-// ---------------------------------------------------------------------------
-// Ctrl-C: the run stops at the next step boundary and writes its outputs. A
-// second Ctrl-C kills the process as usual.
-
-volatile std::sig_atomic_t interrupted = 0;
-
-extern "C" void onInterrupt(int) {
-    interrupted = 1;
-    std::signal(SIGINT, SIG_DFL);
-}
-
-class InterruptHandler {
-public:
-    InterruptHandler() : previous_(std::signal(SIGINT, onInterrupt)) { interrupted = 0; }
-    ~InterruptHandler() { std::signal(SIGINT, previous_); }
-    InterruptHandler(const InterruptHandler&) = delete;
-    InterruptHandler& operator=(const InterruptHandler&) = delete;
-
-private:
-    void (*previous_)(int);
-};
 
 // ---------------------------------------------------------------------------
 // What the run starts from: a scene (options or file) or a checkpoint.
@@ -159,6 +139,19 @@ bool allFinite(const std::vector<Particle>& particles) {
     });
 }
 
+// `text` as one word for a POSIX shell: quoted when it holds anything but
+// letters, digits and _./-+=:,@%.
+std::string shellWord(const std::string& text) {
+    const bool plain = !text.empty() && std::all_of(text.begin(), text.end(), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) ||
+               std::string_view("_./-+=:,@%").find(c) != std::string_view::npos;
+    });
+    if (plain) return text;
+    std::string quoted = "'";
+    for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return quoted + "'";
+}
+
 class Outputs {
 public:
     // Opens every output before the simulation, so a bad path is refused at
@@ -174,38 +167,57 @@ public:
             if (!path.empty() && !isSpecialFile(path)) AtomicFile probe(path);
     }
 
+    // Writes a frame, a row and the checkpoint at `step`. An output whose
+    // write fails is dropped (its previous file, if any, stays) and the
+    // others go on: the run stops after this sample (failed()) and keeps them.
     void sample(std::uint64_t step, const WorldDef& world, const std::vector<Particle>& particles,
                 std::uint64_t collisions) {
         const double time = double(step) * world.dt;
-        if (trajectory_) trajectory_->write(particles, world, step, time);
-        if (stats_) stats_->write(step, time, measure(particles, world), collisions);
+        attempt(kTrajectory, [&] {
+            trajectory_->write(particles, world, step, time);
+            trajectoryStep_ = step;
+        });
+        attempt(kStats, [&] {
+            stats_->write(step, time, measure(particles, world), collisions);
+            statsStep_ = step;
+        });
         checkpoint(step, world, particles, collisions);
     }
 
     // Only finite states reach the outputs (runSteps checks each one it reads).
     void checkpoint(std::uint64_t step, const WorldDef& world, const std::vector<Particle>& particles,
                     std::uint64_t collisions) {
-        if (def_.checkpoint.empty() || checkpointStep_ == step) return;
-        writeCheckpoint(def_.checkpoint, Checkpoint{world, step, double(step) * world.dt, collisions, particles});
-        checkpointStep_ = step;
+        if (checkpointStep_ == step) return;
+        attempt(kCheckpoint, [&] {
+            writeCheckpoint(def_.checkpoint,
+                            Checkpoint{world, step, double(step) * world.dt, collisions, particles});
+            checkpointStep_ = step;
+        });
     }
 
     // Renames the trajectory and statistics into place: every frame and row
     // in them is complete.
     void commitStreams() {
-        if (trajectory_) trajectory_->commit();
-        if (stats_) stats_->commit();
+        attempt(kTrajectory, [&] { trajectory_->commit(); });
+        attempt(kStats, [&] { stats_->commit(); });
     }
 
+    // Every output at `step`, each attempted whatever happened to the others.
     void finish(std::uint64_t step, const WorldDef& world, const std::vector<Particle>& particles,
                 std::uint64_t collisions) {
         checkpoint(step, world, particles, collisions);
         commitStreams();
-        if (!def_.state.empty()) writeStateCsv(def_.state, particles);
+        attempt(kState, [&] {
+            writeStateCsv(def_.state, particles);
+            stateStep_ = step;
+        });
     }
 
     std::uint64_t every() const { return def_.every; }
     std::optional<std::uint64_t> checkpointStep() const { return checkpointStep_; }
+    bool failed() const {
+        return std::any_of(std::begin(failures_), std::end(failures_), [](const std::string& f) { return !f.empty(); });
+    }
 
     // "run.xyz (21 frames), run.csv (21 rows), run.ckpt (step 2000)": the
     // files written while stepping; `withState` adds the final state's.
@@ -217,6 +229,44 @@ public:
         if (checkpointStep_) add(def_.checkpoint + " (step " + std::to_string(*checkpointStep_) + ")");
         if (withState && !def_.state.empty()) add(def_.state);
         return list;
+    }
+
+    // A line per output that holds something: what it holds, and at
+    // which step. The trajectory and statistics hold the samples (multiples
+    // of --every); the checkpoint and state, the step the run reached.
+    std::string holdings() const {
+        std::string lines;
+        auto samples = [](std::size_t count, const char* unit, const std::optional<std::uint64_t>& last) {
+            return std::to_string(count) + " " + unit + (count == 1 ? "" : "s") +
+                   (last ? ", the last at step " + std::to_string(*last) : std::string());
+        };
+        if (trajectory_) lines += line(kTrajectory, samples(trajectory_->frames(), "frame", trajectoryStep_));
+        if (stats_) lines += line(kStats, samples(stats_->rows(), "row", statsStep_));
+        if (checkpointStep_) lines += line(kCheckpoint, "step " + std::to_string(*checkpointStep_));
+        if (stateStep_) lines += line(kState, "step " + std::to_string(*stateStep_));
+        return lines;
+    }
+
+    // A line per output whose write failed, with the reason.
+    std::string failures() const {
+        std::string lines;
+        for (int output = 0; output < kOutputCount; ++output)
+            if (!failures_[output].empty()) lines += line(Output(output), "FAILED: " + failures_[output]);
+        return lines;
+    }
+
+    // How to continue from the checkpoint to `last`, checkpointing as before
+    // and appending to the trajectory and statistics that were kept; empty
+    // without a checkpoint.
+    std::string resumeCommand(std::uint64_t last) const {
+        if (!checkpointStep_) return {};
+        const std::string checkpoint = shellWord(def_.checkpoint);
+        std::string command = "carom run --resume " + checkpoint + " --steps " +
+                              std::to_string(last - *checkpointStep_) + " --checkpoint " + checkpoint;
+        if (!def_.trajectory.empty() && failures_[kTrajectory].empty())
+            command += " --trajectory " + shellWord(def_.trajectory);
+        if (!def_.stats.empty() && failures_[kStats].empty()) command += " --stats " + shellWord(def_.stats);
+        return command + " --every " + std::to_string(def_.every);
     }
 
     const std::string& statePath() const { return def_.state; }
@@ -249,10 +299,39 @@ private:
         }
     }
 
+    enum Output { kTrajectory, kStats, kCheckpoint, kState, kOutputCount };
+
+    const std::string& path(Output output) const {
+        const std::string* paths[] = {&def_.trajectory, &def_.stats, &def_.checkpoint, &def_.state};
+        return *paths[output];
+    }
+
+    std::string line(Output output, const std::string& text) const {
+        static const char* const names[] = {"trajectory", "statistics", "checkpoint", "final state"};
+        return "\n  " + std::string(names[output]) + " " + path(output) + ": " + text;
+    }
+
+    // Runs `write` for an output that is asked for and has not failed; a
+    // failure is recorded and drops the output, whose temporary file goes.
+    template <class Write>
+    void attempt(Output output, Write write) {
+        if (path(output).empty() || !failures_[output].empty()) return;
+        try {
+            write();
+        } catch (const Error& e) {
+            failures_[output] = e.what();
+            if (output == kTrajectory) trajectory_.reset();
+            if (output == kStats) stats_.reset();
+        }
+    }
+
     OutputDef def_;
     std::optional<TrajectoryWriter> trajectory_;
     std::optional<StatsWriter> stats_;
+    std::optional<std::uint64_t> trajectoryStep_, statsStep_;  // of the last frame and row written
     std::optional<std::uint64_t> checkpointStep_;
+    std::optional<std::uint64_t> stateStep_;
+    std::string failures_[kOutputCount];  // why each output failed; empty while it has not
 };
 
 // ---------------------------------------------------------------------------
@@ -464,7 +543,7 @@ void advance(Backend& backend, std::uint64_t from, std::uint64_t steps, Outputs&
                               " failed: " + e.what();
         if (const auto step = outputs.checkpointStep())
             message += "; the checkpoint holds step " + std::to_string(*step);
-        throw Error(message);
+        throw Error(message + outputs.failures());
     }
 }
 
@@ -484,13 +563,13 @@ void requireFinite(const std::vector<Particle>& particles, const WorldDef& world
     const std::string kept = outputs.written(false);
     if (!kept.empty()) message << "; kept what was written before: " << kept;
     if (!outputs.statePath().empty()) message << "; '" << outputs.statePath() << "' was not written";
-    throw Error(message.str());
+    throw Error(message.str() + outputs.failures());
 }
 
-// Steps from start.step to `last`, or until Ctrl-C, sampling on every
-// multiple of the outputs' `every`; returns the step reached. Leaves the
-// state at that step in start.particles. A state read back that is not
-// finite stops the run (requireFinite).
+// Steps from start.step to `last`, or until a stop signal or an output's
+// failure, sampling on every multiple of the outputs' `every`; returns the
+// step reached. Leaves the state at that step in start.particles. A state
+// read back that is not finite stops the run (requireFinite).
 std::uint64_t runSteps(Backend& backend, Start& start, std::uint64_t last, Outputs& outputs, Progress& progress) {
     const WorldDef& world = start.world;
     const std::uint64_t every = outputs.every();
@@ -499,7 +578,7 @@ std::uint64_t runSteps(Backend& backend, Start& start, std::uint64_t last, Outpu
     std::uint64_t step = start.step;
     std::uint64_t finiteStep = step;  // the last step whose state was read and finite
     if (!start.resumed) outputs.sample(step, world, particles, start.collisions);  // a new scene records its start
-    while (step < last && !interrupted) {
+    while (step < last && !StopSignals::received() && !outputs.failed()) {
         const std::uint64_t n = std::min({last - step, every - step % every, chunk.size()});
         const auto callStart = std::chrono::steady_clock::now();
         advance(backend, step, n, outputs);
@@ -534,16 +613,36 @@ void warnAboutEnergy(const Result& r, const WorldDef& world) {
                              "report it with the command line\n");
 }
 
-void reportInterruption(const Start& start, std::uint64_t step, std::uint64_t last) {
-    std::cerr << "carom: interrupted at step " << step << " of " << last << "; every output holds that step";
-    if (!start.outputs.checkpoint.empty())
-        std::cerr << "; continue with: carom run --resume " << start.outputs.checkpoint << " --steps " << last - step;
+// What each output holds (the samples end at the last multiple of --every,
+// the checkpoint and state at the step reached), and how to continue.
+std::string outputsAndResume(const Outputs& outputs, std::uint64_t last) {
+    std::string text = outputs.holdings();
+    const std::string resume = outputs.resumeCommand(last);
+    if (!resume.empty()) text += "\ncontinue with: " + resume;
+    return text;
+}
+
+// Every output was attempted (finish); those that failed say why, the
+// others what they hold.
+Error outputFailure(const Outputs& outputs, std::uint64_t step, std::uint64_t last) {
+    std::string message = "the run stopped at step " + std::to_string(step) + " of " + std::to_string(last) +
+                          ": writing an output failed" + outputs.failures();
+    if (!outputs.holdings().empty()) message += "\nkept what could be written:" + outputsAndResume(outputs, last);
+    return Error(message);
+}
+
+void reportInterruption(const Outputs& outputs, int signal, std::uint64_t step, std::uint64_t last) {
+    std::cerr << "carom: interrupted at step " << step << " of " << last << " by " << signalName(signal);
+    if (!outputs.holdings().empty()) std::cerr << "; the outputs hold:" << outputsAndResume(outputs, last);
     std::cerr << '\n';
 }
 
 }  // namespace
 
 int runCommand(const RunOptions& o) {
+    // From the start: a signal while the outputs are opened or the backend is
+    // made stops the run at step 0 with every output written.
+    const StopSignals stopSignals;
     Start start = planRun(o);
     Outputs outputs(start);
     std::unique_ptr<Backend> backend = makeBackend(o.scene.backend, start.world);
@@ -554,17 +653,18 @@ int runCommand(const RunOptions& o) {
     r.initial = measure(start.particles, start.world);
     r.initialTemperature = temperature(start.particles, start.world.boundary);
     const std::uint64_t last = start.step + start.steps;
-    const InterruptHandler interruptHandler;
     Progress progress(!o.quiet && !o.json && stderrIsTerminal(), start.step, last);
     const auto began = std::chrono::steady_clock::now();
     r.lastStep = runSteps(*backend, start, last, outputs, progress);
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
-    r.interrupted = interrupted != 0;
+    const int signal = r.lastStep < last ? StopSignals::received() : 0;  // one after the last step stopped nothing
+    r.interrupted = signal != 0;
     r.final = measure(start.particles, start.world);
     r.finalTemperature = temperature(start.particles, start.world.boundary);
     r.contacts = backend->contacts();
     r.collisions = r.contacts.collisions;
     outputs.finish(r.lastStep, start.world, start.particles, start.collisions + r.collisions);
+    if (outputs.failed()) throw outputFailure(outputs, r.lastStep, last);
 
     if (r.final.escaped > 0)
         std::cerr << "carom: warning: " << r.final.escaped
@@ -576,8 +676,8 @@ int runCommand(const RunOptions& o) {
     }
     warnAboutEnergy(r, start.world);
     if (!r.interrupted) return 0;
-    reportInterruption(start, r.lastStep, last);
-    return 130;  // the shell's status for a run stopped by SIGINT
+    reportInterruption(outputs, signal, r.lastStep, last);
+    return signalExitStatus(signal);
 }
 
 }  // namespace carom::app

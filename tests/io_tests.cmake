@@ -62,7 +62,9 @@ foreach(test IN ITEMS trajectory_reads_in_ase stats_csv checkpoint_layout resume
                       interrupt_writes_everything scene_outputs_and_overrides json_and_quiet_print_no_progress
                       energy_warning blow_up_stops_cleanly special_files
                       same_file_under_two_spellings outputs_never_replace_inputs
-                      resume_appends_to_its_outputs empty_output_names_are_refused)
+                      resume_appends_to_its_outputs empty_output_names_are_refused stop_signals_keep_every_output
+                      output_failure_keeps_the_others output_failures_at_the_end_are_all_reported
+                      stdout_write_errors_are_reported)
     add_test(NAME outputs.${test}
              COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/outputs_test.py --carom $<TARGET_FILE:carom>
                      --work ${CMAKE_CURRENT_BINARY_DIR}/outputs --backends ${backends} ${test})

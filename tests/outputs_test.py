@@ -457,6 +457,154 @@ def test_empty_output_names_are_refused():
         assert f'output.{key} = "": must be a non-empty string' in err, err
 
 
+def xyz_steps(path):
+    """The step of each frame of an extended XYZ trajectory."""
+    with open(path) as f:
+        return [int(m.group(1)) for m in re.finditer(r" step=(\d+) ", f.read())]
+
+
+def csv_steps(path):
+    with open(path) as f:
+        return [int(r["step"]) for r in csv.DictReader(f)]
+
+
+def check_holdings(err, paths):
+    """The message names what each output holds, and the files hold exactly that: the
+    trajectory and statistics their frames and rows up to the last sample, the checkpoint
+    and the final state the step the run reached. Returns the checkpoint's step."""
+    if "xyz" in paths:
+        frames, last = map(int, re.search(rf"trajectory {re.escape(paths['xyz'])}: (\d+) frames?, the last at step "
+                                          r"(\d+)", err).groups())
+        assert xyz_steps(paths["xyz"])[-1] == last and len(xyz_steps(paths["xyz"])) == frames, err
+    if "csv" in paths:
+        rows, last = map(int, re.search(rf"statistics {re.escape(paths['csv'])}: (\d+) rows?, the last at step (\d+)",
+                                        err).groups())
+        assert csv_steps(paths["csv"])[-1] == last and len(csv_steps(paths["csv"])) == rows, err
+    step = int(re.search(rf"checkpoint {re.escape(paths['ckpt'])}: step (\d+)", err).group(1))
+    assert checkpoint_step(paths["ckpt"]) == step, err
+    if "state" in paths:
+        assert re.search(rf"final state {re.escape(paths['state'])}: step {step}\b", err), err
+    return step
+
+
+def test_stop_signals_keep_every_output():
+    """SIGTERM and SIGHUP (timeout, Slurm, docker stop, a closed terminal) stop a run as Ctrl-C
+    does: status 128 + the signal, every output complete and consistent, and a message that says
+    what each holds (with --every 20000 the trajectory ends at a multiple of 20000, the checkpoint
+    at the step reached) and how to continue. A SIGHUP that was ignored (nohup) stays ignored."""
+    stops = [(signal.SIGTERM, None), (signal.SIGINT, None)]
+    if hasattr(signal, "SIGHUP"):
+        stops += [(signal.SIGHUP, None), (signal.SIGTERM, signal.SIGHUP)]  # nohup: SIGHUP ignored
+    for stop, ignored in stops:
+        d = work(f"signal-{stop.name}-{ignored.name if ignored else 'none'}")
+        paths = {k: os.path.join(d, f"s.{k}") for k in ("xyz", "csv", "ckpt", "state")}
+        arguments = ["run", "--backend", "cpu", "--particles", 200, "--seed", 4, "--steps", 10 ** 9, "--every", 20000,
+                     "--trajectory", paths["xyz"], "--stats", paths["csv"], "--checkpoint", paths["ckpt"],
+                     "--output-state", paths["state"], "--quiet"]
+        ignore = (lambda: signal.signal(ignored, signal.SIG_IGN)) if ignored else None
+        process = subprocess.Popen([ARGS.carom, *map(str, arguments)], stdout=subprocess.PIPE,
+                                   stderr=subprocess.PIPE, text=True, preexec_fn=ignore)
+        deadline = time.monotonic() + 300
+        while checkpoint_step(paths["ckpt"]) == 0:
+            assert process.poll() is None and time.monotonic() < deadline, "carom wrote no checkpoint after step 0"
+            time.sleep(0.05)
+        if ignored:
+            process.send_signal(ignored)
+            time.sleep(0.5)
+            assert process.poll() is None, f"an ignored {ignored.name} stopped the run"
+        process.send_signal(stop)
+        out, err = process.communicate(timeout=300)
+        assert process.returncode == 128 + stop, (stop.name, process.returncode, err)
+        match = re.search(rf"interrupted at step (\d+) of 1000000000 by {stop.name}; the outputs hold:", err)
+        assert match, err
+        step = check_holdings(err, paths)
+        assert step == int(match.group(1)) and '"interrupted": true' not in out, err
+        assert csv_steps(paths["csv"]) == list(range(0, step + 1, 20000)), err
+        assert f"continue with: carom run --resume {paths['ckpt']} --steps {10 ** 9 - step} " \
+               f"--checkpoint {paths['ckpt']} --trajectory {paths['xyz']} --stats {paths['csv']} --every 20000" \
+               in err, err
+        no_partial_files(d)
+
+
+def limited_run(limit, arguments):
+    """carom run with a file size limit (ulimit -f) of `limit` bytes: writes past it fail (EFBIG)."""
+    import resource
+
+    def limit_file_size():
+        resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
+
+    return subprocess.run([ARGS.carom, "run", *map(str, arguments)], capture_output=True, text=True, timeout=600,
+                          preexec_fn=limit_file_size)
+
+
+def test_output_failure_keeps_the_others():
+    """When one output cannot be written (here the trajectory, past a 64 KiB file size limit), the run
+    stops with status 1, says which output failed, keeps every other (statistics and checkpoint at the
+    step reached, the final state), leaves the failed output's earlier file alone, and says how to
+    continue; the continuation matches an uninterrupted run bit for bit."""
+    d = work("output-failure")
+    paths = {k: os.path.join(d, f"f.{k}") for k in ("xyz", "csv", "ckpt", "state")}
+    with open(paths["xyz"], "w") as f:
+        f.write("an earlier trajectory\n")
+    scene = ["--backend", "cpu", "--particles", 100, "--seed", 5]
+    done = limited_run(64 * 1024, [*scene, "--steps", 2000, "--every", 100, "--trajectory", paths["xyz"], "--stats",
+                                   paths["csv"], "--checkpoint", paths["ckpt"], "--output-state", paths["state"]])
+    assert done.returncode == 1, (done.returncode, done.stderr)
+    match = re.search(r"the run stopped at step (\d+) of 2000: writing an output failed\n"
+                      rf"  trajectory {re.escape(paths['xyz'])}: FAILED: .*\nkept what could be written:", done.stderr)
+    assert match and done.stdout == "", (done.stdout, done.stderr)
+    step = int(match.group(1))
+    assert 0 < step < 2000 and check_holdings(done.stderr, {k: paths[k] for k in ("csv", "ckpt", "state")}) == step
+    assert csv_steps(paths["csv"]) == list(range(0, step + 1, 100))
+    with open(paths["xyz"]) as f:
+        assert f.read() == "an earlier trajectory\n"
+    no_partial_files(d)
+
+    command = re.search(r"continue with: carom run (.*)", done.stderr).group(1).split()
+    resumed, fresh = os.path.join(d, "resumed.csv"), os.path.join(d, "fresh.csv")
+    carom("run", *command, "--output-state", resumed)
+    fresh_stats = os.path.join(d, "fresh-stats.csv")
+    carom("run", *scene, "--steps", 2000, "--every", 100, "--stats", fresh_stats, "--output-state", fresh)
+    assert read_bytes(resumed) == read_bytes(fresh)
+    assert read_bytes(paths["csv"]) == read_bytes(fresh_stats)  # the continuation appended its rows
+
+
+def test_output_failures_at_the_end_are_all_reported():
+    """Every output is attempted at the end whatever happened to the others, and every failure is
+    reported: with 1000 disks a 32 KiB limit fails the final state (48 KB) only, and 16 KiB also the
+    checkpoint (24 KB), which then fails at step 0; the statistics are kept each time."""
+    for limit, failed, step in ((32 * 1024, ["final state"], 200), (16 * 1024, ["checkpoint", "final state"], 0)):
+        d = work(f"end-failures-{limit}")
+        paths = {k: os.path.join(d, f"e.{k}") for k in ("csv", "ckpt", "state")}
+        done = limited_run(limit, ["--backend", "cpu", "--particles", 1000, "--steps", 200, "--every", 100, "--stats",
+                                   paths["csv"], "--checkpoint", paths["ckpt"], "--output-state", paths["state"]])
+        assert done.returncode == 1, (limit, done.returncode, done.stderr)
+        assert f"the run stopped at step {step} of 200: writing an output failed" in done.stderr, done.stderr
+        assert re.findall(r"  (.*) \S+: FAILED", done.stderr) == failed, done.stderr
+        rows = f"{step // 100 + 1} row" + ("s" if step else "")
+        assert f"statistics {paths['csv']}: {rows}, the last at step {step}" in done.stderr, done.stderr
+        assert csv_steps(paths["csv"]) == list(range(0, step + 1, 100))
+        assert os.path.exists(paths["ckpt"]) == ("checkpoint" not in failed) and not os.path.exists(paths["state"])
+        no_partial_files(d)
+
+
+def test_stdout_write_errors_are_reported():
+    """A summary, JSON or listing that cannot reach stdout (here /dev/full) is an error, not a silent
+    exit 0, for every subcommand; with the reason when the failed write came in the final flush (the
+    outputs up to stdio's buffer, 4 KiB)."""
+    if not os.path.exists("/dev/full"):
+        return
+    for arguments in (["run", "--backend", "cpu", "--particles", 10, "--steps", 10, "--json"],
+                      ["run", "--backend", "cpu", "--particles", 10, "--steps", 10], ["devices"],
+                      ["bench", "--list"], ["--help"], ["run", "--help"]):
+        with open("/dev/full", "w") as full:
+            done = subprocess.run([ARGS.carom, *map(str, arguments)], stdout=full, stderr=subprocess.PIPE, text=True,
+                                  timeout=600)
+        assert done.returncode == 1, (arguments, done.returncode, done.stderr)
+        reason = ": No space left on device" if arguments != ["run", "--help"] else ""
+        assert f"writing to standard output failed{reason}" in done.stderr, (arguments, done.stderr)
+
+
 def main():
     global ARGS
     parser = argparse.ArgumentParser()

@@ -11,6 +11,7 @@
 #include <ctime>
 #include <filesystem>
 
+#include "app/stop_signals.h"
 #include "app/viewer/png.h"
 
 namespace carom::viewer {
@@ -103,6 +104,9 @@ Viewer::~Viewer() {
 }
 
 void Viewer::openWindow() {
+    // SIGINT and SIGTERM are StopSignals' (runViewer): SDL's own handlers
+    // would turn them into a quit event that cannot tell them apart.
+    SDL_SetHint(SDL_HINT_NO_SIGNAL_HANDLERS, "1");
     if (SDL_Init(SDL_INIT_VIDEO) != 0)
         throw Error(std::string("carom view needs a display, and SDL found none (") + SDL_GetError() +
                     "); use `carom run` to simulate headless, or run under xvfb-run");
@@ -405,7 +409,10 @@ int Viewer::run() {
                     scheme, kControls);
     std::vector<double> frameMs, simulationMs, drawingMs;
     auto last = Clock::now();
-    for (std::uint64_t frame = 0; running_ && (!headless_ || frame < options_.frames); ++frame) {
+    std::uint64_t rendered = 0;
+    int signal = 0;
+    while (running_ && (!headless_ || rendered < options_.frames)) {
+        const std::uint64_t frame = rendered;
         const auto frameStart = Clock::now();
         const double realSeconds = std::chrono::duration<double>(frameStart - last).count();
         last = frameStart;
@@ -430,22 +437,40 @@ int Viewer::run() {
             std::snprintf(name, sizeof name, "frame_%05llu.png", static_cast<unsigned long long>(frame));
             saveScreenshot((std::filesystem::path(options_.record) / name).string());
         }
-        if (headless_ && frame + 1 == options_.frames && !options_.screenshot.empty())
+        // A stop signal makes this frame the last: the screenshot shows it.
+        signal = app::StopSignals::received();
+        ++rendered;
+        if (headless_ && (rendered == options_.frames || signal != 0) && !options_.screenshot.empty())
             saveScreenshot(options_.screenshot);
         SDL_GL_SwapWindow(window_);
         frameMs.push_back(secondsSince(frameStart) * 1e3);
         simulationMs.push_back(simulated * 1e3);
         drawingMs.push_back(frameMs.back() - simulationMs.back());
+        if (signal != 0) break;
     }
     if (headless_)
         std::printf("carom view: %llu frames of %zu disks, %s collisions, total energy drift %+.3g over %.4g time "
                     "units; median frame %.2f ms (simulation %.2f ms, drawing %.2f ms)\n",
-                    static_cast<unsigned long long>(options_.frames), particles_.size(), scheme,
-                    relativeEnergyDrift(), driftTime_, median(frameMs), median(simulationMs), median(drawingMs));
-    return 0;
+                    static_cast<unsigned long long>(rendered), particles_.size(), scheme, relativeEnergyDrift(),
+                    driftTime_, median(frameMs), median(simulationMs), median(drawingMs));
+    if (signal == 0) return 0;
+    std::fprintf(stderr, "carom view: interrupted by %s", app::signalName(signal));
+    if (headless_) {
+        std::fprintf(stderr, " after %llu of %llu frames", static_cast<unsigned long long>(rendered),
+                     static_cast<unsigned long long>(options_.frames));
+        if (!options_.screenshot.empty())
+            std::fprintf(stderr, "; %s shows frame %llu, the last rendered", options_.screenshot.c_str(),
+                         static_cast<unsigned long long>(rendered));
+        if (!options_.record.empty())
+            std::fprintf(stderr, "; %s holds frame_00000.png to frame_%05llu.png", options_.record.c_str(),
+                         static_cast<unsigned long long>(rendered - 1));
+    }
+    std::fputc('\n', stderr);
+    return app::signalExitStatus(signal);
 }
 
 int runViewer(const ViewOptions& options) {
+    const app::StopSignals stopSignals;  // from the start: a signal while the window opens stops after frame 1
     Viewer viewer(options);
     return viewer.run();
 }
