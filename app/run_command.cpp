@@ -505,7 +505,7 @@ int runCommand(const RunOptions& o) {
     Start start = planRun(o);
     Outputs outputs(start.outputs);
     std::unique_ptr<Backend> backend = makeBackend(o.scene.backend, start.world);
-    backend->setParticles(start.particles);
+    backend->setParticles(start.particles, start.step);
 
     Result r;
     r.firstStep = start.step;
