@@ -506,6 +506,8 @@ int runCommand(const RunOptions& o) {
     Outputs outputs(start.outputs);
     std::unique_ptr<Backend> backend = makeBackend(o.scene.backend, start.world);
     backend->setParticles(start.particles, start.step);
+    if (const std::string slow = gridCostWarning(start.particles, start.world); !slow.empty())
+        std::cerr << "carom: warning: " << slow << '\n';
 
     Result r;
     r.firstStep = start.step;

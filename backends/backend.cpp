@@ -28,10 +28,7 @@ void Backend::setParticles(const std::vector<Particle>& particles, std::uint64_t
     validateParticles(particles, world_, "particles");
     float maxRadius = 0.0f;
     for (const Particle& p : particles) maxRadius = std::max(maxRadius, p.radius);
-    const bool pairwise = world_.collisions == CollisionScheme::Pairwise;
-    const float slack = pairwise ? kPairwiseCellSlack * 2.0f * maxRadius : 0.0f;
-    grid_.geometry =
-        gridGeometryFor(world_.width, world_.height, maxRadius, particles.size(), world_.boundary, slack);
+    grid_.geometry = gridGeometryFor(world_, maxRadius, particles.size());
     gridTravel_ = gridTravelAllowance(grid_.geometry, world_.width, world_.height, maxRadius, world_.boundary);
     minRadius_ = particles.front().radius;
     for (const Particle& p : particles) minRadius_ = std::min(minRadius_, p.radius);

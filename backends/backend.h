@@ -22,9 +22,6 @@
 
 namespace carom {
 
-// The pairwise scheme's grid: cells wider than the largest diameter by this
-// fraction of it, room for the disks to move within a step.
-constexpr float kPairwiseCellSlack = 0.15f;
 // Collisions within a step can speed a disk up: substeps are sized so that
 // a disk this many times faster than the fastest one at the step's start
 // still stays within the grid's allowance.
