@@ -190,8 +190,7 @@ void drainTallyArray(ContactTally* tallies, std::size_t count, ContactTotals& to
 float maxSpeedSquaredOf(const Particle* particles, std::size_t count) {
     float largest = 0.0f;
     const auto n = static_cast<std::int64_t>(count);
-    // Below a few thousand particles a team costs more than the loop.
-#pragma omp parallel for reduction(max : largest) schedule(static) if (n >= 4096)
+#pragma omp parallel for reduction(max : largest) schedule(static) if (n >= kParallelPassLength)
     for (std::int64_t i = 0; i < n; ++i) largest = std::max(largest, carom_speed_squared(particles[i]));
     return largest;
 }

@@ -22,6 +22,15 @@
 
 namespace carom {
 
+// Passes over fewer disks than this run on one thread: a pass is short, and
+// starting an OpenMP team for it costs more, far more when other processes
+// keep the cores busy (a thread spins at the barrier for a descheduled one:
+// 1 000 simultaneous steps of 2 disks on 2 loaded cores took up to 12 s in a
+// team, 0.5 s on one thread; bench/under_load.sh). A pairwise step runs a
+// dozen passes, a simultaneous one one; a step with substeps also takes the
+// largest speed (maxSpeedSquaredOf).
+constexpr std::int64_t kParallelPassLength = 4096;
+
 // Collisions within a step can speed a disk up: substeps are sized so that
 // a disk this many times faster than the fastest one at the step's start
 // still stays within the grid's allowance.

@@ -15,12 +15,6 @@ namespace carom {
 
 namespace {
 
-// Pairwise passes over fewer disks than this run on one thread: a pass is
-// short, and starting an OpenMP team for it costs more, far more when other
-// processes keep the cores busy (a thread waits at the barrier for a
-// descheduled one). A pairwise step runs a dozen passes.
-constexpr std::int64_t kParallelPassLength = 4096;
-
 // What stepSimultaneous and stepPairwise return when every disk stayed finite.
 constexpr std::uint32_t kAllFinite = std::numeric_limits<std::uint32_t>::max();
 
@@ -76,7 +70,7 @@ std::uint32_t CpuBackend::stepSimultaneous(float dt) {
     // reads the particle that resolveCollisions just wrote, so this equals
     // two separate passes bit for bit.
     std::uint32_t nonFinite = kAllFinite;
-#pragma omp parallel for schedule(static) reduction(min : nonFinite)
+#pragma omp parallel for schedule(static) reduction(min : nonFinite) if (count >= kParallelPassLength)
     for (std::int64_t i = 0; i < count; ++i) {
         const auto id = static_cast<unsigned int>(i);
         carom_resolve_collisions(id, in, sorted, cells, geometry, box, out, tallies);

@@ -61,7 +61,8 @@ endif()
 foreach(test IN ITEMS trajectory_reads_in_ase stats_csv checkpoint_layout resume_continues_bit_for_bit
                       interrupt_writes_everything scene_outputs_and_overrides json_and_quiet_print_no_progress
                       energy_warning blow_up_stops_cleanly
-                      blow_up_names_step_and_particle)
+                      blow_up_names_step_and_particle
+                      small_runs_start_no_thread_team)
     add_test(NAME outputs.${test}
              COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/outputs_test.py --carom $<TARGET_FILE:carom>
                      --work ${CMAKE_CURRENT_BINARY_DIR}/outputs --backends ${backends} ${test})
