@@ -126,7 +126,7 @@ void benchOneSize(const BenchOptions& o, std::uint32_t particles, bool largerFol
         world.height = initial.height;
         world.dt = o.dt;
         world.collisions = variant.scheme;
-        const GridGeometry g = methodGridGeometry(world, o.radius, particles);
+        const GridGeometry g = gridGeometryFor(world, o.radius, particles);
         std::unique_ptr<Backend> backend = makeMethodBackend(variant.method, world, o.device);
         backend->setParticles(initial.particles);
         Row row{variant, particles, double(g.cols) * g.rows / particles, timeSteps(*backend, report.plan), {}};

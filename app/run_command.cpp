@@ -132,13 +132,6 @@ Start planRun(const RunOptions& o) {
 // The output files. Trajectory and statistics stream into temporary files
 // renamed into place at the end; the checkpoint is replaced whole each time.
 
-bool allFinite(const std::vector<Particle>& particles) {
-    return std::all_of(particles.begin(), particles.end(), [](const Particle& p) {
-        return std::isfinite(p.position.x) && std::isfinite(p.position.y) && std::isfinite(p.velocity.x) &&
-               std::isfinite(p.velocity.y);
-    });
-}
-
 // `text` as one word for a POSIX shell: quoted when it holds anything but
 // letters, digits and _./-+=:,@%.
 std::string shellWord(const std::string& text) {
@@ -541,42 +534,23 @@ void advance(Backend& backend, std::uint64_t from, std::uint64_t steps, Outputs&
         outputs.commitStreams();  // keep the complete frames and rows written so far
         std::string message = "steps " + std::to_string(from + 1) + " to " + std::to_string(from + steps) +
                               " failed: " + e.what();
-        if (const auto step = outputs.checkpointStep())
-            message += "; the checkpoint holds step " + std::to_string(*step);
+        const std::string kept = outputs.written(false);
+        if (!kept.empty()) message += "; kept what was written before: " + kept;
+        if (!outputs.statePath().empty()) message += "; '" + outputs.statePath() + "' was not written";
         throw Error(message + outputs.failures());
     }
 }
 
-// A state that went non-finite (the step blew up) ends the run with an
-// error: no NaN reaches a file, the frames and rows written so far are
-// complete and kept, the checkpoint keeps the last finite step, and an
-// existing state file is left as it was.
-void requireFinite(const std::vector<Particle>& particles, const WorldDef& world, std::uint64_t finiteStep,
-                   std::uint64_t step, Outputs& outputs) {
-    if (allFinite(particles)) return;
-    outputs.commitStreams();
-    std::ostringstream message;
-    message << "the state went non-finite between step " << finiteStep << " (finite) and step " << step
-            << ": the " << collisionSchemeName(world.collisions) << " scheme is unstable at dt " << world.dt
-            << "; try a smaller --dt"
-            << (world.collisions == CollisionScheme::Simultaneous ? " or --collisions pairwise" : "");
-    const std::string kept = outputs.written(false);
-    if (!kept.empty()) message << "; kept what was written before: " << kept;
-    if (!outputs.statePath().empty()) message << "; '" << outputs.statePath() << "' was not written";
-    throw Error(message.str() + outputs.failures());
-}
-
 // Steps from start.step to `last`, or until a stop signal or an output's
 // failure, sampling on every multiple of the outputs' `every`; returns the
-// step reached. Leaves the state at that step in start.particles. A state
-// read back that is not finite stops the run (requireFinite).
+// step reached. Leaves the state at that step in start.particles. A step
+// that goes non-finite stops the backend there (advance reports it).
 std::uint64_t runSteps(Backend& backend, Start& start, std::uint64_t last, Outputs& outputs, Progress& progress) {
     const WorldDef& world = start.world;
     const std::uint64_t every = outputs.every();
     std::vector<Particle>& particles = start.particles;
     Chunk chunk;
     std::uint64_t step = start.step;
-    std::uint64_t finiteStep = step;  // the last step whose state was read and finite
     if (!start.resumed) outputs.sample(step, world, particles, start.collisions);  // a new scene records its start
     while (step < last && !StopSignals::received() && !outputs.failed()) {
         const std::uint64_t n = std::min({last - step, every - step % every, chunk.size()});
@@ -586,15 +560,12 @@ std::uint64_t runSteps(Backend& backend, Start& start, std::uint64_t last, Outpu
         step += n;
         if (step % every == 0) {
             backend.readParticles(particles);
-            if (!allFinite(particles)) break;  // refused below, after the progress line
-            finiteStep = step;
             outputs.sample(step, world, particles, start.collisions + backend.collisions());
         }
         progress.update(step);
     }
     progress.finish();
     backend.readParticles(particles);
-    requireFinite(particles, world, finiteStep, step, outputs);
     return step;
 }
 
@@ -646,7 +617,9 @@ int runCommand(const RunOptions& o) {
     Start start = planRun(o);
     Outputs outputs(start);
     std::unique_ptr<Backend> backend = makeBackend(o.scene.backend, start.world);
-    backend->setParticles(start.particles);
+    backend->setParticles(start.particles, start.step);
+    if (const std::string slow = gridCostWarning(start.particles, start.world); !slow.empty())
+        std::cerr << "carom: warning: " << slow << '\n';
 
     Result r;
     r.firstStep = start.step;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <string>
 
 #include "backends/cpu_backend.h"
@@ -23,14 +24,11 @@ constexpr std::uint64_t kTallySubsteps = 1024;
 
 Backend::Backend(const WorldDef& world) : world_(world) { validate(world_); }
 
-void Backend::setParticles(const std::vector<Particle>& particles) {
+void Backend::setParticles(const std::vector<Particle>& particles, std::uint64_t step) {
     validateParticles(particles, world_, "particles");
     float maxRadius = 0.0f;
     for (const Particle& p : particles) maxRadius = std::max(maxRadius, p.radius);
-    const bool pairwise = world_.collisions == CollisionScheme::Pairwise;
-    const float slack = pairwise ? kPairwiseCellSlack * 2.0f * maxRadius : 0.0f;
-    grid_.geometry =
-        gridGeometryFor(world_.width, world_.height, maxRadius, particles.size(), world_.boundary, slack);
+    grid_.geometry = gridGeometryFor(world_, maxRadius, particles.size());
     gridTravel_ = gridTravelAllowance(grid_.geometry, world_.width, world_.height, maxRadius, world_.boundary);
     minRadius_ = particles.front().radius;
     for (const Particle& p : particles) minRadius_ = std::min(minRadius_, p.radius);
@@ -41,6 +39,10 @@ void Backend::setParticles(const std::vector<Particle>& particles) {
         p.time = 0.0f;
         p.lastPartner = 0u;
     }
+    stepNumber_ = step;
+    substepsTaken_ = 0;
+    batch_ = previousBatch_ = Batch{};
+    nonFinite_.reset();
     load(start);
     totals_ = ContactTotals{};
     substepsSinceDrain_ = 0;
@@ -55,16 +57,19 @@ double Backend::travelLimit() const {
 }
 
 void Backend::step(std::uint64_t steps) {
+    requireFinite();
     const float dt = world_.dt;
     const double allowed = travelLimit();
     if (allowed == HUGE_VAL) {
         // Fixed dt: in batches, so that no tally sums more than kTallySubsteps.
         for (std::uint64_t done = 0; done < steps;) {
             const std::uint64_t batch = std::min(steps - done, kTallySubsteps);
-            advanceCounted(batch, dt);
+            advanceCounted(Batch{substepsTaken_, stepNumber_ + done + 1, 1}, batch, dt);
             done += batch;
         }
         awaitSteps();
+        requireFinite();
+        stepNumber_ += steps;
         totals_.steps += steps;
         totals_.time += double(dt) * double(steps);
         return;
@@ -75,6 +80,7 @@ void Backend::step(std::uint64_t steps) {
     const double gravity = std::hypot(double(world_.gravity.x), double(world_.gravity.y));
     for (std::uint64_t s = 0; s < steps; ++s) {
         const double speed = double(maxSpeed()) + gravity * dt;
+        requireFinite();  // the wait for the largest speed may find the step before non-finite
         const double needed = std::ceil(speed * dt / allowed);
         if (!(needed <= double(kMaxSubsteps)))
             throw Error("a step of dt " + std::to_string(dt) + " at the largest speed " + std::to_string(speed) +
@@ -90,13 +96,34 @@ void Backend::step(std::uint64_t steps) {
         const float substepDt = substeps == 1 ? dt : static_cast<float>(double(dt) / double(substeps));
         for (std::uint64_t done = 0; done < substeps;) {
             const std::uint64_t batch = std::min(substeps - done, kTallySubsteps);
-            advanceCounted(batch, substepDt);
+            advanceCounted(Batch{substepsTaken_, stepNumber_ + 1, substeps}, batch, substepDt);
             done += batch;
         }
+        ++stepNumber_;
         totals_.time += dt;
         ++totals_.steps;
     }
     awaitSteps();
+    requireFinite();
+}
+
+void Backend::recordNonFinite(std::uint64_t substep, std::uint32_t particle) {
+    if (nonFinite_) return;
+    const Batch& b = substep >= batch_.firstSubstep ? batch_ : previousBatch_;
+    nonFinite_ = NonFiniteState{b.firstStep + (substep - b.firstSubstep) / b.substepsPerStep, particle};
+}
+
+void Backend::requireFinite() const {
+    if (!nonFinite_) return;
+    std::ostringstream message;
+    message << "the state went non-finite at step " << nonFinite_->step << ": particle " << nonFinite_->particle
+            << " (the lowest id of those) has a position or velocity that is not finite";
+    if (world_.collisions == CollisionScheme::Simultaneous)
+        message << "; the simultaneous scheme is unstable at dt " << world_.dt
+                << ": try a smaller --dt or --collisions pairwise";
+    else
+        message << " at dt " << world_.dt << ": try a smaller --dt";
+    throw Error(message.str());
 }
 
 void Backend::recordRounds(unsigned int rounds) { totals_.maxRounds = std::max(totals_.maxRounds, rounds); }
@@ -112,12 +139,16 @@ CaromPairwiseStep Backend::pairwiseStep(float dt) const {
     return step;
 }
 
-void Backend::advanceCounted(std::uint64_t substeps, float dt) {
+void Backend::advanceCounted(const Batch& batch, std::uint64_t substeps, float dt) {
     if (substepsSinceDrain_ + substeps > kTallySubsteps) {
         drainTallies(totals_);
         substepsSinceDrain_ = 0;
     }
+    previousBatch_ = batch_;
+    batch_ = batch;
     advance(substeps, dt);
+    requireFinite();
+    substepsTaken_ += substeps;
     substepsSinceDrain_ += substeps;
     totals_.substeps += substeps;
 }
@@ -159,8 +190,7 @@ void drainTallyArray(ContactTally* tallies, std::size_t count, ContactTotals& to
 float maxSpeedSquaredOf(const Particle* particles, std::size_t count) {
     float largest = 0.0f;
     const auto n = static_cast<std::int64_t>(count);
-    // Below a few thousand particles a team costs more than the loop.
-#pragma omp parallel for reduction(max : largest) schedule(static) if (n >= 4096)
+#pragma omp parallel for reduction(max : largest) schedule(static) if (n >= kParallelPassLength)
     for (std::int64_t i = 0; i < n; ++i) largest = std::max(largest, carom_speed_squared(particles[i]));
     return largest;
 }

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,9 +22,15 @@
 
 namespace carom {
 
-// The pairwise scheme's grid: cells wider than the largest diameter by this
-// fraction of it, room for the disks to move within a step.
-constexpr float kPairwiseCellSlack = 0.15f;
+// Passes over fewer disks than this run on one thread: a pass is short, and
+// starting an OpenMP team for it costs more, far more when other processes
+// keep the cores busy (a thread spins at the barrier for a descheduled one:
+// 1 000 simultaneous steps of 2 disks on 2 loaded cores took up to 12 s in a
+// team, 0.5 s on one thread; bench/under_load.sh). A pairwise step runs a
+// dozen passes, a simultaneous one one; a step with substeps also takes the
+// largest speed (maxSpeedSquaredOf).
+constexpr std::int64_t kParallelPassLength = 4096;
+
 // Collisions within a step can speed a disk up: substeps are sized so that
 // a disk this many times faster than the fastest one at the step's start
 // still stays within the grid's allowance.
@@ -31,6 +38,13 @@ constexpr float kPairwiseSpeedMargin = 2.0f;
 // The most rounds of a pairwise step; events still pending after them are
 // left for the next step (they show up as late contacts).
 constexpr unsigned int kMaxPairwiseRounds = 64;
+
+// Where a state blew up: the first step that left a disk with a position or
+// velocity that is not finite, and the lowest id among that step's such disks.
+struct NonFiniteState {
+    std::uint64_t step = 0;
+    std::uint32_t particle = 0;
+};
 
 class Backend {
 public:
@@ -47,12 +61,17 @@ public:
 
     // Validates the particles against the world, sizes the grid for their
     // largest radius (and the scheme), loads them and resets the contact totals.
-    void setParticles(const std::vector<Particle>& particles);
+    // `step` is the number of the step they hold, which messages count from.
+    void setParticles(const std::vector<Particle>& particles, std::uint64_t step = 0);
     // Advances the simulation by `steps` steps of world().dt, each split into
     // substeps when world().maxTravel > 0 or the pairwise scheme's grid
     // needs them. Throws Error if a step would need more than kMaxSubsteps
-    // substeps.
+    // substeps, or when the state goes non-finite: stepping stops at the
+    // (sub)step that did it (nonFinite() says which), and every later call
+    // throws the same until setParticles.
     void step(std::uint64_t steps);
+    // Where the state went non-finite, once step() found it; empty before.
+    const std::optional<NonFiniteState>& nonFinite() const { return nonFinite_; }
     // Copies the current state into `particles` (in id order).
     virtual void readParticles(std::vector<Particle>& particles) = 0;
     // Collisions, virial and wall impulses since setParticles or the last
@@ -88,6 +107,12 @@ protected:
     // that a float tally never sums more than kTallySubsteps substeps.
     virtual void drainTallies(ContactTotals& totals) = 0;
 
+    // For implementations: substep number `substep` (counted from 0 since
+    // setParticles) left `particle`, the lowest such id, with a position or
+    // velocity that is not finite. advance() takes no more substeps after it.
+    void recordNonFinite(std::uint64_t substep, std::uint32_t particle);
+    // Substeps taken by the advance() calls before the current one, since setParticles.
+    std::uint64_t substepsTaken() const { return substepsTaken_; }
     // For implementations: a pairwise (sub)step used this many rounds.
     void recordRounds(unsigned int rounds);
     // What every pass of a pairwise (sub)step of duration dt reads.
@@ -99,7 +124,15 @@ protected:
     float minRadius_ = 0.0f;
 
 private:
-    void advanceCounted(std::uint64_t substeps, float dt);
+    // Substeps of one advance() call: the first is substep `firstSubstep`
+    // (since setParticles) and belongs to step `firstStep`, which has
+    // `substepsPerStep` substeps (1 with a fixed dt).
+    struct Batch {
+        std::uint64_t firstSubstep = 0, firstStep = 0, substepsPerStep = 1;
+    };
+    void advanceCounted(const Batch& batch, std::uint64_t substeps, float dt);
+    // Throws the Error that says where the state went non-finite, once it has.
+    void requireFinite() const;
     // The longest move one substep may make: maxTravel x the smallest
     // radius, and with the pairwise scheme the grid's allowance over
     // kPairwiseSpeedMargin; infinite when neither limits it [length].
@@ -108,6 +141,13 @@ private:
     ContactTotals totals_;
     std::uint64_t substepsSinceDrain_ = 0;
     float gridTravel_ = 0.0f;  // gridTravelAllowance of grid_
+    std::uint64_t stepNumber_ = 0;     // the step the current state holds
+    std::uint64_t substepsTaken_ = 0;  // since setParticles
+    // The current and the previous advance() call's: an implementation that
+    // waits for a substep later (the resident pairwise step) may report the
+    // previous call's last substep.
+    Batch batch_, previousBatch_;
+    std::optional<NonFiniteState> nonFinite_;
 };
 
 // For implementations: adds tallies[0..count) to `totals` in id order, in

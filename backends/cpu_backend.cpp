@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <utility>
 
 #ifdef _OPENMP
@@ -14,11 +15,8 @@ namespace carom {
 
 namespace {
 
-// Pairwise passes over fewer disks than this run on one thread: a pass is
-// short, and starting an OpenMP team for it costs more, far more when other
-// processes keep the cores busy (a thread waits at the barrier for a
-// descheduled one). A pairwise step runs a dozen passes.
-constexpr std::int64_t kParallelPassLength = 4096;
+// What stepSimultaneous and stepPairwise return when every disk stayed finite.
+constexpr std::uint32_t kAllFinite = std::numeric_limits<std::uint32_t>::max();
 
 }  // namespace
 
@@ -49,14 +47,16 @@ void CpuBackend::load(const std::vector<Particle>& particles) {
 void CpuBackend::advance(std::uint64_t substeps, float dt) {
     for (std::uint64_t s = 0; s < substeps; ++s) {
         buildGrid(state_.data(), state_.size(), grid_);
-        if (world_.collisions == CollisionScheme::Pairwise)
-            stepPairwise(dt);
-        else
-            stepSimultaneous(dt);
+        const std::uint32_t nonFinite =
+            world_.collisions == CollisionScheme::Pairwise ? stepPairwise(dt) : stepSimultaneous(dt);
+        if (nonFinite != kAllFinite) {
+            recordNonFinite(substepsTaken() + s, nonFinite);
+            return;
+        }
     }
 }
 
-void CpuBackend::stepSimultaneous(float dt) {
+std::uint32_t CpuBackend::stepSimultaneous(float dt) {
     const auto count = static_cast<std::int64_t>(state_.size());
     const WorldDef& w = world_;
     const CaromBox box = caromBoxOf(w);
@@ -69,13 +69,16 @@ void CpuBackend::stepSimultaneous(float dt) {
     // resolveCollisions and integrate fused per particle: integrate only
     // reads the particle that resolveCollisions just wrote, so this equals
     // two separate passes bit for bit.
-#pragma omp parallel for schedule(static)
+    std::uint32_t nonFinite = kAllFinite;
+#pragma omp parallel for schedule(static) reduction(min : nonFinite) if (count >= kParallelPassLength)
     for (std::int64_t i = 0; i < count; ++i) {
         const auto id = static_cast<unsigned int>(i);
         carom_resolve_collisions(id, in, sorted, cells, geometry, box, out, tallies);
         carom_integrate_into(id, out, dt, w.gravity.x, w.gravity.y, box, tallies);
+        if (!carom_is_finite(out[i])) nonFinite = std::min(nonFinite, id);
     }
     std::swap(state_, next_);
+    return nonFinite;
 }
 
 // Each round's marks carry a new epoch, so no list needs clearing; when the
@@ -88,7 +91,7 @@ unsigned int CpuBackend::nextEpoch() {
     return epoch_;
 }
 
-void CpuBackend::stepPairwise(float dt) {
+std::uint32_t CpuBackend::stepPairwise(float dt) {
     const auto count = static_cast<std::int64_t>(state_.size());
     const CaromPairwiseStep step = pairwiseStep(dt);
     Particle* state = state_.data();
@@ -145,8 +148,13 @@ void CpuBackend::stepPairwise(float dt) {
         pendingCount = nextCount;
     }
     recordRounds(rounds);
-#pragma omp parallel for schedule(static) if (count >= kParallelPassLength)
-    for (std::int64_t i = 0; i < count; ++i) state[i] = carom_finish_step(state[i], step, &tallies[i]);
+    std::uint32_t nonFinite = kAllFinite;
+#pragma omp parallel for schedule(static) reduction(min : nonFinite) if (count >= kParallelPassLength)
+    for (std::int64_t i = 0; i < count; ++i) {
+        state[i] = carom_finish_step(state[i], step, &tallies[i]);
+        if (!carom_is_finite(state[i])) nonFinite = std::min(nonFinite, static_cast<std::uint32_t>(i));
+    }
+    return nonFinite;
 }
 
 }  // namespace carom

@@ -23,8 +23,10 @@ private:
     void advance(std::uint64_t substeps, float dt) override;
     float maxSpeedSquared() override { return maxSpeedSquaredOf(state_.data(), state_.size()); }
     void drainTallies(ContactTotals& totals) override { drainTallyArray(tallies_.data(), tallies_.size(), totals); }
-    void stepSimultaneous(float dt);
-    void stepPairwise(float dt);
+    // One substep each; they return the lowest id of a disk the substep left
+    // non-finite, or kAllFinite.
+    std::uint32_t stepSimultaneous(float dt);
+    std::uint32_t stepPairwise(float dt);
     unsigned int nextEpoch();
 
     std::vector<Particle> state_;  // the state before the step

@@ -18,6 +18,9 @@ constexpr std::uint64_t kStepsPerSync = 64;
 // for the host to finish the reduction at once.
 constexpr std::size_t kReductionGroups = 256;
 
+// firstNonFinite_ before any disk went non-finite (kernels/physics.h, carom_record_non_finite).
+constexpr cl_uint kNoneNonFinite[2] = {0xffffffffu, 0xffffffffu};
+
 // Work-groups of finishPairwiseAndCount per compute unit: enough to hide
 // memory latency; each work-item strides over several particles, so few
 // work-groups reduce the largest speed.
@@ -61,6 +64,7 @@ OpenClBackend::OpenClBackend(const WorldDef& world, const std::string& device, P
     while (reductionGroupSize_ > reductionLimit) reductionGroupSize_ /= 2;
     groupMax_ = createBuffer(context_.get(), kReductionGroups * sizeof(cl_float), "max speed per group");
     speedBits_ = createBuffer(context_.get(), 2 * sizeof(cl_uint), "largest speed squared");
+    firstNonFinite_ = createBuffer(context_.get(), sizeof(kNoneNonFinite), "first non-finite step and particle");
 }
 
 std::string OpenClBackend::device() const {
@@ -91,6 +95,10 @@ void OpenClBackend::load(const std::vector<Particle>& particles) {
                                nullptr, nullptr),
           "clEnqueueWriteBuffer(particle state)");
     enqueueZero(queue_.get(), tallies_.get(), n * sizeof(ContactTally), "contact tallies");
+    check(clEnqueueWriteBuffer(queue_.get(), firstNonFinite_.get(), CL_TRUE, 0, sizeof(kNoneNonFinite),
+                               kNoneNonFinite, 0, nullptr, nullptr),
+          "clEnqueueWriteBuffer(first non-finite step and particle)");
+    substep_ = nonFiniteBase_ = 0;
     switch (pipeline_) {
         case Pipeline::Seed:
             hostState_ = particles;
@@ -135,13 +143,33 @@ void OpenClBackend::loadResident(std::size_t n) {
 }
 
 void OpenClBackend::finish() {
+    enqueueNonFiniteRead();
     check(clFinish(queue_.get()), "clFinish");
     if (profiler_) profiler_->collect();
+    checkNonFinite();
 }
 
+void OpenClBackend::enqueueNonFiniteRead() {
+    check(clEnqueueReadBuffer(queue_.get(), firstNonFinite_.get(), CL_FALSE, 0, sizeof(firstNonFiniteRead_),
+                              firstNonFiniteRead_, 0, nullptr, nullptr),
+          "clEnqueueReadBuffer(first non-finite step and particle)");
+}
+
+void OpenClBackend::checkNonFinite() {
+    if (firstNonFiniteRead_[0] == kNoneNonFinite[0])
+        nonFiniteBase_ = substep_;
+    else
+        recordNonFinite(nonFiniteBase_ + firstNonFiniteRead_[0], firstNonFiniteRead_[1]);
+}
+
+// Stops at the first wait that finds a disk non-finite: after every step in
+// the seed and resident pairwise pipelines, every kStepsPerSync steps in the
+// resident one (whose steps until then stay as cheap, carom_count_into_cell).
 void OpenClBackend::advance(std::uint64_t steps, float dt) {
-    for (std::uint64_t s = 0; s < steps; ++s) {
-        const bool pairwise = world_.collisions == CollisionScheme::Pairwise;
+    const bool pairwise = world_.collisions == CollisionScheme::Pairwise;
+    // A resident pairwise step ends in a wait of its own (confirmStep).
+    const bool waitsEachStep = pipeline_ == Pipeline::Resident && pairwise;
+    for (std::uint64_t s = 0; s < steps && !nonFinite(); ++s) {
         switch (pipeline_) {
             case Pipeline::Seed:
                 pairwise ? stepSeedPairwise(dt) : stepSeed(dt);
@@ -153,10 +181,9 @@ void OpenClBackend::advance(std::uint64_t steps, float dt) {
                 stepAllPairs(dt);
                 break;
         }
-        if ((s + 1) % kStepsPerSync == 0) finish();
+        if (!waitsEachStep && (s + 1) % kStepsPerSync == 0) finish();
     }
-    // A resident pairwise step ends in a wait of its own (confirmStep).
-    if (!(pipeline_ == Pipeline::Resident && world_.collisions == CollisionScheme::Pairwise)) finish();
+    if (!waitsEachStep) finish();
 }
 
 void OpenClBackend::awaitSteps() {
@@ -198,11 +225,13 @@ void OpenClBackend::stepSeed(float dt) {
                   tallies_.get());
     enqueue1d(queue, resolveKernel_.get(), count, workGroupSize_, "resolveCollisions", profiler);
     setKernelArgs(integrateKernel_.get(), next_.get(), count, dt, world_.gravity.x, world_.gravity.y, world_.width,
-                  world_.height, periodic(), tallies_.get());
+                  world_.height, periodic(), tallies_.get(), nextStepIndex(), firstNonFinite_.get());
     enqueue1d(queue, integrateKernel_.get(), count, workGroupSize_, "integrate", profiler);
+    enqueueNonFiniteRead();
     check(clEnqueueReadBuffer(queue, next_.get(), CL_TRUE, 0, count * sizeof(Particle), hostState_.data(), 0,
                               nullptr, eventSlot(profiler, "download state")),
           "clEnqueueReadBuffer(particle state)");
+    checkNonFinite();
     std::swap(state_, next_);
 }
 
@@ -217,11 +246,14 @@ void OpenClBackend::stepSeedPairwise(float dt) {
                                   cells_.get(), tallies_.get()},
                           step);
     recordRounds(pairwise_.complete(queue).rounds);
-    setKernelArgs(finishByIdKernel_.get(), state_.get(), step, count, tallies_.get());
+    setKernelArgs(finishByIdKernel_.get(), state_.get(), step, count, tallies_.get(), nextStepIndex(),
+                  firstNonFinite_.get());
     enqueue1d(queue, finishByIdKernel_.get(), count, workGroupSize_, "finishStepById", profiler_.get());
+    enqueueNonFiniteRead();
     check(clEnqueueReadBuffer(queue, state_.get(), CL_TRUE, 0, count * sizeof(Particle), hostState_.data(), 0,
                               nullptr, eventSlot(profiler_.get(), "download state")),
           "clEnqueueReadBuffer(particle state)");
+    checkNonFinite();
 }
 
 void OpenClBackend::stepResident(float dt) {
@@ -232,7 +264,8 @@ void OpenClBackend::stepResident(float dt) {
     setKernelArgs(fusedKernel_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), deviceGrid_.cells(),
                   g.cellsPerLengthX, g.cellsPerLengthY, g.cols, g.rows, count, dt, world_.gravity.x,
                   world_.gravity.y, world_.width, world_.height, periodic(), next_.get(), tallies_.get(),
-                  deviceGrid_.nextCounts(), deviceGrid_.cellOf(), deviceGrid_.rankInCell());
+                  deviceGrid_.nextCounts(), deviceGrid_.cellOf(), deviceGrid_.rankInCell(), nextStepIndex(),
+                  firstNonFinite_.get());
     enqueue1d(queue_.get(), fusedKernel_.get(), count, workGroupSize_, "resolveIntegrateAndCount", profiler_.get());
     std::swap(state_, next_);
     std::swap(ids_, sortedIds_);
@@ -246,19 +279,22 @@ void OpenClBackend::stepResident(float dt) {
 // (one wait per step, which also reads the largest speed for the next one).
 void OpenClBackend::stepResidentPairwise(float dt) {
     confirmStep();
+    if (nonFinite()) return;
     const CaromPairwiseStep step = pairwiseStep(dt);
     deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get());
     pairwise_.enqueueStep(queue_.get(), {state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), deviceGrid_.cellOf(),
                                          deviceGrid_.cells(), tallies_.get()},
                           step);
     speedParity_ = 1 - speedParity_;
-    enqueueResidentFinish(step);
+    unconfirmedStepIndex_ = nextStepIndex();
+    enqueueResidentFinish(step, unconfirmedStepIndex_);
     check(clFlush(queue_.get()), "clFlush");
     unconfirmed_ = true;
     unconfirmedStep_ = step;
 }
 
-void OpenClBackend::enqueueResidentFinish(const CaromPairwiseStep& step) {
+// Reads firstNonFinite_ behind the kernel, so that confirmStep's wait covers it.
+void OpenClBackend::enqueueResidentFinish(const CaromPairwiseStep& step, cl_uint stepIndex) {
     const cl_uint count = static_cast<cl_uint>(particleCount_);
     setKernelArgs(finishAndCountKernel_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), step, count,
                   next_.get(), tallies_.get(), deviceGrid_.nextCounts(), deviceGrid_.cellOf(),
@@ -270,15 +306,24 @@ void OpenClBackend::enqueueResidentFinish(const CaromPairwiseStep& step) {
     check(clSetKernelArg(finishAndCountKernel_.get(), 12, sizeof(cl_uint), &parity), "clSetKernelArg");
     check(clSetKernelArg(finishAndCountKernel_.get(), 13, sizeof(cl_mem), &lengths), "clSetKernelArg");
     check(clSetKernelArg(finishAndCountKernel_.get(), 14, sizeof(cl_uint), &condition), "clSetKernelArg");
+    const cl_mem firstNonFinite = firstNonFinite_.get();
+    check(clSetKernelArg(finishAndCountKernel_.get(), 15, sizeof(cl_uint), &stepIndex), "clSetKernelArg");
+    check(clSetKernelArg(finishAndCountKernel_.get(), 16, sizeof(cl_mem), &firstNonFinite), "clSetKernelArg");
     enqueue1d(queue_.get(), finishAndCountKernel_.get(), finishItems_, reductionGroupSize_, "finishPairwiseAndCount",
               profiler_.get());
+    enqueueNonFiniteRead();
 }
 
 void OpenClBackend::confirmStep() {
     if (!unconfirmed_) return;
     unconfirmed_ = false;
     const DevicePairwise::Completion completion = pairwise_.complete(queue_.get());
-    if (completion.finishSkipped) enqueueResidentFinish(unconfirmedStep_);
+    if (completion.finishSkipped) {
+        enqueueResidentFinish(unconfirmedStep_, unconfirmedStepIndex_);
+        finish();  // rare: a wait of its own, which covers the finish's read of firstNonFinite_
+    } else {
+        checkNonFinite();  // complete() waited past the read
+    }
     recordRounds(completion.rounds);
     speedKnown_ = true;
     std::swap(state_, next_);
@@ -292,7 +337,7 @@ void OpenClBackend::stepAllPairs(float dt) {
                   tallies_.get());
     enqueue1d(queue_.get(), allPairsKernel_.get(), count, workGroupSize_, "resolveAllPairs", profiler_.get());
     setKernelArgs(integrateKernel_.get(), next_.get(), count, dt, world_.gravity.x, world_.gravity.y, world_.width,
-                  world_.height, periodic(), tallies_.get());
+                  world_.height, periodic(), tallies_.get(), nextStepIndex(), firstNonFinite_.get());
     enqueue1d(queue_.get(), integrateKernel_.get(), count, workGroupSize_, "integrate", profiler_.get());
     std::swap(state_, next_);
 }

@@ -63,7 +63,15 @@ private:
     void stepResident(float dt);
     void stepSeedPairwise(float dt);
     void stepResidentPairwise(float dt);
-    void enqueueResidentFinish(const CaromPairwiseStep& step);
+    void enqueueResidentFinish(const CaromPairwiseStep& step, cl_uint stepIndex);
+    // The index under which the kernels of the substep being enqueued record
+    // a disk left non-finite (counted from nonFiniteBase_); counts the substep.
+    cl_uint nextStepIndex() { return static_cast<cl_uint>(substep_++ - nonFiniteBase_); }
+    // Reads firstNonFinite_ without waiting; checkNonFinite() after a wait
+    // that covers the read, with nothing enqueued after it, reports what it
+    // found (recordNonFinite) or moves the base past every substep so far.
+    void enqueueNonFiniteRead();
+    void checkNonFinite();
     // Resident pairwise: waits for the last step's rounds (and runs the rest
     // if its batch fell short), then makes its result the current state.
     void confirmStep();
@@ -101,10 +109,18 @@ private:
     bool speedKnown_ = false;          // whether that word holds the current state's
     bool unconfirmed_ = false;         // a resident pairwise step was enqueued and not yet confirmed
     CaromPairwiseStep unconfirmedStep_{};  // and its parameters
+    cl_uint unconfirmedStepIndex_ = 0;     // and its nextStepIndex()
     std::size_t finishItems_ = 0;      // work-items of finishPairwiseAndCount, which stride over the particles
     opencl::DeviceGrid deviceGrid_;    // resident
     opencl::Buffer ids_;               // resident: the particle id in each slot of state_
     opencl::Buffer sortedIds_;         // resident: sortedIndices, then the ids of next_'s slots
+    // Where the kernels that write a step's result record a disk it left
+    // non-finite (carom_record_non_finite): the first step, as an index from
+    // nonFiniteBase_, and the lowest id; read at the waits each pipeline has.
+    opencl::Buffer firstNonFinite_;
+    cl_uint firstNonFiniteRead_[2] = {};  // its copy on the host
+    std::uint64_t substep_ = 0;           // substeps enqueued since load
+    std::uint64_t nonFiniteBase_ = 0;     // the substep that step index 0 means
 };
 
 }  // namespace carom

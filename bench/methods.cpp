@@ -34,7 +34,7 @@ std::map<std::string, double> profileHostGrid(const WorldDef& world, const std::
     float maxRadius = 0;
     for (const Particle& p : particles) maxRadius = std::max(maxRadius, p.radius);
     Grid grid;
-    grid.geometry = methodGridGeometry(world, maxRadius, particles.size());
+    grid.geometry = gridGeometryFor(world, maxRadius, particles.size());
     buildGrid(particles.data(), particles.size(), grid);  // allocates the vectors once, as a running backend has
     const auto start = std::chrono::steady_clock::now();
     for (std::uint64_t s = 0; s < steps; ++s) buildGrid(particles.data(), particles.size(), grid);
@@ -91,11 +91,6 @@ std::unique_ptr<Backend> makeMethodBackend(const Method& method, const WorldDef&
     (void)device;
     throw Error("this carom was built without OpenCL: method " + method.name + " is not available");
 #endif
-}
-
-GridGeometry methodGridGeometry(const WorldDef& world, float maxRadius, std::size_t particles) {
-    const float slack = world.collisions == CollisionScheme::Pairwise ? kPairwiseCellSlack * 2.0f * maxRadius : 0.0f;
-    return gridGeometryFor(world.width, world.height, maxRadius, particles, world.boundary, slack);
 }
 
 std::map<std::string, double> profileMethod(const Method& method, const WorldDef& world,

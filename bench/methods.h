@@ -41,11 +41,6 @@ Method findMethod(const std::string& name);
 // method does not run that scheme.
 std::unique_ptr<Backend> makeMethodBackend(const Method& method, const WorldDef& world, const std::string& device);
 
-// The grid a backend builds for `particles` disks of at most `maxRadius` in
-// `world`, with the cells the scheme world.collisions needs (sized as
-// Backend::setParticles sizes them).
-GridGeometry methodGridGeometry(const WorldDef& world, float maxRadius, std::size_t particles);
-
 // Where a step's time goes, in seconds per step, under world.collisions: for
 // an OpenCL method each kernel, transfer and host grid build, from `steps`
 // steps of a separate run with profiling on (so the timed runs carry no

@@ -18,7 +18,7 @@ namespace carom::bench {
 struct Row {
     Variant variant;
     std::uint32_t particles = 0;
-    double cellsPerParticle = 0;  // of the grid the scene gets under the scheme (methodGridGeometry)
+    double cellsPerParticle = 0;  // of the grid the scene gets under the scheme (gridGeometryFor)
     Timing timing;
     std::map<std::string, double> profile;  // with --profile: seconds per step by part (profileMethod)
 };

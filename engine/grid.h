@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "engine/carom.h"
@@ -32,6 +33,33 @@ struct Grid {
 // the disks to move within a step (the pairwise scheme).
 GridGeometry gridGeometryFor(float width, float height, float maxRadius, std::size_t particleCount,
                              Boundary boundary = Boundary::Walls, float slack = 0.0f);
+
+// The pairwise scheme's grid: cells wider than the largest diameter by this
+// fraction of it, room for the disks to move within a step.
+constexpr float kPairwiseCellSlack = 0.15f;
+
+// The cells a backend uses for `particleCount` disks of at most `maxRadius`
+// in `world`: gridGeometryFor with the slack its collision scheme needs.
+GridGeometry gridGeometryFor(const WorldDef& world, float maxRadius, std::size_t particleCount);
+
+// One cell size serves every disk, sized for the largest: among much smaller
+// disks, each searches cells far wider than it needs. What that costs.
+struct GridCost {
+    float largestRadius = 0.0f;
+    float typicalRadius = 0.0f;  // the median
+    // A step's cost with cells for the largest disk over its cost with cells
+    // for the typical one (>= 1, estimated: a disk's cost is the pairs it
+    // checks in the 3x3 cells around its own plus a fixed share, calibrated
+    // within about 35 % of measured slowdowns: engine/grid.cpp).
+    double factor = 1.0;
+};
+GridCost estimateGridCost(const std::vector<Particle>& particles, const WorldDef& world);
+
+// The cost factor above which gridCostWarning warns.
+constexpr double kGridCostWarningFactor = 10.0;
+// A warning that names the largest and the typical radius and the factor,
+// when the factor is above kGridCostWarningFactor; empty otherwise.
+std::string gridCostWarning(const std::vector<Particle>& particles, const WorldDef& world);
 
 // How far every disk may move in a step while the 3x3 cells around the cell
 // it started in still hold every disk it can touch: half of what a cell's

@@ -37,11 +37,17 @@ static inline GridGeometry carom_grid(float cellsPerLengthX, float cellsPerLengt
     return grid;
 }
 
-/* Counts the particle in slot i into its cell. `counts` must start at zero. */
+/* Counts the particle in slot i into its cell. `counts` must start at zero.
+ * A disk whose position is not finite (the state blew up; the host stops at
+ * its next wait for the device) goes to a cell by its slot: in cell 0, where
+ * carom_cell_index puts NaN, such disks would be searched against each other
+ * and sorted one by one, and the steps until that wait would cost N^2. */
 static inline void carom_count_into_cell(uint i, float2 position, GridGeometry grid, __global uint* counts,
                                          __global uint* cellOf, __global uint* rankInCell)
 {
-    const uint cell = (uint)carom_cell_index(position, grid);
+    const uint cell = carom_isfinite(position.x) && carom_isfinite(position.y)
+                          ? (uint)carom_cell_index(position, grid)
+                          : i % (uint)(grid.cols * grid.rows);
     cellOf[i] = cell;
     rankInCell[i] = atomic_inc(&counts[cell]);
 }

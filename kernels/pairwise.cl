@@ -102,10 +102,13 @@ __kernel void resolveEvents(__global Particle* state,
         carom_resolve_event(pending[e], state, slots, ids, events, step, tallies, changedList, nextList, epoch);
 }
 
-/* The end of the step, particles stored by id (seed pipeline): in place. */
+/* The end of the step, particles stored by id (seed pipeline): in place.
+ * A disk left non-finite is recorded under `stepIndex` (carom_record_non_finite). */
 __kernel void finishStepById(__global Particle* state, CaromPairwiseStep step, uint count,
-                             __global ContactTally* tallies)
+                             __global ContactTally* tallies, uint stepIndex, __global uint* firstNonFinite)
 {
     const uint i = get_global_id(0);
-    if (i < count) state[i] = carom_finish_step(state[i], step, &tallies[i]);
+    if (i >= count) return;
+    state[i] = carom_finish_step(state[i], step, &tallies[i]);
+    carom_record_non_finite(state[i], i, stepIndex, firstNonFinite);
 }

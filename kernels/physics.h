@@ -19,11 +19,13 @@
 #pragma OPENCL FP_CONTRACT OFF
 #define CAROM_GLOBAL __global
 #define carom_sqrt sqrt
+#define carom_isfinite isfinite
 #else
 #include <cmath>
 #define CAROM_GLOBAL
 namespace carom {
 static inline float carom_sqrt(float x) { return std::sqrt(x); }
+static inline bool carom_isfinite(float x) { return std::isfinite(x); }
 #endif
 
 /* The cell coordinate of a position along one axis. Positions on or beyond
@@ -350,7 +352,27 @@ static inline float carom_speed_squared(Particle p)
     return p.velocity.x * p.velocity.x + p.velocity.y * p.velocity.y;
 }
 
-#ifndef __OPENCL_VERSION__
+/* Whether a disk's position and velocity are finite. A step that leaves one
+ * that is not has blown up: the backends stop there (Backend::nonFinite). */
+static inline int carom_is_finite(Particle p)
+{
+    return carom_isfinite(p.position.x) && carom_isfinite(p.position.y) && carom_isfinite(p.velocity.x) &&
+           carom_isfinite(p.velocity.y);
+}
+
+#ifdef __OPENCL_VERSION__
+/* Records particle `id`, left by step `step` (counted from a start the host
+ * chooses), if it is not finite: firstNonFinite[0] is the first step that
+ * left one, [1] the lowest id among that step's (the host sets both to
+ * 0xffffffff). A step is one kernel launch after another, so [0] only ever
+ * drops to the step running, and a later step leaves it alone. */
+static inline void carom_record_non_finite(Particle p, uint id, uint step, __global uint* firstNonFinite)
+{
+    if (carom_is_finite(p) || firstNonFinite[0] < step) return;
+    firstNonFinite[0] = step;
+    atomic_min(&firstNonFinite[1], id);
+}
+#else
 } /* namespace carom */
 #endif
 

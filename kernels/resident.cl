@@ -7,7 +7,8 @@
  * Work-item k handles particle sortedIds[k], stored in slot cellOrder[k] of
  * `state` (kernels/grid.cl), and writes it to slot k of `next`: the new
  * state comes out in this step's cell order, which the next step starts
- * from. */
+ * from. A disk left non-finite is recorded under
+ * `stepIndex` (carom_record_non_finite). */
 #include "grid.cl"
 #include "pairwise.h"
 
@@ -30,7 +31,9 @@ __kernel void resolveIntegrateAndCount(__global const Particle* state,
                                        __global ContactTally* tallies,
                                        __global uint* nextCounts,
                                        __global uint* cellOf,
-                                       __global uint* rankInCell)
+                                       __global uint* rankInCell,
+                                       uint stepIndex,
+                                       __global uint* firstNonFinite)
 {
     const uint k = get_global_id(0);
     if (k >= count) return;
@@ -46,6 +49,7 @@ __kernel void resolveIntegrateAndCount(__global const Particle* state,
     carom_record_collisions(&tallies[i], sum);
     carom_record_walls(&tallies[i], wallImpulse);
     carom_count_into_cell(k, moved.position, grid, nextCounts, cellOf, rankInCell);
+    carom_record_non_finite(moved, i, stepIndex, firstNonFinite);
 }
 
 /* The end of a pairwise step (its rounds: kernels/pairwise.cl), if its
@@ -59,7 +63,8 @@ __kernel void resolveIntegrateAndCount(__global const Particle* state,
  * atomic_max on the float's bits (non-negative floats order like their bits)
  * collects it in speedBits[parity]; the first work-item zeroes the other
  * word for the step after. max is exact in any order: this equals the
- * maxSpeedSquared reduction bit for bit. */
+ * maxSpeedSquared reduction bit for bit. A disk left non-finite is recorded
+ * under `stepIndex` (carom_record_non_finite). */
 __kernel void finishPairwiseAndCount(__global const Particle* state,
                                      __global const uint* cellOrder,
                                      __global const uint* sortedIds,
@@ -74,7 +79,9 @@ __kernel void finishPairwiseAndCount(__global const Particle* state,
                                      __global uint* speedBits,
                                      uint parity,
                                      __global const uint* lengths,
-                                     uint condition)
+                                     uint condition,
+                                     uint stepIndex,
+                                     __global uint* firstNonFinite)
 {
     if (lengths[condition] != 0u) return; /* the same for every work-item */
     float largest = 0.0f;
@@ -82,6 +89,7 @@ __kernel void finishPairwiseAndCount(__global const Particle* state,
         const Particle moved = carom_finish_step(state[cellOrder[k]], step, &tallies[sortedIds[k]]);
         next[k] = moved;
         carom_count_into_cell(k, moved.position, step.grid, nextCounts, cellOf, rankInCell);
+        carom_record_non_finite(moved, sortedIds[k], stepIndex, firstNonFinite);
         largest = fmax(largest, carom_speed_squared(moved));
     }
     if (get_global_id(0) == 0) speedBits[1 - parity] = 0u;

@@ -35,11 +35,14 @@ __kernel void integrate(__global Particle* particles,
                         float width,
                         float height,
                         int periodic,
-                        __global ContactTally* tallies)
+                        __global ContactTally* tallies,
+                        uint stepIndex,
+                        __global uint* firstNonFinite)
 {
     const uint i = get_global_id(0);
     if (i >= count) return;
     carom_integrate_into(i, particles, dt, gravityX, gravityY, carom_box(width, height, periodic), tallies);
+    carom_record_non_finite(particles[i], i, stepIndex, firstNonFinite);
 }
 
 /* The largest v.x^2 + v.y^2 of each work-group's particles, into

@@ -150,6 +150,8 @@ void Viewer::start(app::Setup setup) {
     particles_ = initial_.particles;
     collisionsBeforeUpload_ = collisionsAtLastReadout_ = 0;
     backend_->setParticles(particles_);
+    if (const std::string slow = gridCostWarning(particles_, world); !slow.empty())
+        std::fprintf(stderr, "carom: warning: %s\n", slow.c_str());
     energyHistory_.clear();
     momentumHistory_.clear();
     restartEnergyDrift();
