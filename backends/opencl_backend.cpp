@@ -118,6 +118,10 @@ void OpenClBackend::load(const std::vector<Particle>& particles) {
     if (world_.collisions == CollisionScheme::Pairwise) {
         if (pipeline_ == Pipeline::AllPairs) throw Error("the all-pairs pipeline runs the simultaneous scheme only");
         pairwise_ = DevicePairwise(context_.get(), device_, program_.get(), n, queue_.get(), profiler_.get());
+        check(clEnqueueWriteBuffer(queue_.get(), pairwise_.lengths(), CL_TRUE,
+                                   DevicePairwise::nonFiniteIndex() * sizeof(cl_uint), sizeof(kNoneNonFinite),
+                                   kNoneNonFinite, 0, nullptr, nullptr),
+              "clEnqueueWriteBuffer(first non-finite step and particle)");
         enqueueZero(queue_.get(), speedBits_.get(), 2 * sizeof(cl_uint), "largest speed squared");
         finishItems_ = std::min((n + reductionGroupSize_ - 1) / reductionGroupSize_,
                                 std::max<std::size_t>(1, device_.computeUnits) * kFinishGroupsPerComputeUnit) *
@@ -293,7 +297,8 @@ void OpenClBackend::stepResidentPairwise(float dt) {
     unconfirmedStep_ = step;
 }
 
-// Reads firstNonFinite_ behind the kernel, so that confirmStep's wait covers it.
+// The kernel records a disk left non-finite in the pairwise lengths, which
+// confirmStep reads anyway.
 void OpenClBackend::enqueueResidentFinish(const CaromPairwiseStep& step, cl_uint stepIndex) {
     const cl_uint count = static_cast<cl_uint>(particleCount_);
     setKernelArgs(finishAndCountKernel_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), step, count,
@@ -306,12 +311,11 @@ void OpenClBackend::enqueueResidentFinish(const CaromPairwiseStep& step, cl_uint
     check(clSetKernelArg(finishAndCountKernel_.get(), 12, sizeof(cl_uint), &parity), "clSetKernelArg");
     check(clSetKernelArg(finishAndCountKernel_.get(), 13, sizeof(cl_mem), &lengths), "clSetKernelArg");
     check(clSetKernelArg(finishAndCountKernel_.get(), 14, sizeof(cl_uint), &condition), "clSetKernelArg");
-    const cl_mem firstNonFinite = firstNonFinite_.get();
+    const cl_uint nonFiniteIndex = DevicePairwise::nonFiniteIndex();
     check(clSetKernelArg(finishAndCountKernel_.get(), 15, sizeof(cl_uint), &stepIndex), "clSetKernelArg");
-    check(clSetKernelArg(finishAndCountKernel_.get(), 16, sizeof(cl_mem), &firstNonFinite), "clSetKernelArg");
+    check(clSetKernelArg(finishAndCountKernel_.get(), 16, sizeof(cl_uint), &nonFiniteIndex), "clSetKernelArg");
     enqueue1d(queue_.get(), finishAndCountKernel_.get(), finishItems_, reductionGroupSize_, "finishPairwiseAndCount",
               profiler_.get());
-    enqueueNonFiniteRead();
 }
 
 void OpenClBackend::confirmStep() {
@@ -320,10 +324,10 @@ void OpenClBackend::confirmStep() {
     const DevicePairwise::Completion completion = pairwise_.complete(queue_.get());
     if (completion.finishSkipped) {
         enqueueResidentFinish(unconfirmedStep_, unconfirmedStepIndex_);
-        finish();  // rare: a wait of its own, which covers the finish's read of firstNonFinite_
-    } else {
-        checkNonFinite();  // complete() waited past the read
+        pairwise_.readLengths(queue_.get());  // rare: a wait of its own, for the finish's record
     }
+    std::copy_n(pairwise_.nonFiniteRecord(), 2, firstNonFiniteRead_);
+    checkNonFinite();
     recordRounds(completion.rounds);
     speedKnown_ = true;
     std::swap(state_, next_);

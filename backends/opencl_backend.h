@@ -117,8 +117,10 @@ private:
     // Where the kernels that write a step's result record a disk it left
     // non-finite (carom_record_non_finite): the first step, as an index from
     // nonFiniteBase_, and the lowest id; read at the waits each pipeline has.
+    // The resident pairwise finish records in the pairwise lengths instead,
+    // which its step reads anyway (DevicePairwise::nonFiniteIndex).
     opencl::Buffer firstNonFinite_;
-    cl_uint firstNonFiniteRead_[2] = {};  // its copy on the host
+    cl_uint firstNonFiniteRead_[2] = {};  // the host's copy of the record last read
     std::uint64_t substep_ = 0;           // substeps enqueued since load
     std::uint64_t nonFiniteBase_ = 0;     // the substep that step index 0 means
 };

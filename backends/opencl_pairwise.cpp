@@ -12,10 +12,14 @@ namespace {
 // latency on a GPU; a list longer than all of them is strided over.
 constexpr std::size_t kListItemsPerComputeUnit = 2048;
 
-// counts_: three lengths per round, rounds 0 .. kMaxPairwiseRounds, and one
-// entry that stays 0 (the finish condition once the rounds are capped).
+// counts_: three lengths per round, rounds 0 .. kMaxPairwiseRounds, one
+// entry that stays 0 (the finish condition once the rounds are capped), then
+// the two words where the finish kernel records a disk it left non-finite,
+// which are not cleared with the lengths and are read back with them.
 constexpr std::size_t kCounts = 3 * (kMaxPairwiseRounds + 1) + 1;
 constexpr cl_uint kAlwaysZero = kCounts - 1;
+constexpr std::size_t kNonFiniteWords = 2;
+constexpr std::size_t kCountsWithRecord = kCounts + kNonFiniteWords;
 
 }  // namespace
 
@@ -24,7 +28,7 @@ static_assert(sizeof(CaromPairwiseStep) == 44 && sizeof(CaromEvent) == 8,
 
 DevicePairwise::DevicePairwise(cl_context context, const DeviceInfo& device, cl_program program,
                                std::size_t particleCount, cl_command_queue queue, Profiler* profiler)
-    : particleCount_(particleCount), profiler_(profiler), hostCounts_(kCounts) {
+    : particleCount_(particleCount), profiler_(profiler), hostCounts_(kCountsWithRecord) {
     forwardKernel_ = createKernel(program, "findEventsForward");
     listedKernel_ = createKernel(program, "searchListed");
     resolveKernel_ = createKernel(program, "resolveEvents");
@@ -42,7 +46,7 @@ DevicePairwise::DevicePairwise(cl_context context, const DeviceInfo& device, cl_
     pendingMarks_ = createBuffer(context, n * sizeof(cl_uint), "pending marks");
     changedMarks_ = createBuffer(context, n * sizeof(cl_uint), "changed marks");
     dirtyMarks_ = createBuffer(context, n * sizeof(cl_uint), "dirty marks");
-    counts_ = createBuffer(context, kCounts * sizeof(cl_uint), "list lengths");
+    counts_ = createBuffer(context, kCountsWithRecord * sizeof(cl_uint), "list lengths");
     for (cl_mem marks : {pendingMarks_.get(), changedMarks_.get(), dirtyMarks_.get()})
         enqueueZero(queue, marks, n * sizeof(cl_uint), "pairwise marks");
 }
@@ -95,12 +99,16 @@ void DevicePairwise::enqueueStep(cl_command_queue queue, const StepBuffers& buff
     for (unsigned int round = 1; round <= std::min(batch_, kMaxPairwiseRounds); ++round) enqueueRound(queue, round);
 }
 
+cl_uint DevicePairwise::nonFiniteIndex() { return kCounts; }
+
+const cl_uint* DevicePairwise::nonFiniteRecord() const { return hostCounts_.data() + kCounts; }
+
 cl_uint DevicePairwise::finishCondition() const {
     return lastRound_ == kMaxPairwiseRounds ? kAlwaysZero : 3 * lastRound_;
 }
 
 void DevicePairwise::readLengths(cl_command_queue queue) {
-    check(clEnqueueReadBuffer(queue, counts_.get(), CL_TRUE, 0, kCounts * sizeof(cl_uint), hostCounts_.data(), 0,
+    check(clEnqueueReadBuffer(queue, counts_.get(), CL_TRUE, 0, kCountsWithRecord * sizeof(cl_uint), hostCounts_.data(), 0,
                               nullptr, eventSlot(profiler_, "read list lengths")),
           "clEnqueueReadBuffer(list lengths)");
 }

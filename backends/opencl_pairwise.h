@@ -41,6 +41,15 @@ public:
     cl_mem lengths() const { return counts_.get(); }
     cl_uint finishCondition() const;
 
+    // Where a finish kernel records a disk it left non-finite: the two words
+    // of lengths() from nonFiniteIndex() (carom_record_non_finite). The
+    // caller sets them once; complete() and readLengths() read them back
+    // with the lengths, so the record costs no read of its own.
+    static cl_uint nonFiniteIndex();
+    const cl_uint* nonFiniteRecord() const;
+    // Waits for the queue and reads the lengths and the record.
+    void readLengths(cl_command_queue queue);
+
     struct Completion {
         unsigned int rounds = 0;    // rounds that resolved an event
         bool finishSkipped = false;  // the batch fell short: enqueue the finish again (its condition now holds)
@@ -53,7 +62,6 @@ private:
     void enqueueRound(cl_command_queue queue, unsigned int round);
     void searchListed(cl_command_queue queue, int mode, cl_mem listed, unsigned int round, unsigned int listIndex,
                       unsigned int epoch);
-    void readLengths(cl_command_queue queue);
 
     std::size_t particleCount_ = 0;
     Profiler* profiler_ = nullptr;

@@ -64,7 +64,8 @@ __kernel void resolveIntegrateAndCount(__global const Particle* state,
  * collects it in speedBits[parity]; the first work-item zeroes the other
  * word for the step after. max is exact in any order: this equals the
  * maxSpeedSquared reduction bit for bit. A disk left non-finite is recorded
- * under `stepIndex` (carom_record_non_finite). */
+ * under `stepIndex` in lengths[nonFiniteIndex..+1] (carom_record_non_finite),
+ * which the host reads back with the list lengths. */
 __kernel void finishPairwiseAndCount(__global const Particle* state,
                                      __global const uint* cellOrder,
                                      __global const uint* sortedIds,
@@ -78,10 +79,10 @@ __kernel void finishPairwiseAndCount(__global const Particle* state,
                                      __local float* scratch,
                                      __global uint* speedBits,
                                      uint parity,
-                                     __global const uint* lengths,
+                                     __global uint* lengths,
                                      uint condition,
                                      uint stepIndex,
-                                     __global uint* firstNonFinite)
+                                     uint nonFiniteIndex)
 {
     if (lengths[condition] != 0u) return; /* the same for every work-item */
     float largest = 0.0f;
@@ -89,7 +90,7 @@ __kernel void finishPairwiseAndCount(__global const Particle* state,
         const Particle moved = carom_finish_step(state[cellOrder[k]], step, &tallies[sortedIds[k]]);
         next[k] = moved;
         carom_count_into_cell(k, moved.position, step.grid, nextCounts, cellOf, rankInCell);
-        carom_record_non_finite(moved, sortedIds[k], stepIndex, firstNonFinite);
+        carom_record_non_finite(moved, sortedIds[k], stepIndex, lengths + nonFiniteIndex);
         largest = fmax(largest, carom_speed_squared(moved));
     }
     if (get_global_id(0) == 0) speedBits[1 - parity] = 0u;
