@@ -503,6 +503,9 @@ void reportInterruption(const Start& start, std::uint64_t step, std::uint64_t la
 
 int runCommand(const RunOptions& o) {
     Start start = planRun(o);
+    const std::string& source = !o.resume.empty() ? o.resume : o.scene.inputState;
+    for (const std::string& warning : validateStart(start.particles, start.world, source.empty() ? "the scene" : source))
+        std::cerr << "carom: warning: " << warning << '\n';
     Outputs outputs(start.outputs);
     std::unique_ptr<Backend> backend = makeBackend(o.scene.backend, start.world);
     backend->setParticles(start.particles);
