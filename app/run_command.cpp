@@ -615,6 +615,9 @@ int runCommand(const RunOptions& o) {
     // made stops the run at step 0 with every output written.
     const StopSignals stopSignals;
     Start start = planRun(o);
+    const std::string& source = !o.resume.empty() ? o.resume : o.scene.inputState;
+    for (const std::string& warning : validateStart(start.particles, start.world, source.empty() ? "the scene" : source))
+        std::cerr << "carom: warning: " << warning << '\n';
     Outputs outputs(start);
     std::unique_ptr<Backend> backend = makeBackend(o.scene.backend, start.world);
     backend->setParticles(start.particles, start.step);

@@ -54,12 +54,37 @@ enum class CollisionScheme {
 CollisionScheme parseCollisionScheme(const std::string& name);
 const char* collisionSchemeName(CollisionScheme scheme);
 
+// The ranges in which carom's float32 arithmetic gives valid results
+// (README, "Limits"): squares, sums and tallies that stay normal floats
+// (FLT_MIN 1.2e-38, FLT_MAX 3.4e38). Lengths and dt square to at most 1e36;
+// masses keep m_i + m_j, the mass shares (>= 1e-30) and the wall-momentum
+// and virial tallies (m v and m r v summed over up to 1024 substeps) finite.
+constexpr float kMinLength = 1e-18f;  // box sides and radii [length]
+constexpr float kMaxLength = 1e18f;
+constexpr float kMinMass = 1e-15f;    // [mass]
+constexpr float kMaxMass = 1e15f;
+constexpr float kMinDt = 1e-18f;      // [time]
+constexpr float kMaxDt = 1e18f;
+constexpr float kMaxAcceleration = 1e18f;  // |gravity| [length/time^2]
+constexpr float kMaxSpeed = 1e18f;         // [length/time]: (v_i - v_j)^2 stays finite
+// The box diagonal times the largest speed a disk can reach [length^2/time]:
+// the collision times square (x_i - x_j).(v_i - v_j), up to 4 x this squared.
+constexpr double kMaxLengthTimesSpeed = 1e18;
+// A step must move a typical disk by at least this many float spacings of
+// the positions near the far side of the box (a smaller step is lost or
+// wrong by more than 50 %; the rounding error of a step of d spacings is up
+// to 1 / (2 d)), and gets a warning below kWarnStepSpacings (error > 5 %).
+constexpr double kMinStepSpacings = 1.0;
+constexpr double kWarnStepSpacings = 10.0;
+
 // The box and the rules of motion. The world is [0,width] x [0,height].
 struct WorldDef {
-    float width = 0.0f;    // box width [length], > 0; no default: derived from the scene
-    float height = 0.0f;   // box height [length], > 0
-    float dt = 0.01f;      // time step [time], > 0
-    float2 gravity{0, 0};  // constant acceleration [length/time^2]; off by default
+    float width = 0.0f;    // box width [length], in [kMinLength, kMaxLength]; no default: derived from the scene
+    float height = 0.0f;   // box height [length], in [kMinLength, kMaxLength]
+    float dt = 0.01f;      // time step [time], in [kMinDt, kMaxDt]; with the particles' speeds it must
+                           //   move a typical disk by >= kMinStepSpacings float spacings (validateParticles)
+                           //   and the fastest by at most the smaller box side (without --max-travel)
+    float2 gravity{0, 0};  // constant acceleration [length/time^2], |g| <= kMaxAcceleration; off by default
     Boundary boundary = Boundary::Walls;
     // Adaptive substeps against tunnelling: when > 0, each step of dt is split
     // into the fewest equal substeps in which no disk moves more than
@@ -80,14 +105,14 @@ constexpr std::uint64_t kMaxSubsteps = 1'000'000;
 // speed in uniformly random directions.
 struct SceneDef {
     std::uint32_t particles = 1000;  // N, >= 1
-    float packing = 0.3f;    // area fraction sum(pi r^2) / (W H), in (0, 0.7]; sizes a square box
+    float packing = 0.3f;    // area fraction sum(pi r^2) / (W H), in (0, 0.7]; sizes a square box (<= kMaxLength)
     float width = 0.0f;      // box [length]; when width and height are > 0 they
     float height = 0.0f;     //   are used instead of packing
-    float radiusMin = 1.0f;  // radius drawn uniformly in [radiusMin, radiusMax] [length], > 0
+    float radiusMin = 1.0f;  // radius drawn uniformly in [radiusMin, radiusMax] [length], in [kMinLength, kMaxLength]
     float radiusMax = 1.0f;
-    float massMin = 1.0f;    // mass drawn uniformly in [massMin, massMax] [mass], > 0
+    float massMin = 1.0f;    // mass drawn uniformly in [massMin, massMax] [mass], in [kMinMass, kMaxMass]
     float massMax = 1.0f;
-    float speed = 1.0f;      // initial speed of every disk [length/time], >= 0
+    float speed = 1.0f;      // initial speed of every disk [length/time], in [0, kMaxSpeed]
     std::uint64_t seed = 1;  // random seed; the same seed gives the same particles on every platform
 };
 
@@ -116,10 +141,26 @@ void validate(const SceneDef& scene);
 // Builds the initial particles of a scene. Deterministic in scene.seed.
 InitialState makeInitialState(const SceneDef& scene);
 
-// Throws Error unless every particle has finite values, positive mass and
-// radius, fits in the box and lies inside it. `what` names the source in
-// messages (for example the file the particles came from).
+// Throws Error unless every particle has finite values, mass and radius in
+// their ranges (kMinMass.., kMinLength..), fits in the box and lies inside
+// it. `what` names the source in messages (for example the file the
+// particles came from).
 void validateParticles(const std::vector<Particle>& particles, const WorldDef& world,
                        const std::string& what);
+
+// The checks of a run's start, beyond validateParticles (which it calls):
+// throws Error where the motion leaves the ranges in which float32 results
+// are valid (box diagonal x the largest reachable speed within
+// kMaxLengthTimesSpeed; a step that moves a typical disk by at least
+// kMinStepSpacings float spacings and, without max-travel substeps, the
+// fastest by at most the smaller box side) or two disks share a centre.
+// Returns warnings where results are less accurate than usual: a step of
+// fewer than kWarnStepSpacings spacings, and overlaps deeper than a step
+// closes (a checkpoint holds the small ones a step leaves; a scene file
+// refuses any), with the pair and the overlap. O(N): one grid search.
+// Not part of validateParticles, so that the viewer can upload a flicked or
+// dropped disk without being refused.
+std::vector<std::string> validateStart(const std::vector<Particle>& particles, const WorldDef& world,
+                                       const std::string& what);
 
 }  // namespace carom

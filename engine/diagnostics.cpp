@@ -22,8 +22,8 @@ Diagnostics measureMotion(const std::vector<Particle>& particles, const WorldDef
     return d;
 }
 
-Diagnostics measure(const std::vector<Particle>& particles, const WorldDef& world) {
-    Diagnostics d = measureMotion(particles, world);
+Overlaps findOverlaps(const std::vector<Particle>& particles, const WorldDef& world) {
+    Overlaps found;
     float maxRadius = 0.0f;
     for (const Particle& p : particles) maxRadius = std::max(maxRadius, p.radius);
 
@@ -42,8 +42,20 @@ Diagnostics measure(const std::vector<Particle>& particles, const WorldDef& worl
         const Particle& b = particles[j];
         const double distance = std::hypot(separation(double(a.position.x) - b.position.x, world.width),
                                            separation(double(a.position.y) - b.position.y, world.height));
-        d.maxOverlap = std::max(d.maxOverlap, double(a.radius) + b.radius - distance);
+        const double overlap = double(a.radius) + b.radius - distance;
+        ++found.pairs;
+        if (overlap > found.deepest) {
+            found.deepest = overlap;
+            found.deepestPair = {i, j};
+        }
+        if (distance == 0.0 && found.coincident++ == 0) found.coincidentPair = {i, j};
     });
+    return found;
+}
+
+Diagnostics measure(const std::vector<Particle>& particles, const WorldDef& world) {
+    Diagnostics d = measureMotion(particles, world);
+    d.maxOverlap = findOverlaps(particles, world).deepest;
     return d;
 }
 

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "engine/carom.h"
@@ -18,6 +19,16 @@ struct Diagnostics {
 
     double totalEnergy() const { return kineticEnergy + potentialEnergy; }
 };
+
+// The overlapping pairs of a state, found with the grid in O(N).
+struct Overlaps {
+    std::size_t pairs = 0;                  // pairs with r_i + r_j > |x_i - x_j|
+    double deepest = 0.0;                   // the largest r_i + r_j - |x_i - x_j|, 0 if none
+    std::array<std::uint32_t, 2> deepestPair{};     // the ids of that pair (the first found on ties)
+    std::size_t coincident = 0;             // pairs whose centres are equal (no collision normal)
+    std::array<std::uint32_t, 2> coincidentPair{};  // the first of them found (the lowest first id)
+};
+Overlaps findOverlaps(const std::vector<Particle>& particles, const WorldDef& world);
 
 // Every field.
 Diagnostics measure(const std::vector<Particle>& particles, const WorldDef& world);

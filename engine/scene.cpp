@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "engine/carom.h"
+#include "engine/diagnostics.h"
 
 namespace carom {
 namespace {
@@ -25,13 +26,91 @@ void requirePositive(const char* name, float value) {
         fail(name, " must be a finite number > 0, got ", value);
 }
 
-// A range [min, max]; `name` stands for both ends when they are equal
-// (`--radius 2` sets both).
-void requireRange(const char* name, const char* minName, float min, const char* maxName, float max) {
-    if (min == max) return requirePositive(name, min);
-    requirePositive(minName, min);
-    requirePositive(maxName, max);
+// A finite value > 0 inside the range where float32 results are valid.
+void requireWithin(const char* name, float value, float least, float most, const char* reason) {
+    requirePositive(name, value);
+    if (value < least || value > most)
+        fail(name, " ", value, " is outside [", least, ", ", most, "], the range where results are valid: ", reason,
+             " (README, Limits)");
+}
+
+constexpr const char* kLengthReason = "squared distances must stay normal, finite float32 numbers";
+constexpr const char* kMassReason = "sums of masses and the momentum tallies must stay finite float32 numbers";
+
+// A range [min, max] within [least, most]; `name` stands for both ends when
+// they are equal (`--radius 2` sets both).
+void requireRange(const char* name, const char* minName, float min, const char* maxName, float max, float least,
+                  float most, const char* reason) {
+    if (min == max) return requireWithin(name, min, least, most, reason);
+    requireWithin(minName, min, least, most, reason);
+    requireWithin(maxName, max, least, most, reason);
     if (min > max) fail(minName, " (", min, ") must not exceed ", maxName, " (", max, ")");
+}
+
+// The distance between a coordinate just below `extent` and the next float:
+// how finely positions near the far side of the box are resolved.
+double floatSpacingBelow(float extent) { return double(extent) - std::nextafter(extent, 0.0f); }
+
+// The largest box whose positions are resolved to `spacing` or finer: below
+// 2^k the spacing is 2^(k - 24).
+double largestBoxFor(double spacing) { return std::exp2(std::floor(std::log2(spacing)) + 24); }
+
+// What the particles and the world imply for the motion, for the range checks.
+struct MotionScale {
+    double fastest = 0.0;  // a bound on any disk's speed: the fastest now, plus a step of gravity and a fall
+                           //   across the box diagonal
+    double typical = 0.0;  // the speed the heaviest disks settle at: sqrt(sum m v^2 / (N m_max)) with the
+                           //   energy of a fall across the box, |g_x| W + |g_y| H, added to its square
+    double step = 0.0;     // dt, or the substep --max-travel splits it into (as the backend does at the start)
+    double diagonal = 0.0;
+    double spacing = 0.0;  // of the positions near the far side of the box
+    double move() const { return typical * step; }  // a typical disk's displacement per step
+    double spacings() const { return move() / spacing; }
+};
+
+MotionScale motionScale(const std::vector<Particle>& particles, const WorldDef& world) {
+    double fastest = 0.0, twiceKinetic = 0.0, heaviest = 0.0, smallestRadius = HUGE_VAL;
+    for (const Particle& p : particles) {
+        const double speed = std::hypot(double(p.velocity.x), double(p.velocity.y));
+        fastest = std::max(fastest, speed);
+        twiceKinetic += p.mass * speed * speed;
+        heaviest = std::max(heaviest, double(p.mass));
+        smallestRadius = std::min(smallestRadius, double(p.radius));
+    }
+    const double gravity = std::hypot(double(world.gravity.x), double(world.gravity.y));
+    MotionScale m;
+    m.diagonal = std::hypot(double(world.width), double(world.height));
+    m.fastest = fastest + gravity * world.dt + std::sqrt(2 * gravity * m.diagonal);
+    m.typical = std::sqrt(twiceKinetic / (double(particles.size()) * heaviest) +
+                          std::fabs(double(world.gravity.x)) * world.width +
+                          std::fabs(double(world.gravity.y)) * world.height);
+    m.step = world.dt;
+    if (world.maxTravel > 0.0f) {
+        const double substeps = std::ceil((fastest + gravity * world.dt) * world.dt / (world.maxTravel * smallestRadius));
+        if (substeps > 1) m.step = world.dt / std::min(substeps, double(kMaxSubsteps));
+    }
+    m.spacing = floatSpacingBelow(std::max(world.width, world.height));
+    return m;
+}
+
+// Refuses motion outside the ranges where float32 results are valid.
+void requireValidMotion(const std::vector<Particle>& particles, const WorldDef& world, const std::string& what) {
+    const MotionScale m = motionScale(particles, world);
+    if (m.fastest > kMaxSpeed || m.fastest * m.diagonal > kMaxLengthTimesSpeed)
+        fail(what, ": the largest speed a disk can reach, ", m.fastest,
+             " (the fastest now plus what gravity adds across the box), times the box diagonal ", m.diagonal, " is ",
+             m.fastest * m.diagonal, "; results are valid up to ", kMaxLengthTimesSpeed, " and speeds up to ",
+             kMaxSpeed, ", where the squares in the collision times stay finite float32 numbers (README, Limits)");
+    const double side = std::min(world.width, world.height);
+    if (world.maxTravel == 0.0f && m.fastest * world.dt > side)
+        fail(what, ": a step of dt ", world.dt, " moves the fastest disk (speed up to ", m.fastest, ") by ",
+             m.fastest * world.dt, ", more than the box side ", side, "; the largest dt is ", side / m.fastest,
+             " (or use --dt auto / --max-travel to split the step)");
+    if (m.typical > 0.0 && m.spacings() < kMinStepSpacings)
+        fail(what, ": a step moves a typical disk (speed ", m.typical, ", step ", m.step, ") by ", m.move(),
+             ", less than the float32 spacing ", m.spacing, " of positions in the ", world.width, " x ", world.height,
+             " box, so its motion would be lost or wrong by more than 50 %; for these speeds and dt the largest box is ",
+             largestBoxFor(m.move() / kMinStepSpacings), " (README, Limits)");
 }
 
 // Random numbers specified bit for bit by the C++ standard (std::mt19937_64
@@ -119,11 +198,15 @@ const char* collisionSchemeName(CollisionScheme scheme) {
 }
 
 void validate(const WorldDef& world) {
-    requirePositive("box width", world.width);
-    requirePositive("box height", world.height);
-    requirePositive("dt", world.dt);
+    requireWithin("box width", world.width, kMinLength, kMaxLength, kLengthReason);
+    requireWithin("box height", world.height, kMinLength, kMaxLength, kLengthReason);
+    requireWithin("dt", world.dt, kMinDt, kMaxDt, "dt and its square must stay normal, finite float32 numbers");
     if (!std::isfinite(world.gravity.x) || !std::isfinite(world.gravity.y))
         fail("gravity must be finite, got (", world.gravity.x, ", ", world.gravity.y, ")");
+    if (std::hypot(world.gravity.x, world.gravity.y) > kMaxAcceleration)
+        fail("gravity (", world.gravity.x, ", ", world.gravity.y, ") is stronger than ", kMaxAcceleration,
+             ", the most where results are valid: the speeds it gives must square to finite float32 numbers "
+             "(README, Limits)");
     if (world.boundary != Boundary::Walls && world.boundary != Boundary::Periodic)
         fail("boundary code ", static_cast<int>(world.boundary), " is unknown; allowed: walls, periodic");
     if (!(std::isfinite(world.maxTravel) && world.maxTravel >= 0.0f))
@@ -136,16 +219,20 @@ void validate(const SceneDef& scene) {
     if (scene.particles < 1) fail("particles must be >= 1, got ", scene.particles);
     const bool boxGiven = scene.width != 0.0f || scene.height != 0.0f;
     if (boxGiven) {
-        requirePositive("box width", scene.width);
-        requirePositive("box height", scene.height);
+        requireWithin("box width", scene.width, kMinLength, kMaxLength, kLengthReason);
+        requireWithin("box height", scene.height, kMinLength, kMaxLength, kLengthReason);
     } else if (!(std::isfinite(scene.packing) && scene.packing > 0.0f &&
                  scene.packing <= kMaxPacking)) {
         fail("packing must be in (0, ", kMaxPacking, "], got ", scene.packing);
     }
-    requireRange("radius", "radius-min", scene.radiusMin, "radius-max", scene.radiusMax);
-    requireRange("mass", "mass-min", scene.massMin, "mass-max", scene.massMax);
+    requireRange("radius", "radius-min", scene.radiusMin, "radius-max", scene.radiusMax, kMinLength, kMaxLength,
+                 kLengthReason);
+    requireRange("mass", "mass-min", scene.massMin, "mass-max", scene.massMax, kMinMass, kMaxMass, kMassReason);
     if (!(std::isfinite(scene.speed) && scene.speed >= 0.0f))
         fail("speed must be a finite number >= 0, got ", scene.speed);
+    if (scene.speed > kMaxSpeed)
+        fail("speed ", scene.speed, " is outside [0, ", kMaxSpeed,
+             "], the range where results are valid: speeds must square to finite float32 numbers (README, Limits)");
 }
 
 InitialState makeInitialState(const SceneDef& scene) {
@@ -164,6 +251,9 @@ InitialState makeInitialState(const SceneDef& scene) {
     const bool boxGiven = scene.width > 0.0f;
     state.width = boxGiven ? scene.width : static_cast<float>(std::sqrt(diskArea / scene.packing));
     state.height = boxGiven ? scene.height : state.width;
+    if (!boxGiven && !(state.width <= kMaxLength))
+        fail("packing ", scene.packing, " makes a ", state.width, " x ", state.height, " box; boxes up to ",
+             kMaxLength, " are valid (README, Limits): raise the packing");
     const double packing = diskArea / (double(state.width) * state.height);
 
     const double rmax = scene.radiusMax;
@@ -224,6 +314,9 @@ void validateParticles(const std::vector<Particle>& particles, const WorldDef& w
         if (!std::isfinite(p.velocity.x) || !std::isfinite(p.velocity.y))
             fail(what, ": particle ", i, ": velocity must be finite, got (", p.velocity.x, ", ",
                  p.velocity.y, ")");
+        const std::string particle = what + ": particle " + std::to_string(i) + ": ";
+        requireWithin((particle + "radius").c_str(), r, kMinLength, kMaxLength, kLengthReason);
+        requireWithin((particle + "mass").c_str(), p.mass, kMinMass, kMaxMass, kMassReason);
         if (2.0f * r > world.width || 2.0f * r > world.height)
             fail(what, ": particle ", i, ": radius ", r, " does not fit in the ", world.width,
                  " x ", world.height, " box");
@@ -241,6 +334,44 @@ void validateParticles(const std::vector<Particle>& particles, const WorldDef& w
                  ") puts the disk outside the box; the centre must lie in [", r, ", ",
                  world.width - r, "] x [", r, ", ", world.height - r, "]");
     }
+}
+
+std::vector<std::string> validateStart(const std::vector<Particle>& particles, const WorldDef& world,
+                                       const std::string& what) {
+    validateParticles(particles, world, what);
+    requireValidMotion(particles, world, what);
+    const Overlaps overlaps = findOverlaps(particles, world);
+    if (overlaps.coincident > 0) {
+        const auto [i, j] = overlaps.coincidentPair;
+        fail(what, ": particles ", i, " and ", j, " have the same centre (", particles[i].position.x, ", ",
+             particles[i].position.y, "): their collision has no direction; ", overlaps.coincident,
+             " such pair(s) in all: move one disk of each");
+    }
+
+    std::vector<std::string> warnings;
+    std::ostringstream text;
+    const MotionScale m = motionScale(particles, world);
+    if (m.typical > 0.0 && m.spacings() < kWarnStepSpacings) {
+        text << "a step moves a typical disk by " << m.move() << ", only " << m.spacings()
+             << " float32 spacings of the positions in this box: each step may be off by up to "
+             << 50.0 / m.spacings() << " %; boxes up to " << largestBoxFor(m.move() / kWarnStepSpacings)
+             << " keep it within " << 50.0 / kWarnStepSpacings << " % at these speeds and dt (README, Limits)";
+        warnings.push_back(text.str());
+    }
+    // Overlaps up to what two disks close in one step, plus rounding, are
+    // what a step leaves behind (the simultaneous scheme's overlaps, the
+    // pairwise scheme's late contacts); deeper ones did not come from a run.
+    const double stepClosing = 2 * (m.fastest * world.dt) + 1e-6 * (double(world.width) + world.height);
+    if (overlaps.deepest > stepClosing) {
+        const auto [i, j] = overlaps.deepestPair;
+        text.str("");
+        text << overlaps.pairs << " pair(s) of disks overlap, the deepest particles " << i << " and " << j << " by "
+             << overlaps.deepest << " (" << 100 * overlaps.deepest / (double(particles[i].radius) + particles[j].radius)
+             << " % of their contact distance), more than a step closes (" << stepClosing
+             << "); they separate as they move apart (the simultaneous scheme also pushes them apart)";
+        warnings.push_back(text.str());
+    }
+    return warnings;
 }
 
 }  // namespace carom

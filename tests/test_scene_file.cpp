@@ -173,7 +173,7 @@ TEST_CASE("scene file: bad input is refused with file, line, key, value and what
              Case{"box = [60, 1e-50]\n", "box[1] = 1e-50: is too small for a 32-bit float"},
              Case{"packing = 0.8\n", "s.toml:1: packing = 0.8: must be in (0, 0.7]"},
              Case{"packing = 0.1\n[[group]]\ncount = 2\nradius = 3e38\n",
-                  "s.toml: box width must be a finite number > 0, got inf"},
+                  "group[1]: radius 3e+38 is outside [1e-18, 1e+18]"},
              Case{"packing = 0\n", "packing = 0: must be a finite number > 0"},
              Case{"box = [60, 40]\nboundary = \"toroidal\"\n",
                   "s.toml:2: boundary = \"toroidal\": allowed: \"walls\" (reflective) or \"periodic\""},

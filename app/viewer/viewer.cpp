@@ -142,10 +142,12 @@ void Viewer::openWindow() {
 }
 
 void Viewer::start(app::Setup setup) {
-    initial_ = std::move(setup);
-    WorldDef world = initial_.world;
+    WorldDef world = setup.world;
     world.dt = dt_;
     world.gravity = gravityOn_ ? gravity_ : float2{0, 0};
+    for (const std::string& warning : validateStart(setup.particles, world, "the scene"))
+        std::cerr << "carom: warning: " << warning << '\n';
+    initial_ = std::move(setup);
     backend_ = makeBackend(options_.scene.backend, world);
     particles_ = initial_.particles;
     collisionsBeforeUpload_ = collisionsAtLastReadout_ = 0;
