@@ -70,10 +70,12 @@ AtomicFile::~AtomicFile() {
     if (!temporaryPath_.empty()) std::remove(temporaryPath_.c_str());
 }
 
+// The reason is errno when the failed write set it (a full disk, a quota, a
+// file size limit); the stream does not promise to.
 void AtomicFile::failWrite(int error) const {
-    if (temporaryPath_.empty())
-        throw Error("writing '" + path_ + "' failed: " + (error ? std::strerror(error) : "write error"));
-    throw Error("writing '" + path_ + "' failed (disk full?); the previous file, if any, is unchanged");
+    const std::string reason = error ? std::strerror(error) : "write error (disk full?)";
+    if (temporaryPath_.empty()) throw Error("writing '" + path_ + "' failed: " + reason);
+    throw Error("writing '" + path_ + "' failed: " + reason + "; the previous file, if any, is unchanged");
 }
 
 void AtomicFile::append(std::string_view text) {
