@@ -9,6 +9,7 @@
 
 #include "app/commands.h"
 #include "app/host_info.h"
+#include "app/number_options.h"
 #include "bench/report.h"
 #include "engine/atomic_file.h"
 #include "engine/grid.h"
@@ -176,15 +177,20 @@ void addBenchOptions(CLI::App& command, BenchOptions& o) {
     command.add_option("--sizes", o.sizes, "Particle counts N, comma-separated, e.g. 1e3,1e6,1.6e7 "
                                            "(default: 1e3 to 1.6e7)")
         ->delimiter(',');
-    command.add_option("--packing", o.packing, "Area fraction of the disks")->capture_default_str();
-    command.add_option("--radius", o.radius, "Radius of every disk")->capture_default_str();
-    command.add_option("--speed", o.speed, "Initial speed of every disk")->capture_default_str();
-    command.add_option("--dt", o.dt, "Time step")->capture_default_str();
-    command.add_option("--seed", o.seed, "Random seed of the scene")->capture_default_str();
+    command.add_option("--packing", o.packing, "Area fraction of the disks")
+        ->transform(realNumber())
+        ->capture_default_str();
+    command.add_option("--radius", o.radius, "Radius of every disk")->transform(realNumber())->capture_default_str();
+    command.add_option("--speed", o.speed, "Initial speed of every disk")
+        ->transform(realNumber())
+        ->capture_default_str();
+    command.add_option("--dt", o.dt, "Time step")->transform(realNumber())->capture_default_str();
+    command.add_option("--seed", o.seed, "Random seed of the scene")->transform(wholeNumber(0))->capture_default_str();
     command.add_option("--device", o.device, "OpenCL device: index from `carom devices` or part of its name");
     command.add_option("--samples", o.samples, "Timed samples per method and N (default 7, 3 with --quick)")
-        ->check(CLI::Range(1, 1000));
+        ->transform(wholeNumber(1, 1000));
     command.add_option("--budget-ms", o.budgetMs, "Drop a method for larger N once one step takes longer than this")
+        ->transform(realNumber())
         ->capture_default_str();
     command.add_option("--json", o.json,
                        "Write the results as JSON to this file: a result per method, scheme and N (its fields "

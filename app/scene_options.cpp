@@ -4,8 +4,10 @@
 #include <unistd.h>
 #endif
 
+#include <cctype>
 #include <cstdlib>
 
+#include "app/number_options.h"
 #include "backends/backend.h"
 #include "engine/resources.h"
 #include "engine/state_csv.h"
@@ -85,6 +87,30 @@ Setup setupFromSceneFile(const SceneOptions& o) {
     return setup;
 }
 
+struct UniformRange {
+    CLI::Option *value, *min, *max;
+};
+
+// --NAME (every disk alike), or --NAME-min with --NAME-max (drawn uniformly
+// between them): the one value excludes the range, each bound needs the other.
+UniformRange addUniformRange(CLI::App& command, const std::string& name, float& min, float& max) {
+    std::string capitalized = name;
+    capitalized[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(name[0])));
+    auto* value = command
+                      .add_option_function<float>(
+                          "--" + name, [&min, &max](float v) { min = max = v; },
+                          capitalized + " of every disk (default 1)")
+                      ->transform(realNumber());
+    auto* low = command.add_option("--" + name + "-min", min, "Smallest " + name + " (uniform range)")
+                    ->transform(realNumber());
+    auto* high = command.add_option("--" + name + "-max", max, "Largest " + name + " (uniform range)")
+                     ->transform(realNumber());
+    value->excludes(low)->excludes(high);
+    low->needs(high);
+    high->needs(low);
+    return {value, low, high};
+}
+
 }  // namespace
 
 CLI::Option* tracked(CLI::Option* option, std::set<std::string>& given) {
@@ -107,31 +133,25 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
         ->check(CLI::IsMember({"seed", "resident"}))
         ->capture_default_str();
 
-    auto* particles = command.add_option("--particles", o.scene.particles, "Number of disks")->capture_default_str();
+    auto* particles = command.add_option("--particles", o.scene.particles, "Number of disks")
+                          ->transform(wholeNumber(1, kMaxParticles))
+                          ->capture_default_str();
     auto* packing = command.add_option("--packing", o.scene.packing, "Area fraction of the disks; sizes a square box")
+                        ->transform(realNumber())
                         ->capture_default_str();
-    auto* box = command.add_option("--box", o.box, "Box size W H: the world is [0,W]x[0,H]")->expected(2);
+    auto* box = command.add_option("--box", o.box, "Box size W H: the world is [0,W]x[0,H]")
+                    ->expected(2)
+                    ->transform(realNumber());
     packing->excludes(box);
 
-    auto* radius = command.add_option_function<float>(
-        "--radius", [&o](float r) { o.scene.radiusMin = o.scene.radiusMax = r; }, "Radius of every disk (default 1)");
-    auto* radiusMin = command.add_option("--radius-min", o.scene.radiusMin, "Smallest radius (uniform range)");
-    auto* radiusMax = command.add_option("--radius-max", o.scene.radiusMax, "Largest radius (uniform range)");
-    radius->excludes(radiusMin)->excludes(radiusMax);
-    radiusMin->needs(radiusMax);
-    radiusMax->needs(radiusMin);
-
-    auto* mass = command.add_option_function<float>(
-        "--mass", [&o](float m) { o.scene.massMin = o.scene.massMax = m; }, "Mass of every disk (default 1)");
-    auto* massMin = command.add_option("--mass-min", o.scene.massMin, "Smallest mass (uniform range)");
-    auto* massMax = command.add_option("--mass-max", o.scene.massMax, "Largest mass (uniform range)");
-    mass->excludes(massMin)->excludes(massMax);
-    massMin->needs(massMax);
-    massMax->needs(massMin);
+    const auto [radius, radiusMin, radiusMax] = addUniformRange(command, "radius", o.scene.radiusMin, o.scene.radiusMax);
+    const auto [mass, massMin, massMax] = addUniformRange(command, "mass", o.scene.massMin, o.scene.massMax);
 
     auto* speed = command.add_option("--speed", o.scene.speed, "Initial speed of every disk, random directions")
+                      ->transform(realNumber())
                       ->capture_default_str();
-    auto* seed = command.add_option("--seed", o.scene.seed, "Random seed")->capture_default_str();
+    auto* seed =
+        command.add_option("--seed", o.scene.seed, "Random seed")->transform(wholeNumber(0))->capture_default_str();
     auto* dt = command.add_option_function<std::string>(
         "--dt",
         [&o](const std::string& text) {
@@ -148,12 +168,15 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
     auto* maxTravel = command.add_option(
         "--max-travel", o.world.maxTravel,
         "Split each step into substeps so that no disk moves more than this fraction of the smallest radius in "
-        "one (0 = off; --dt auto uses 0.2)");
+        "one (0 = off; --dt auto uses 0.2)")
+                           ->transform(realNumber());
     auto* boundary = command.add_option_function<std::string>(
         "--boundary", [&o](const std::string& name) { o.world.boundary = parseBoundary(name); },
         "walls (reflective, the default) or periodic (the box repeats)")
         ->check(CLI::IsMember({"walls", "periodic"}));
-    auto* gravity = command.add_option("--gravity", o.gravity, "Constant acceleration GX GY (default off)")->expected(2);
+    auto* gravity = command.add_option("--gravity", o.gravity, "Constant acceleration GX GY (default off)")
+                        ->expected(2)
+                        ->transform(realNumber());
     auto* collisions = command.add_option_function<std::string>(
         "--collisions",
         [&o](const std::string& name) {

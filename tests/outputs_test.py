@@ -650,6 +650,21 @@ def test_stdout_write_errors_are_reported():
         assert f"writing to standard output failed{reason}" in done.stderr, (arguments, done.stderr)
 
 
+def test_empty_numbers_are_refused():
+    """An empty value is not 0, for every numeric option of every subcommand."""
+    run = ["run", "--backend", "cpu", "--particles", 10, "--steps", 1]
+    cases = [(run, "--seed"), (run, "--speed"), (run, "--max-travel"), (run, "--every"), (run, "--packing"),
+             (run, "--radius"), (run, "--mass"), (["run", "--backend", "cpu", "--particles", 10], "--steps"),
+             (["run", "--backend", "cpu", "--steps", 1], "--particles"),
+             (["bench", "--quick", "--methods", "cpu"], "--seed"), (["bench", "--quick", "--methods", "cpu"], "--dt"),
+             (["bench", "--quick", "--methods", "cpu"], "--samples"), (["validate", "--quick"], "--seed"),
+             (["validate", "--quick"], "--particles")]
+    for args, option in cases:
+        done = subprocess.run([ARGS.carom, *map(str, args), option, ""], capture_output=True, text=True, timeout=60)
+        assert done.returncode != 0, f"{option} '' was accepted: {done.stdout}"
+        assert re.search(f"{option}: '' is not a (whole )?number", done.stderr), done.stderr
+
+
 def main():
     global ARGS
     parser = argparse.ArgumentParser()

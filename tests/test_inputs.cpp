@@ -1,0 +1,62 @@
+// Inputs a person or another program hands carom: numbers on the command
+// line, text shown back in messages, and state files and checkpoints whose
+// size is not what it seems.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <sstream>
+
+#include "engine/number_text.h"
+#include "support.h"
+
+using namespace carom;
+using namespace carom::test;
+
+namespace {
+
+constexpr std::uint64_t kU64Max = std::numeric_limits<std::uint64_t>::max();
+
+std::string errorOf(const std::function<void()>& action) {
+    try {
+        action();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST_CASE("number text: whole numbers never wrap, and an empty text is not 0") {
+    CHECK(parseWholeNumber("0", 0, kU64Max) == 0);
+    CHECK(parseWholeNumber("18446744073709551615", 0, kU64Max) == kU64Max);
+    CHECK(parseWholeNumber("010", 0, kU64Max) == 10);  // decimal, not octal
+    CHECK(parseWholeNumber("-0", 0, 5) == 0);
+    const std::string allowed = "allowed: whole numbers from 0 to 18446744073709551615";
+    auto refusal = [](const char* text, std::uint64_t min, std::uint64_t max) {
+        return errorOf([&] { parseWholeNumber(text, min, max); });
+    };
+    CHECK(refusal("-1", 0, kU64Max) == "'-1' is out of range; " + allowed);
+    CHECK(refusal("18446744073709551616", 0, kU64Max) == "'18446744073709551616' is out of range; " + allowed);
+    CHECK(refusal("99999999999999999999999", 0, kU64Max) == "'99999999999999999999999' is out of range; " + allowed);
+    CHECK(refusal("", 0, kU64Max) == "'' is not a whole number; " + allowed);
+    for (const char* malformed : {"0x10", "+5", " 5", "5 ", "1e3", "1.0", "-", "--1", "five"})
+        CHECK_MESSAGE(refusal(malformed, 0, kU64Max).find("is not a whole number") != std::string::npos, malformed);
+    CHECK(refusal("0", 1, 1000) == "'0' is out of range; allowed: whole numbers from 1 to 1000");
+    CHECK(refusal("1001", 1, 1000) == "'1001' is out of range; allowed: whole numbers from 1 to 1000");
+}
+
+TEST_CASE("number text: a real number is the whole text") {
+    CHECK(parseRealNumber("1.5") == 1.5);
+    CHECK(parseRealNumber("-2e3") == -2000.0);
+    CHECK(std::isinf(parseRealNumber("inf")));  // the options' own checks name the range
+    CHECK(std::isnan(parseRealNumber("nan")));
+    for (const char* malformed : {"", " 1", "1 ", "1.5x", "fast", "1,5"})
+        CHECK_MESSAGE(errorOf([&] { parseRealNumber(malformed); }) == "'" + std::string(malformed) + "' is not a number",
+                      malformed);
+}
