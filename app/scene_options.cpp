@@ -11,6 +11,7 @@
 #include "backends/backend.h"
 #include "engine/resources.h"
 #include "engine/state_csv.h"
+#include "engine/text_format.h"
 
 namespace carom::app {
 namespace {
@@ -124,13 +125,26 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
     command.add_option("--backend", o.backend.kind, "Compute backend")
         ->check(CLI::IsMember(backends))
         ->capture_default_str();
+    // CLI11 validates options in the order they are added, so --backend is
+    // known when --device and --pipeline are checked.
+    auto forOpenCL = [&o](const char* cpuHas) {
+        return CLI::Validator(
+            [&o, cpuHas](const std::string& value) {
+                return o.backend.kind == "cpu"
+                           ? "'" + value + "' needs --backend opencl; the cpu backend has " + cpuHas
+                           : std::string();
+            },
+            "");
+    };
     command.add_option("--device", o.backend.device,
                        "OpenCL device: index from `carom devices` or part of its name (default: first GPU, "
-                       "else first device)");
+                       "else first device)")
+        ->check(forOpenCL("no devices to choose from"));
     command.add_option("--pipeline", o.backend.pipeline,
                        "OpenCL pipeline: seed (host builds the grid, state read back each step) or resident "
                        "(grid and state stay on the device)")
         ->check(CLI::IsMember({"seed", "resident"}))
+        ->check(forOpenCL("one pipeline"))
         ->capture_default_str();
 
     auto* particles = command.add_option("--particles", o.scene.particles, "Number of disks")
@@ -205,6 +219,12 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
 }
 
 Setup makeSetup(const SceneOptions& o) {
+    if (o.dtAuto && o.given.count("--max-travel") && o.world.maxTravel == 0.0f) {
+        std::string message = "--dt auto splits each step so that no disk moves more than --max-travel radii; "
+                              "--max-travel 0 turns that off: give --max-travel > 0 (without it, ";
+        appendNumber(message, kDefaultMaxTravel);
+        throw Error(message + ") or a fixed --dt");
+    }
     if (!o.sceneFile.empty()) return setupFromSceneFile(o);
     Setup setup;
     setup.world = o.world;

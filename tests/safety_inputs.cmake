@@ -34,6 +34,16 @@ if(CAROM_HAVE_VIEWER)
                      "view|--backend|cpu|--frames|-1")
 endif()
 
+# --dt auto splits steps by --max-travel: 0 (off) contradicts it.
+carom_input_test(dt_auto_max_travel_zero
+                 "--dt auto splits each step so that no disk moves more than --max-travel radii; --max-travel 0"
+                 "${base}|--steps|1|--dt|auto|--max-travel|0")
+# The CPU backend has no devices or pipelines: naming one is a mistake.
+carom_input_test(cpu_with_device "--device: '5' needs --backend opencl; the cpu backend has no devices to choose from" "${base}|--steps|1|--device|5")
+carom_input_test(cpu_with_pipeline "--pipeline: 'seed' needs --backend opencl; the cpu backend has one pipeline"
+                 "${base}|--steps|1|--pipeline|seed")
+
+
 # Empty values need a script to pass them.
 if(Python3_Interpreter_FOUND)
     foreach(test IN ITEMS empty_numbers_are_refused)
