@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "engine/number_text.h"
+#include "engine/text_format.h"
 #include "support.h"
 
 using namespace carom;
@@ -59,4 +60,18 @@ TEST_CASE("number text: a real number is the whole text") {
     for (const char* malformed : {"", " 1", "1 ", "1.5x", "fast", "1,5"})
         CHECK_MESSAGE(errorOf([&] { parseRealNumber(malformed); }) == "'" + std::string(malformed) + "' is not a number",
                       malformed);
+}
+
+TEST_CASE("printable: valid UTF-8 as it is; control characters and invalid bytes escaped") {
+    CHECK(printable("caf\xC3\xA9 \xE6\x97\xA5\xE6\x9C\xAC \xF0\x9F\x8E\xB1") == "caf\xC3\xA9 \xE6\x97\xA5\xE6\x9C\xAC \xF0\x9F\x8E\xB1");
+    CHECK(printable("a\x1B[31m\x7F") == "a\\x1B[31m\\x7F");
+    CHECK(printable("\xC2\x9B" "1m") == "\\xC2\\x9B1m");         // C1 control (CSI)
+    CHECK(printable("\xC3") == "\\xC3");                        // truncated sequence
+    CHECK(printable("\xA9x") == "\\xA9x");                      // stray continuation byte
+    CHECK(printable("\xC0\xAF") == "\\xC0\\xAF");               // overlong '/'
+    CHECK(printable("\xED\xA0\x80") == "\\xED\\xA0\\x80");      // surrogate
+    CHECK(printable("\xF4\x90\x80\x80") == "\\xF4\\x90\\x80\\x80");  // past U+10FFFF
+    std::string accents;
+    for (int i = 0; i < 50; ++i) accents += "\xC3\xA9";
+    CHECK(printable(accents) == accents.substr(0, 80) + "...");  // 40 characters, none cut in half
 }
