@@ -1,12 +1,9 @@
 #include "app/scene_options.h"
 
-#if __has_include(<unistd.h>)
-#include <unistd.h>
-#endif
-
 #include <cctype>
 #include <cstdlib>
 
+#include "app/available_memory.h"
 #include "app/number_options.h"
 #include "backends/backend.h"
 #include "engine/resources.h"
@@ -15,16 +12,6 @@
 
 namespace carom::app {
 namespace {
-
-// Physical memory in bytes, or 0 where the platform does not say.
-std::uint64_t physicalMemoryBytes() {
-#if defined(_SC_PHYS_PAGES) && defined(_SC_PAGESIZE)
-    const long pages = sysconf(_SC_PHYS_PAGES);
-    const long pageSize = sysconf(_SC_PAGESIZE);
-    if (pages > 0 && pageSize > 0) return std::uint64_t(pages) * std::uint64_t(pageSize);
-#endif
-    return 0;
-}
 
 // The options that describe the one particle group of a scene file.
 const char* const kGroupOptions[] = {"--particles", "--radius", "--radius-min", "--radius-max",
@@ -75,7 +62,7 @@ Setup setupFromSceneFile(const SceneOptions& o) {
     applyOverrides(o, scene);
     std::uint64_t particles = scene.disks.size();
     for (const GroupDef& group : scene.groups) particles += group.count;
-    requireRoomFor(particles, physicalMemoryBytes(), o.sceneFile.c_str());
+    requireRoomFor(particles, availableMemoryBytes(), o.sceneFile.c_str());
 
     InitialState initial = makeInitialState(scene);
     Setup setup;
@@ -247,7 +234,7 @@ Setup makeSetup(const SceneOptions& o) {
             throw Error("--box must be two finite numbers > 0, got " + std::to_string(o.box[0]) + " " +
                         std::to_string(o.box[1]));
     }
-    requireRoomFor(scene.particles, physicalMemoryBytes(), "--particles");
+    requireRoomFor(scene.particles, availableMemoryBytes(), "--particles");
     InitialState initial = makeInitialState(scene);
     setup.world.width = initial.width;
     setup.world.height = initial.height;

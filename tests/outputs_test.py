@@ -665,6 +665,33 @@ def test_empty_numbers_are_refused():
         assert re.search(f"{option}: '' is not a (whole )?number", done.stderr), done.stderr
 
 
+def test_memory_check_uses_available_memory():
+    """--particles needing more than MemAvailable, but less than the total memory, is refused before allocating.
+    The address-space limit turns an allocation of what the check let through into "out of memory"."""
+    import resource
+
+    try:
+        with open("/proc/meminfo") as f:
+            info = {line.split(":")[0]: int(line.split()[1]) * 1024 for line in f}
+    except OSError:
+        print("skipped: no /proc/meminfo")
+        return
+    total, available = info["MemTotal"], info["MemAvailable"]
+    if total - available < 256 << 20:
+        print("skipped: available memory is within 256 MiB of the total")
+        return
+    particles = min((total + available) // 2 // 256, 500_000_000)
+
+    def limit_memory():
+        resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))
+
+    done = subprocess.run([ARGS.carom, "run", "--backend", "cpu", "--steps", "1", "--particles", str(particles)],
+                          capture_output=True, text=True, timeout=120, preexec_fn=limit_memory)
+    assert done.returncode != 0, done.stdout
+    assert re.search(f"--particles: {particles} particles need about [0-9]+ MiB of memory, more than the [0-9]+ MiB "
+                     "available", done.stderr), done.stderr
+
+
 def main():
     global ARGS
     parser = argparse.ArgumentParser()

@@ -44,9 +44,9 @@ carom_input_test(cpu_with_pipeline "--pipeline: 'seed' needs --backend opencl; t
                  "${base}|--steps|1|--pipeline|seed")
 
 
-# Empty values need a script to pass them.
+# Empty values and memory figures need a script.
 if(Python3_Interpreter_FOUND)
-    foreach(test IN ITEMS empty_numbers_are_refused)
+    foreach(test IN ITEMS empty_numbers_are_refused memory_check_uses_available_memory)
         add_test(NAME outputs.${test}
                  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/outputs_test.py --carom $<TARGET_FILE:carom>
                          --work ${CMAKE_CURRENT_BINARY_DIR}/outputs --backends cpu ${test})

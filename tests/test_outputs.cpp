@@ -214,7 +214,7 @@ TEST_CASE("resources: requests that cannot fit are refused before allocating") {
     const std::uint64_t oneGiB = std::uint64_t{1} << 30;
     CHECK_NOTHROW(requireRoomFor(1000000, oneGiB, "--particles"));
     CHECK_THROWS_WITH_AS(requireRoomFor(100000000, oneGiB, "--particles"),
-                         doctest::Contains("100000000 particles need about 24414 MiB of memory, more than this "
-                                           "machine's 1024 MiB"),
+                         doctest::Contains("100000000 particles need about 24414 MiB of memory, more than the "
+                                           "1024 MiB available"),
                          Error);
 }
