@@ -21,6 +21,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/available_memory.h"
 #include "app/commands.h"
 #include "app/number_options.h"
 #include "app/stop_signals.h"
@@ -104,7 +105,7 @@ Start planRun(const RunOptions& o) {
     Start start;
     start.steps = o.steps;
     if (!o.resume.empty()) {
-        Checkpoint c = readCheckpoint(o.resume);
+        Checkpoint c = readCheckpoint(o.resume, availableMemoryBytes());
         start.world = c.world;
         start.particles = std::move(c.particles);
         start.step = c.step;

@@ -665,6 +665,33 @@ def test_empty_numbers_are_refused():
         assert re.search(f"{option}: '' is not a (whole )?number", done.stderr), done.stderr
 
 
+def test_resume_forged_count_allocates_nothing():
+    """A checkpoint header claiming 3 * 10^7 particles, in a sparse file of the size they need, with no valid
+    checksum: refused by the checksum (or the memory check) without allocating what the header claims, which
+    the address-space limit here would turn into "out of memory"."""
+    import resource
+
+    d = work("forged")
+    good = os.path.join(d, "good.ckpt")
+    carom("run", "--backend", "cpu", "--particles", 10, "--steps", 1, "--checkpoint", good)
+    header = bytearray(read_bytes(good)[:76])
+    count = 30_000_000
+    header[16:24] = struct.pack("<Q", count)
+    forged = os.path.join(d, "forged.ckpt")
+    with open(forged, "wb") as f:
+        f.write(header)
+        f.truncate(76 + 24 * count + 4)
+
+    def limit_memory():
+        resource.setrlimit(resource.RLIMIT_AS, (512 << 20, 512 << 20))
+
+    done = subprocess.run([ARGS.carom, "run", "--backend", "cpu", "--resume", forged, "--steps", "1"],
+                          capture_output=True, text=True, timeout=120, preexec_fn=limit_memory)
+    assert done.returncode != 0, done.stdout
+    assert "out of memory" not in done.stderr, done.stderr
+    assert re.search("checksum mismatch|particles need about", done.stderr), done.stderr
+
+
 def test_memory_check_uses_available_memory():
     """--particles needing more than MemAvailable, but less than the total memory, is refused before allocating.
     The address-space limit turns an allocation of what the check let through into "out of memory"."""

@@ -44,9 +44,10 @@ carom_input_test(cpu_with_pipeline "--pipeline: 'seed' needs --backend opencl; t
                  "${base}|--steps|1|--pipeline|seed")
 
 
-# Empty values and memory figures need a script.
+# Empty values, memory figures and a forged checkpoint need a script to set up.
 if(Python3_Interpreter_FOUND)
-    foreach(test IN ITEMS empty_numbers_are_refused memory_check_uses_available_memory)
+    foreach(test IN ITEMS empty_numbers_are_refused memory_check_uses_available_memory
+                          resume_forged_count_allocates_nothing)
         add_test(NAME outputs.${test}
                  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/outputs_test.py --carom $<TARGET_FILE:carom>
                          --work ${CMAKE_CURRENT_BINARY_DIR}/outputs --backends cpu ${test})

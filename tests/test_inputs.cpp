@@ -11,7 +11,9 @@
 #include <limits>
 #include <sstream>
 
+#include "engine/checkpoint.h"
 #include "engine/number_text.h"
+#include "engine/resources.h"
 #include "engine/text_format.h"
 #include "support.h"
 
@@ -74,4 +76,30 @@ TEST_CASE("printable: valid UTF-8 as it is; control characters and invalid bytes
     std::string accents;
     for (int i = 0; i < 50; ++i) accents += "\xC3\xA9";
     CHECK(printable(accents) == accents.substr(0, 80) + "...");  // 40 characters, none cut in half
+}
+
+TEST_CASE("checkpoint: the particle count is checked against memory and the checksum before allocating") {
+    Checkpoint c;
+    c.world.width = c.world.height = 100.0f;
+    for (int i = 0; i < 10; ++i) c.particles.push_back(disk(5.0f + 9.0f * float(i), 50.0f, 1.0f, 0.0f));
+    const std::string bytes = encodeCheckpoint(c);
+    {
+        std::ofstream("inputs.ckpt", std::ios::binary) << bytes;
+    }
+    CHECK(readCheckpoint("inputs.ckpt", 10 * kHostBytesPerParticle).particles.size() == 10);
+    CHECK(errorOf([] { readCheckpoint("inputs.ckpt", 9 * kHostBytesPerParticle); })
+              .find("checkpoint 'inputs.ckpt': 10 particles need about") == 0);
+
+    // A header forged to claim 10^7 particles, the file grown (sparse) to the
+    // size that count needs, and no valid checksum: refused by the checksum.
+    std::string forged = bytes.substr(0, 76);
+    const std::uint64_t count = 10'000'000;
+    for (int i = 0; i < 8; ++i) forged[16 + i] = static_cast<char>(count >> (8 * i));
+    {
+        std::ofstream("forged.ckpt", std::ios::binary) << forged;
+    }
+    std::filesystem::resize_file("forged.ckpt", 76 + 24 * count + 4);
+    CHECK(errorOf([] { readCheckpoint("forged.ckpt"); }).find("checksum mismatch") != std::string::npos);
+    std::remove("inputs.ckpt");
+    std::remove("forged.ckpt");
 }
