@@ -221,7 +221,7 @@ Setup makeSetup(const SceneOptions& o) {
         setup.world.width = o.box[0];
         setup.world.height = o.box[1];
         validate(setup.world);
-        setup.particles = readStateCsv(o.inputState);
+        setup.particles = readStateCsv(o.inputState, availableMemoryBytes());
         validateParticles(setup.particles, setup.world, o.inputState);
         return setup;
     }

@@ -665,6 +665,41 @@ def test_empty_numbers_are_refused():
         assert re.search(f"{option}: '' is not a (whole )?number", done.stderr), done.stderr
 
 
+def csv_rows(n):
+    return "id,x,y,vx,vy,mass,radius\n" + "".join(f"{i},{3 * i + 2},5,0.5,0,1,1\n" for i in range(n))
+
+
+def test_input_state_fifo():
+    """A FIFO with a writer is read (also process substitution); one nobody writes to is refused, not waited on."""
+    d = work("fifo")
+    fifo = os.path.join(d, "in.csv")
+    os.mkfifo(fifo)
+    run = ["run", "--backend", "cpu", "--steps", 5, "--box", 40, 10, "--json", "--input-state"]
+    started = time.monotonic()
+    done = subprocess.run([ARGS.carom, *map(str, run), fifo], capture_output=True, text=True, timeout=60)
+    waited = time.monotonic() - started
+    assert done.returncode != 0 and "is a FIFO (named pipe) that no program wrote to within 10 s" in done.stderr, \
+        done.stderr
+    assert waited < 30, f"waited {waited:.0f} s"
+
+    reader = subprocess.Popen([ARGS.carom, *map(str, run), fifo], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                              text=True)
+    time.sleep(0.5)
+    with open(fifo, "w") as writer:
+        writer.write(csv_rows(5))
+    out, err = reader.communicate(timeout=60)
+    assert reader.returncode == 0, err
+    assert json.loads(out)["particles"] == 5
+
+    state = os.path.join(d, "state.csv")
+    with open(state, "w") as f:
+        f.write(csv_rows(4))
+    command = " ".join(map(str, [ARGS.carom, *run])) + f" <(cat {state})"
+    done = subprocess.run(["bash", "-c", command], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout)["particles"] == 4
+
+
 def test_resume_forged_count_allocates_nothing():
     """A checkpoint header claiming 3 * 10^7 particles, in a sparse file of the size they need, with no valid
     checksum: refused by the checksum (or the memory check) without allocating what the header claims, which

@@ -43,11 +43,15 @@ carom_input_test(cpu_with_device "--device: '5' needs --backend opencl; the cpu 
 carom_input_test(cpu_with_pipeline "--pipeline: 'seed' needs --backend opencl; the cpu backend has one pipeline"
                  "${base}|--steps|1|--pipeline|seed")
 
+# A file without a newline (here endless zero bytes) is refused at the line cap.
+carom_input_test(input_state_endless_line
+                 "/dev/zero:1: line longer than 4096 bytes; a state file's lines are at most 4096 bytes"
+                 "run|--backend|cpu|--steps|1|--output-state|${out}|--input-state|/dev/zero|--box|10|10")
 
-# Empty values, memory figures and a forged checkpoint need a script to set up.
+# Empty values, memory figures, FIFOs and a forged checkpoint need a script to set up.
 if(Python3_Interpreter_FOUND)
     foreach(test IN ITEMS empty_numbers_are_refused memory_check_uses_available_memory
-                          resume_forged_count_allocates_nothing)
+                          input_state_fifo resume_forged_count_allocates_nothing)
         add_test(NAME outputs.${test}
                  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/outputs_test.py --carom $<TARGET_FILE:carom>
                          --work ${CMAKE_CURRENT_BINARY_DIR}/outputs --backends cpu ${test})

@@ -14,6 +14,7 @@
 #include "engine/checkpoint.h"
 #include "engine/number_text.h"
 #include "engine/resources.h"
+#include "engine/state_csv.h"
 #include "engine/text_format.h"
 #include "support.h"
 
@@ -32,6 +33,15 @@ std::string errorOf(const std::function<void()>& action) {
     }
     return "";
 }
+
+std::string stateCsvError(const std::string& text, std::uint64_t availableBytes = 0) {
+    return errorOf([&] {
+        std::istringstream in(text);
+        parseStateCsv(in, "in.csv", availableBytes);
+    });
+}
+
+const std::string kHeaderLine = "id,x,y,vx,vy,mass,radius\n";
 
 }  // namespace
 
@@ -76,6 +86,26 @@ TEST_CASE("printable: valid UTF-8 as it is; control characters and invalid bytes
     std::string accents;
     for (int i = 0; i < 50; ++i) accents += "\xC3\xA9";
     CHECK(printable(accents) == accents.substr(0, 80) + "...");  // 40 characters, none cut in half
+}
+
+TEST_CASE("state CSV: a line longer than 4096 bytes is refused as it is read") {
+    CHECK(stateCsvError(std::string(1 << 20, '\0')) ==
+          "in.csv:1: line longer than 4096 bytes; a state file's lines are at most 4096 bytes (is it a state CSV?)");
+    CHECK(stateCsvError(kHeaderLine + "0,1,1,0,0,1,1\n" + std::string(5000, '1')).find("in.csv:3: line longer than 4096") == 0);
+    // A line of exactly 4096 bytes is read (trailing spaces are trimmed), with or without its newline.
+    std::string row = "0,1,1,0,0,1,1";
+    row += std::string(4096 - row.size(), ' ');
+    for (const char* end : {"\n", ""}) {
+        std::istringstream in(kHeaderLine + row + end);
+        CHECK(parseStateCsv(in, "in.csv").size() == 1);
+    }
+}
+
+TEST_CASE("state CSV: rows past the memory available are refused before they are stored") {
+    const std::string threeRows = kHeaderLine + "0,1,1,0,0,1,1\n1,4,1,0,0,1,1\n2,7,1,0,0,1,1\n";
+    std::istringstream in(threeRows);
+    CHECK(parseStateCsv(in, "in.csv", 3 * kHostBytesPerParticle).size() == 3);
+    CHECK(stateCsvError(threeRows, 2 * kHostBytesPerParticle).find("in.csv: particle rows: 3 particles need about") == 0);
 }
 
 TEST_CASE("checkpoint: the particle count is checked against memory and the checksum before allocating") {
