@@ -7,12 +7,16 @@
 #include <optional>
 #include <sstream>
 
+#include "app/available_memory.h"
 #include "app/commands.h"
 #include "app/host_info.h"
 #include "app/number_options.h"
 #include "bench/report.h"
 #include "engine/atomic_file.h"
 #include "engine/grid.h"
+#include "engine/number_text.h"
+#include "engine/resources.h"
+#include "engine/text_format.h"
 
 namespace carom::app {
 
@@ -30,23 +34,27 @@ constexpr std::size_t kMinBandwidthBytes = std::size_t(64) << 20;
 constexpr std::size_t kMaxBandwidthBytes = std::size_t(512) << 20;
 constexpr std::size_t kQuickBandwidthBytes = std::size_t(16) << 20;
 
-// "1000", "1e6" and "1.6e7" are whole numbers of particles.
-std::uint32_t parseSize(const std::string& text) {
-    std::size_t used = 0;
+// "1000", "1e6" and "1.6e7" are whole numbers of particles; refused above
+// kMaxParticles and above what `availableBytes` of memory hold.
+std::uint32_t parseSize(const std::string& text, std::uint64_t availableBytes) {
     double value = NAN;
     try {
-        value = std::stod(text, &used);
-    } catch (const std::exception&) {
+        value = parseRealNumber(text);
+    } catch (const Error&) {  // refused below, with the range
     }
-    if (used != text.size() || !(value >= 1 && value <= 4294967295.0) || value != std::floor(value))
-        throw Error("--sizes: '" + text + "' is not a number of particles; allowed: whole numbers from 1 to "
-                    "4294967295, such as 1000 or 1.6e7");
+    const std::string allowed = wholeNumbersAllowed(1, kMaxParticles) + ", such as 1000 or 1.6e7";
+    if (!(value >= 1) || value != std::floor(value))
+        throw Error("--sizes: '" + printable(text) + "' is not a number of particles; " + allowed);
+    if (value > double(kMaxParticles))
+        throw Error("--sizes: '" + printable(text) + "' is too many particles; " + allowed);
+    requireRoomFor(std::uint64_t(value), availableBytes, ("--sizes " + text).c_str());
     return static_cast<std::uint32_t>(value);
 }
 
 std::vector<std::uint32_t> chosenSizes(const BenchOptions& o) {
     std::vector<std::uint32_t> sizes;
-    for (const std::string& text : o.sizes) sizes.push_back(parseSize(text));
+    const std::uint64_t availableBytes = availableMemoryBytes();
+    for (const std::string& text : o.sizes) sizes.push_back(parseSize(text, availableBytes));
     if (sizes.empty()) sizes = o.quick ? kQuickSizes : kDefaultSizes;
     std::sort(sizes.begin(), sizes.end());
     sizes.erase(std::unique(sizes.begin(), sizes.end()), sizes.end());

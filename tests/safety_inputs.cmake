@@ -43,6 +43,15 @@ carom_input_test(cpu_with_device "--device: '5' needs --backend opencl; the cpu 
 carom_input_test(cpu_with_pipeline "--pipeline: 'seed' needs --backend opencl; the cpu backend has one pipeline"
                  "${base}|--steps|1|--pipeline|seed")
 
+# Counts checked against carom's limit before anything is allocated.
+carom_input_test(bench_size_past_limit
+                 "--sizes: '500000001' is too many particles; allowed: whole numbers from 1 to 500000000"
+                 "bench|--methods|cpu|--sizes|500000001")
+carom_input_test(bench_size_4e9 "--sizes: '4e9' is too many particles; allowed: whole numbers from 1 to 500000000"
+                 "bench|--methods|cpu|--sizes|4e9")
+carom_input_test(validate_particles_cap
+                 "--particles: '100000000' is out of range; allowed: whole numbers from 256 to 1000000"
+                 "validate|--quick|--particles|100000000")
 # A file without a newline (here endless zero bytes) is refused at the line cap.
 carom_input_test(input_state_endless_line
                  "/dev/zero:1: line longer than 4096 bytes; a state file's lines are at most 4096 bytes"
