@@ -7,11 +7,16 @@
 #include <optional>
 #include <sstream>
 
+#include "app/available_memory.h"
 #include "app/commands.h"
 #include "app/host_info.h"
+#include "app/number_options.h"
 #include "bench/report.h"
 #include "engine/atomic_file.h"
 #include "engine/grid.h"
+#include "engine/number_text.h"
+#include "engine/resources.h"
+#include "engine/text_format.h"
 
 namespace carom::app {
 
@@ -29,23 +34,27 @@ constexpr std::size_t kMinBandwidthBytes = std::size_t(64) << 20;
 constexpr std::size_t kMaxBandwidthBytes = std::size_t(512) << 20;
 constexpr std::size_t kQuickBandwidthBytes = std::size_t(16) << 20;
 
-// "1000", "1e6" and "1.6e7" are whole numbers of particles.
-std::uint32_t parseSize(const std::string& text) {
-    std::size_t used = 0;
+// "1000", "1e6" and "1.6e7" are whole numbers of particles; refused above
+// kMaxParticles and above what `availableBytes` of memory hold.
+std::uint32_t parseSize(const std::string& text, std::uint64_t availableBytes) {
     double value = NAN;
     try {
-        value = std::stod(text, &used);
-    } catch (const std::exception&) {
+        value = parseRealNumber(text);
+    } catch (const Error&) {  // refused below, with the range
     }
-    if (used != text.size() || !(value >= 1 && value <= 4294967295.0) || value != std::floor(value))
-        throw Error("--sizes: '" + text + "' is not a number of particles; allowed: whole numbers from 1 to "
-                    "4294967295, such as 1000 or 1.6e7");
+    const std::string allowed = wholeNumbersAllowed(1, kMaxParticles) + ", such as 1000 or 1.6e7";
+    if (!(value >= 1) || value != std::floor(value))
+        throw Error("--sizes: '" + printable(text) + "' is not a number of particles; " + allowed);
+    if (value > double(kMaxParticles))
+        throw Error("--sizes: '" + printable(text) + "' is too many particles; " + allowed);
+    requireRoomFor(std::uint64_t(value), availableBytes, ("--sizes " + text).c_str());
     return static_cast<std::uint32_t>(value);
 }
 
 std::vector<std::uint32_t> chosenSizes(const BenchOptions& o) {
     std::vector<std::uint32_t> sizes;
-    for (const std::string& text : o.sizes) sizes.push_back(parseSize(text));
+    const std::uint64_t availableBytes = availableMemoryBytes();
+    for (const std::string& text : o.sizes) sizes.push_back(parseSize(text, availableBytes));
     if (sizes.empty()) sizes = o.quick ? kQuickSizes : kDefaultSizes;
     std::sort(sizes.begin(), sizes.end());
     sizes.erase(std::unique(sizes.begin(), sizes.end()), sizes.end());
@@ -176,15 +185,20 @@ void addBenchOptions(CLI::App& command, BenchOptions& o) {
     command.add_option("--sizes", o.sizes, "Particle counts N, comma-separated, e.g. 1e3,1e6,1.6e7 "
                                            "(default: 1e3 to 1.6e7)")
         ->delimiter(',');
-    command.add_option("--packing", o.packing, "Area fraction of the disks")->capture_default_str();
-    command.add_option("--radius", o.radius, "Radius of every disk")->capture_default_str();
-    command.add_option("--speed", o.speed, "Initial speed of every disk")->capture_default_str();
-    command.add_option("--dt", o.dt, "Time step")->capture_default_str();
-    command.add_option("--seed", o.seed, "Random seed of the scene")->capture_default_str();
+    command.add_option("--packing", o.packing, "Area fraction of the disks")
+        ->transform(realNumber())
+        ->capture_default_str();
+    command.add_option("--radius", o.radius, "Radius of every disk")->transform(realNumber())->capture_default_str();
+    command.add_option("--speed", o.speed, "Initial speed of every disk")
+        ->transform(realNumber())
+        ->capture_default_str();
+    command.add_option("--dt", o.dt, "Time step")->transform(realNumber())->capture_default_str();
+    command.add_option("--seed", o.seed, "Random seed of the scene")->transform(wholeNumber(0))->capture_default_str();
     command.add_option("--device", o.device, "OpenCL device: index from `carom devices` or part of its name");
     command.add_option("--samples", o.samples, "Timed samples per method and N (default 7, 3 with --quick)")
-        ->check(CLI::Range(1, 1000));
+        ->transform(wholeNumber(1, 1000));
     command.add_option("--budget-ms", o.budgetMs, "Drop a method for larger N once one step takes longer than this")
+        ->transform(realNumber())
         ->capture_default_str();
     command.add_option("--json", o.json,
                        "Write the results as JSON to this file: a result per method, scheme and N (its fields "

@@ -21,7 +21,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/available_memory.h"
 #include "app/commands.h"
+#include "app/number_options.h"
 #include "app/stop_signals.h"
 #include "backends/backend.h"
 #include "engine/atomic_file.h"
@@ -36,7 +38,8 @@ namespace carom::app {
 
 void addRunOptions(CLI::App& command, RunOptions& o) {
     addSceneOptions(command, o.scene);
-    tracked(command.add_option("--steps", o.steps, "Number of steps (default: the scene file's, else 1000)"),
+    tracked(command.add_option("--steps", o.steps, "Number of steps (default: the scene file's, else 1000)")
+                ->transform(wholeNumber(0)),
             o.scene.given);
     command.add_option("--output-state", o.outputState, "Write the final state to this CSV");
     command.add_flag("--json", o.json, "Print a JSON summary on stdout instead of the text summary");
@@ -44,7 +47,7 @@ void addRunOptions(CLI::App& command, RunOptions& o) {
     command.add_option("--stats", o.stats, "Write a CSV row of statistics every --every steps");
     command.add_option("--checkpoint", o.checkpoint, "Write a checkpoint every --every steps and at the end");
     tracked(command.add_option("--every", o.every, "Steps between trajectory frames, statistics and checkpoints")
-                ->check(CLI::Range(std::uint64_t{1}, std::numeric_limits<std::uint64_t>::max()))
+                ->transform(wholeNumber(1))
                 ->capture_default_str(),
             o.scene.given);
     auto* resume = command.add_option("--resume", o.resume,
@@ -102,7 +105,7 @@ Start planRun(const RunOptions& o) {
     Start start;
     start.steps = o.steps;
     if (!o.resume.empty()) {
-        Checkpoint c = readCheckpoint(o.resume);
+        Checkpoint c = readCheckpoint(o.resume, availableMemoryBytes());
         start.world = c.world;
         start.particles = std::move(c.particles);
         start.step = c.step;

@@ -1,27 +1,17 @@
 #include "app/scene_options.h"
 
-#if __has_include(<unistd.h>)
-#include <unistd.h>
-#endif
-
+#include <cctype>
 #include <cstdlib>
 
+#include "app/available_memory.h"
+#include "app/number_options.h"
 #include "backends/backend.h"
 #include "engine/resources.h"
 #include "engine/state_csv.h"
+#include "engine/text_format.h"
 
 namespace carom::app {
 namespace {
-
-// Physical memory in bytes, or 0 where the platform does not say.
-std::uint64_t physicalMemoryBytes() {
-#if defined(_SC_PHYS_PAGES) && defined(_SC_PAGESIZE)
-    const long pages = sysconf(_SC_PHYS_PAGES);
-    const long pageSize = sysconf(_SC_PAGESIZE);
-    if (pages > 0 && pageSize > 0) return std::uint64_t(pages) * std::uint64_t(pageSize);
-#endif
-    return 0;
-}
 
 // The options that describe the one particle group of a scene file.
 const char* const kGroupOptions[] = {"--particles", "--radius", "--radius-min", "--radius-max",
@@ -72,7 +62,7 @@ Setup setupFromSceneFile(const SceneOptions& o) {
     applyOverrides(o, scene);
     std::uint64_t particles = scene.disks.size();
     for (const GroupDef& group : scene.groups) particles += group.count;
-    requireRoomFor(particles, physicalMemoryBytes(), o.sceneFile.c_str());
+    requireRoomFor(particles, availableMemoryBytes(), o.sceneFile.c_str());
 
     InitialState initial = makeInitialState(scene);
     Setup setup;
@@ -83,6 +73,30 @@ Setup setupFromSceneFile(const SceneOptions& o) {
     setup.particles = std::move(initial.particles);
     setup.sceneFile = std::move(scene);
     return setup;
+}
+
+struct UniformRange {
+    CLI::Option *value, *min, *max;
+};
+
+// --NAME (every disk alike), or --NAME-min with --NAME-max (drawn uniformly
+// between them): the one value excludes the range, each bound needs the other.
+UniformRange addUniformRange(CLI::App& command, const std::string& name, float& min, float& max) {
+    std::string capitalized = name;
+    capitalized[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(name[0])));
+    auto* value = command
+                      .add_option_function<float>(
+                          "--" + name, [&min, &max](float v) { min = max = v; },
+                          capitalized + " of every disk (default 1)")
+                      ->transform(realNumber());
+    auto* low = command.add_option("--" + name + "-min", min, "Smallest " + name + " (uniform range)")
+                    ->transform(realNumber());
+    auto* high = command.add_option("--" + name + "-max", max, "Largest " + name + " (uniform range)")
+                     ->transform(realNumber());
+    value->excludes(low)->excludes(high);
+    low->needs(high);
+    high->needs(low);
+    return {value, low, high};
 }
 
 }  // namespace
@@ -98,40 +112,47 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
     command.add_option("--backend", o.backend.kind, "Compute backend")
         ->check(CLI::IsMember(backends))
         ->capture_default_str();
+    // CLI11 validates options in the order they are added, so --backend is
+    // known when --device and --pipeline are checked.
+    auto forOpenCL = [&o](const char* cpuHas) {
+        return CLI::Validator(
+            [&o, cpuHas](const std::string& value) {
+                return o.backend.kind == "cpu"
+                           ? "'" + value + "' needs --backend opencl; the cpu backend has " + cpuHas
+                           : std::string();
+            },
+            "");
+    };
     command.add_option("--device", o.backend.device,
                        "OpenCL device: index from `carom devices` or part of its name (default: first GPU, "
-                       "else first device)");
+                       "else first device)")
+        ->check(forOpenCL("no devices to choose from"));
     command.add_option("--pipeline", o.backend.pipeline,
                        "OpenCL pipeline: seed (host builds the grid, state read back each step) or resident "
                        "(grid and state stay on the device)")
         ->check(CLI::IsMember({"seed", "resident"}))
+        ->check(forOpenCL("one pipeline"))
         ->capture_default_str();
 
-    auto* particles = command.add_option("--particles", o.scene.particles, "Number of disks")->capture_default_str();
+    auto* particles = command.add_option("--particles", o.scene.particles, "Number of disks")
+                          ->transform(wholeNumber(1, kMaxParticles))
+                          ->capture_default_str();
     auto* packing = command.add_option("--packing", o.scene.packing, "Area fraction of the disks; sizes a square box")
+                        ->transform(realNumber())
                         ->capture_default_str();
-    auto* box = command.add_option("--box", o.box, "Box size W H: the world is [0,W]x[0,H]")->expected(2);
+    auto* box = command.add_option("--box", o.box, "Box size W H: the world is [0,W]x[0,H]")
+                    ->expected(2)
+                    ->transform(realNumber());
     packing->excludes(box);
 
-    auto* radius = command.add_option_function<float>(
-        "--radius", [&o](float r) { o.scene.radiusMin = o.scene.radiusMax = r; }, "Radius of every disk (default 1)");
-    auto* radiusMin = command.add_option("--radius-min", o.scene.radiusMin, "Smallest radius (uniform range)");
-    auto* radiusMax = command.add_option("--radius-max", o.scene.radiusMax, "Largest radius (uniform range)");
-    radius->excludes(radiusMin)->excludes(radiusMax);
-    radiusMin->needs(radiusMax);
-    radiusMax->needs(radiusMin);
-
-    auto* mass = command.add_option_function<float>(
-        "--mass", [&o](float m) { o.scene.massMin = o.scene.massMax = m; }, "Mass of every disk (default 1)");
-    auto* massMin = command.add_option("--mass-min", o.scene.massMin, "Smallest mass (uniform range)");
-    auto* massMax = command.add_option("--mass-max", o.scene.massMax, "Largest mass (uniform range)");
-    mass->excludes(massMin)->excludes(massMax);
-    massMin->needs(massMax);
-    massMax->needs(massMin);
+    const auto [radius, radiusMin, radiusMax] = addUniformRange(command, "radius", o.scene.radiusMin, o.scene.radiusMax);
+    const auto [mass, massMin, massMax] = addUniformRange(command, "mass", o.scene.massMin, o.scene.massMax);
 
     auto* speed = command.add_option("--speed", o.scene.speed, "Initial speed of every disk, random directions")
+                      ->transform(realNumber())
                       ->capture_default_str();
-    auto* seed = command.add_option("--seed", o.scene.seed, "Random seed")->capture_default_str();
+    auto* seed =
+        command.add_option("--seed", o.scene.seed, "Random seed")->transform(wholeNumber(0))->capture_default_str();
     auto* dt = command.add_option_function<std::string>(
         "--dt",
         [&o](const std::string& text) {
@@ -148,12 +169,15 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
     auto* maxTravel = command.add_option(
         "--max-travel", o.world.maxTravel,
         "Split each step into substeps so that no disk moves more than this fraction of the smallest radius in "
-        "one (0 = off; --dt auto uses 0.2)");
+        "one (0 = off; --dt auto uses 0.2)")
+                           ->transform(realNumber());
     auto* boundary = command.add_option_function<std::string>(
         "--boundary", [&o](const std::string& name) { o.world.boundary = parseBoundary(name); },
         "walls (reflective, the default) or periodic (the box repeats)")
         ->check(CLI::IsMember({"walls", "periodic"}));
-    auto* gravity = command.add_option("--gravity", o.gravity, "Constant acceleration GX GY (default off)")->expected(2);
+    auto* gravity = command.add_option("--gravity", o.gravity, "Constant acceleration GX GY (default off)")
+                        ->expected(2)
+                        ->transform(realNumber());
     auto* collisions = command.add_option_function<std::string>(
         "--collisions",
         [&o](const std::string& name) {
@@ -182,6 +206,12 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
 }
 
 Setup makeSetup(const SceneOptions& o) {
+    if (o.dtAuto && o.given.count("--max-travel") && o.world.maxTravel == 0.0f) {
+        std::string message = "--dt auto splits each step so that no disk moves more than --max-travel radii; "
+                              "--max-travel 0 turns that off: give --max-travel > 0 (without it, ";
+        appendNumber(message, kDefaultMaxTravel);
+        throw Error(message + ") or a fixed --dt");
+    }
     if (!o.sceneFile.empty()) return setupFromSceneFile(o);
     Setup setup;
     setup.world = o.world;
@@ -191,7 +221,7 @@ Setup makeSetup(const SceneOptions& o) {
         setup.world.width = o.box[0];
         setup.world.height = o.box[1];
         validate(setup.world);
-        setup.particles = readStateCsv(o.inputState);
+        setup.particles = readStateCsv(o.inputState, availableMemoryBytes());
         validateParticles(setup.particles, setup.world, o.inputState);
         return setup;
     }
@@ -204,7 +234,7 @@ Setup makeSetup(const SceneOptions& o) {
             throw Error("--box must be two finite numbers > 0, got " + std::to_string(o.box[0]) + " " +
                         std::to_string(o.box[1]));
     }
-    requireRoomFor(scene.particles, physicalMemoryBytes(), "--particles");
+    requireRoomFor(scene.particles, availableMemoryBytes(), "--particles");
     InitialState initial = makeInitialState(scene);
     setup.world.width = initial.width;
     setup.world.height = initial.height;

@@ -9,6 +9,7 @@
 
 #include "app/commands.h"
 #include "app/host_info.h"
+#include "app/number_options.h"
 #include "app/validate/checks.h"
 #include "app/validate/report.h"
 #include "backends/backend.h"
@@ -52,16 +53,18 @@ void addValidateOptions(CLI::App& command, ValidateOptions& o) {
                        "OpenCL pipeline of the heavy runs: seed or resident (the conservation checks run both)")
         ->check(CLI::IsMember({"seed", "resident"}))
         ->capture_default_str();
-    command.add_option("--seed", o.seed, "Random seed of the initial positions and velocities")->capture_default_str();
+    command.add_option("--seed", o.seed, "Random seed of the initial positions and velocities")
+        ->transform(wholeNumber(0))
+        ->capture_default_str();
     std::ostringstream dtHelp;
     dtHelp << "Time step of the equation-of-state, relaxation, conservation, dense-gas and gravity runs, in (0, "
            << validation::kMaxDt << "]";
-    command.add_option("--dt", o.dt, dtHelp.str())->capture_default_str();
+    command.add_option("--dt", o.dt, dtHelp.str())->transform(realNumber())->capture_default_str();
     command.add_option("--particles", o.particles,
                        "Disks in each equation-of-state run (default " +
                            std::to_string(validation::kEosParticles(false)) + ", " +
                            std::to_string(validation::kEosParticles(true)) + " with --quick)")
-        ->check(CLI::Range(validation::kMinEosParticles, validation::kMaxEosParticles));
+        ->transform(wholeNumber(validation::kMinEosParticles, validation::kMaxEosParticles));
 }
 
 int validateCommand(const ValidateOptions& o) {

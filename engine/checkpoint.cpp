@@ -1,5 +1,6 @@
 #include "engine/checkpoint.h"
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cmath>
@@ -8,6 +9,7 @@
 #include <fstream>
 
 #include "engine/atomic_file.h"
+#include "engine/resources.h"
 
 namespace carom {
 namespace {
@@ -24,6 +26,7 @@ constexpr std::size_t kHeaderBytes = 76;
 constexpr std::size_t kVersion1HeaderBytes = 72;  // no collision scheme
 constexpr std::size_t kParticleBytes = 24;
 constexpr std::size_t kChecksumBytes = 4;
+constexpr const char* kChecksumMismatch = "checksum mismatch: the file is corrupted (a flipped bit or a partial copy)";
 
 // Little-endian writes, byte by byte, so the file is the same on every machine.
 class Encoder {
@@ -136,9 +139,8 @@ Header checkHeader(const unsigned char* data, std::size_t available, std::uint64
     return Header{version, count};
 }
 
-}  // namespace
-
-std::uint32_t crc32(const unsigned char* data, std::size_t size) {
+// The CRC-32 register after `size` more bytes, for a checksum computed in pieces.
+std::uint32_t updateCrc32(std::uint32_t crc, const unsigned char* data, std::size_t size) {
     static const std::array<std::uint32_t, 256> table = [] {
         std::array<std::uint32_t, 256> t{};
         for (std::uint32_t i = 0; i < 256; ++i) {
@@ -148,9 +150,33 @@ std::uint32_t crc32(const unsigned char* data, std::size_t size) {
         }
         return t;
     }();
-    std::uint32_t crc = 0xFFFFFFFFu;
     for (std::size_t i = 0; i < size; ++i) crc = table[(crc ^ data[i]) & 0xFFu] ^ (crc >> 8);
-    return crc ^ 0xFFFFFFFFu;
+    return crc;
+}
+
+// Checks the checksum of the `size`-byte file `in`, reading it in chunks:
+// nothing sized by the header's particle count is allocated before the
+// checksum says the count is what was written.
+void checkChecksum(std::istream& in, std::uint64_t size, const std::string& what) {
+    std::array<unsigned char, 1 << 16> chunk;
+    std::uint32_t crc = 0xFFFFFFFFu;
+    in.seekg(0);
+    for (std::uint64_t left = size - kChecksumBytes; left > 0;) {
+        const std::size_t piece = static_cast<std::size_t>(std::min<std::uint64_t>(left, chunk.size()));
+        if (!in.read(reinterpret_cast<char*>(chunk.data()), static_cast<std::streamsize>(piece)))
+            throw Error("reading checkpoint '" + what + "' failed");
+        crc = updateCrc32(crc, chunk.data(), piece);
+        left -= piece;
+    }
+    if (!in.read(reinterpret_cast<char*>(chunk.data()), kChecksumBytes))
+        throw Error("reading checkpoint '" + what + "' failed");
+    if (Decoder(chunk.data()).u32() != (crc ^ 0xFFFFFFFFu)) fail(what, kChecksumMismatch);
+}
+
+}  // namespace
+
+std::uint32_t crc32(const unsigned char* data, std::size_t size) {
+    return updateCrc32(0xFFFFFFFFu, data, size) ^ 0xFFFFFFFFu;
 }
 
 std::string encodeCheckpoint(const Checkpoint& c) {
@@ -178,8 +204,7 @@ Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& what) {
     const Header header = checkHeader(data, bytes.size(), bytes.size(), what);
     const std::size_t checked = bytes.size() - kChecksumBytes;
     Decoder trailer(data + checked);
-    if (trailer.u32() != crc32(data, checked))
-        fail(what, "checksum mismatch: the file is corrupted (a flipped bit or a partial copy)");
+    if (trailer.u32() != crc32(data, checked)) fail(what, kChecksumMismatch);
 
     Decoder in(data);
     in.skip(24);  // magic, byte order mark, version, count
@@ -230,7 +255,7 @@ void writeCheckpoint(const std::string& path, const Checkpoint& checkpoint) {
     file.commit();
 }
 
-Checkpoint readCheckpoint(const std::string& path) {
+Checkpoint readCheckpoint(const std::string& path, std::uint64_t availableBytes) {
     std::error_code error;
     if (!std::filesystem::is_regular_file(path, error))
         throw Error("cannot read checkpoint '" + path + "': " +
@@ -241,10 +266,13 @@ Checkpoint readCheckpoint(const std::string& path) {
     in.seekg(0);
     unsigned char header[kHeaderBytes];
     in.read(reinterpret_cast<char*>(header), kHeaderBytes);
-    checkHeader(header, static_cast<std::size_t>(in.gcount()), static_cast<std::uint64_t>(size), path);
+    const Header checked =
+        checkHeader(header, static_cast<std::size_t>(in.gcount()), static_cast<std::uint64_t>(size), path);
+    requireRoomFor(checked.count, availableBytes, ("checkpoint '" + path + "'").c_str());
+    in.clear();
+    checkChecksum(in, static_cast<std::uint64_t>(size), path);
 
     std::string bytes(static_cast<std::size_t>(size), '\0');
-    in.clear();
     in.seekg(0);
     if (!in.read(bytes.data(), size)) throw Error("reading checkpoint '" + path + "' failed");
     return decodeCheckpoint(bytes, path);

@@ -53,8 +53,10 @@ Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& what);
 // Writes through a temporary file renamed into place.
 void writeCheckpoint(const std::string& path, const Checkpoint& checkpoint);
 
-// Reads and validates; checks the header and the file size before reading
-// the particles, so a corrupt count cannot make it allocate.
-Checkpoint readCheckpoint(const std::string& path);
+// Reads and validates. Before anything sized by the particle count is
+// allocated, checks the header against the file size, the count against
+// `availableBytes` of memory (requireRoomFor; 0 = unknown) and the checksum,
+// streamed over the file: a corrupt or forged count cannot make it allocate.
+Checkpoint readCheckpoint(const std::string& path, std::uint64_t availableBytes = 0);
 
 }  // namespace carom

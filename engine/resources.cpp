@@ -13,8 +13,8 @@ void requireRoomFor(std::uint64_t particles, std::uint64_t availableBytes, const
     const std::uint64_t needed = particles * kHostBytesPerParticle;
     if (availableBytes > 0 && needed > availableBytes)
         throw Error(std::string(what) + ": " + std::to_string(particles) + " particles need about " +
-                    std::to_string(needed >> 20) + " MiB of memory, more than this machine's " +
-                    std::to_string(availableBytes >> 20) + " MiB; use fewer particles");
+                    std::to_string(needed >> 20) + " MiB of memory, more than the " +
+                    std::to_string(availableBytes >> 20) + " MiB available; use fewer particles");
 }
 
 }  // namespace carom

@@ -11,7 +11,8 @@ namespace carom {
 constexpr std::uint64_t kHostBytesPerParticle = 256;
 
 // Throws Error if `particles` exceeds kMaxParticles or, when availableBytes
-// > 0 (0: unknown), its estimated host memory exceeds availableBytes.
+// > 0 (0: unknown), its estimated host memory exceeds availableBytes (the
+// command line passes the memory available now: app/available_memory.h).
 // `what` names the request in the message (a file, an option).
 void requireRoomFor(std::uint64_t particles, std::uint64_t availableBytes, const char* what);
 

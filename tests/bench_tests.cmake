@@ -23,7 +23,7 @@ carom_cli_test(bench_packing_too_high fail "packing must be in \\(0, 0.7\\], got
 carom_cli_test(bench_negative_radius fail "radius must be a finite number > 0, got -1" "${bench}|--radius|-1")
 carom_cli_test(bench_zero_dt fail "dt must be a finite number > 0, got 0" "${bench}|--dt|0")
 carom_cli_test(bench_zero_budget fail "--budget-ms must be a finite number > 0, got 0" "${bench}|--budget-ms|0")
-carom_cli_test(bench_zero_samples fail "--samples: Value 0 not in range 1 to 1000" "${bench}|--samples|0")
+carom_cli_test(bench_zero_samples fail "--samples: '0' is out of range; allowed: whole numbers from 1 to 1000" "${bench}|--samples|0")
 carom_cli_test(bench_unwritable_json fail "cannot write '/nonexistent-dir/bench.json'"
                "bench|--methods|cpu|--sizes|100|--json|/nonexistent-dir/bench.json")
 add_test(NAME cli.bench_outputs
@@ -40,7 +40,7 @@ if(OpenCL_FOUND)
     carom_cli_test(run_resident pass "\"backend\": \"opencl\""
                    "run|--backend|opencl|--pipeline|resident|--particles|100|--steps|10|--json")
     carom_cli_test(pipeline_unknown fail "--pipeline: fast not in \\{seed,resident\\}" "${run}|--pipeline|fast")
-    carom_cli_test(pipeline_resident_on_cpu fail "--pipeline resident needs --backend opencl"
+    carom_cli_test(pipeline_resident_on_cpu fail "--pipeline: 'resident' needs --backend opencl"
                    "${run}|--pipeline|resident")
     carom_bench_profile_test(seed_pairwise opencl-seed
         "buildGrid (host)|upload grid|findEventsForward|resolveEvents|finishStepById|read list lengths|download state")

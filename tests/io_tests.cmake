@@ -37,8 +37,8 @@ carom_cli_test(resume_with_collisions fail "--collisions excludes --resume"
 # step 10), continues with the simultaneous scheme.
 carom_cli_test(resume_version1 pass "\"scheme\": \"simultaneous\",.*\"step\": 20,"
                "run|--backend|cpu|--resume|${data}/version1.ckpt|--steps|10|--json")
-carom_cli_test(every_zero fail "--every: Value 0 not in range" "${run}|--every|0")
-carom_cli_test(too_many_particles fail "--particles: 500000001 particles; allowed: 1 to 500000000"
+carom_cli_test(every_zero fail "--every: '0' is out of range; allowed: whole numbers from 1 to" "${run}|--every|0")
+carom_cli_test(too_many_particles fail "--particles: '500000001' is out of range; allowed: whole numbers from 1 to 500000000"
                "${run}|--particles|500000001")
 carom_cli_test(unwritable_trajectory fail "cannot write '/nonexistent-dir/t.xyz'"
                "${run}|--trajectory|/nonexistent-dir/t.xyz")

@@ -650,6 +650,110 @@ def test_stdout_write_errors_are_reported():
         assert f"writing to standard output failed{reason}" in done.stderr, (arguments, done.stderr)
 
 
+def test_empty_numbers_are_refused():
+    """An empty value is not 0, for every numeric option of every subcommand."""
+    run = ["run", "--backend", "cpu", "--particles", 10, "--steps", 1]
+    cases = [(run, "--seed"), (run, "--speed"), (run, "--max-travel"), (run, "--every"), (run, "--packing"),
+             (run, "--radius"), (run, "--mass"), (["run", "--backend", "cpu", "--particles", 10], "--steps"),
+             (["run", "--backend", "cpu", "--steps", 1], "--particles"),
+             (["bench", "--quick", "--methods", "cpu"], "--seed"), (["bench", "--quick", "--methods", "cpu"], "--dt"),
+             (["bench", "--quick", "--methods", "cpu"], "--samples"), (["validate", "--quick"], "--seed"),
+             (["validate", "--quick"], "--particles")]
+    for args, option in cases:
+        done = subprocess.run([ARGS.carom, *map(str, args), option, ""], capture_output=True, text=True, timeout=60)
+        assert done.returncode != 0, f"{option} '' was accepted: {done.stdout}"
+        assert re.search(f"{option}: '' is not a (whole )?number", done.stderr), done.stderr
+
+
+def csv_rows(n):
+    return "id,x,y,vx,vy,mass,radius\n" + "".join(f"{i},{3 * i + 2},5,0.5,0,1,1\n" for i in range(n))
+
+
+def test_input_state_fifo():
+    """A FIFO with a writer is read (also process substitution); one nobody writes to is refused, not waited on."""
+    d = work("fifo")
+    fifo = os.path.join(d, "in.csv")
+    os.mkfifo(fifo)
+    run = ["run", "--backend", "cpu", "--steps", 5, "--box", 40, 10, "--json", "--input-state"]
+    started = time.monotonic()
+    done = subprocess.run([ARGS.carom, *map(str, run), fifo], capture_output=True, text=True, timeout=60)
+    waited = time.monotonic() - started
+    assert done.returncode != 0 and "is a FIFO (named pipe) that no program wrote to within 10 s" in done.stderr, \
+        done.stderr
+    assert waited < 30, f"waited {waited:.0f} s"
+
+    reader = subprocess.Popen([ARGS.carom, *map(str, run), fifo], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                              text=True)
+    time.sleep(0.5)
+    with open(fifo, "w") as writer:
+        writer.write(csv_rows(5))
+    out, err = reader.communicate(timeout=60)
+    assert reader.returncode == 0, err
+    assert json.loads(out)["particles"] == 5
+
+    state = os.path.join(d, "state.csv")
+    with open(state, "w") as f:
+        f.write(csv_rows(4))
+    command = " ".join(map(str, [ARGS.carom, *run])) + f" <(cat {state})"
+    done = subprocess.run(["bash", "-c", command], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout)["particles"] == 4
+
+
+def test_resume_forged_count_allocates_nothing():
+    """A checkpoint header claiming 3 * 10^7 particles, in a sparse file of the size they need, with no valid
+    checksum: refused by the checksum (or the memory check) without allocating what the header claims, which
+    the address-space limit here would turn into "out of memory"."""
+    import resource
+
+    d = work("forged")
+    good = os.path.join(d, "good.ckpt")
+    carom("run", "--backend", "cpu", "--particles", 10, "--steps", 1, "--checkpoint", good)
+    header = bytearray(read_bytes(good)[:76])
+    count = 30_000_000
+    header[16:24] = struct.pack("<Q", count)
+    forged = os.path.join(d, "forged.ckpt")
+    with open(forged, "wb") as f:
+        f.write(header)
+        f.truncate(76 + 24 * count + 4)
+
+    def limit_memory():
+        resource.setrlimit(resource.RLIMIT_AS, (512 << 20, 512 << 20))
+
+    done = subprocess.run([ARGS.carom, "run", "--backend", "cpu", "--resume", forged, "--steps", "1"],
+                          capture_output=True, text=True, timeout=120, preexec_fn=limit_memory)
+    assert done.returncode != 0, done.stdout
+    assert "out of memory" not in done.stderr, done.stderr
+    assert re.search("checksum mismatch|particles need about", done.stderr), done.stderr
+
+
+def test_memory_check_uses_available_memory():
+    """--particles needing more than MemAvailable, but less than the total memory, is refused before allocating.
+    The address-space limit turns an allocation of what the check let through into "out of memory"."""
+    import resource
+
+    try:
+        with open("/proc/meminfo") as f:
+            info = {line.split(":")[0]: int(line.split()[1]) * 1024 for line in f}
+    except OSError:
+        print("skipped: no /proc/meminfo")
+        return
+    total, available = info["MemTotal"], info["MemAvailable"]
+    if total - available < 256 << 20:
+        print("skipped: available memory is within 256 MiB of the total")
+        return
+    particles = min((total + available) // 2 // 256, 500_000_000)
+
+    def limit_memory():
+        resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))
+
+    done = subprocess.run([ARGS.carom, "run", "--backend", "cpu", "--steps", "1", "--particles", str(particles)],
+                          capture_output=True, text=True, timeout=120, preexec_fn=limit_memory)
+    assert done.returncode != 0, done.stdout
+    assert re.search(f"--particles: {particles} particles need about [0-9]+ MiB of memory, more than the [0-9]+ MiB "
+                     "available", done.stderr), done.stderr
+
+
 def main():
     global ARGS
     parser = argparse.ArgumentParser()

@@ -7,9 +7,9 @@ set(validate "validate|--quick|--report|${refused}|--json|${out}")
 carom_cli_test(validate_zero_dt fail "--dt must be in \\(0, 0.05\\], got 0" "${validate}|--dt|0")
 carom_cli_test(validate_large_dt fail "--dt must be in \\(0, 0.05\\], got 0.1" "${validate}|--dt|0.1")
 carom_cli_test(validate_nan_dt fail "--dt must be in \\(0, 0.05\\], got nan" "${validate}|--dt|nan")
-carom_cli_test(validate_few_particles fail "--particles: Value 10 not in range 256 to 100000000"
+carom_cli_test(validate_few_particles fail "--particles: '10' is out of range; allowed: whole numbers from 256 to 1000000"
                "${validate}|--particles|10")
-carom_cli_test(validate_zero_particles fail "--particles: Value 0 not in range 256 to 100000000"
+carom_cli_test(validate_zero_particles fail "--particles: '0' is out of range; allowed: whole numbers from 256 to 1000000"
                "${validate}|--particles|0")
 carom_cli_test(validate_negative_particles fail "--particles" "${validate}|--particles|-5")
 carom_cli_test(validate_unknown_backend fail "--backend: cuda not in \\{cpu" "${validate}|--backend|cuda")

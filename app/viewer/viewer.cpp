@@ -10,7 +10,9 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <limits>
 
+#include "app/number_options.h"
 #include "app/stop_signals.h"
 #include "app/viewer/png.h"
 
@@ -57,13 +59,18 @@ std::string timestampedScreenshotName() {
 
 void addViewOptions(CLI::App& command, ViewOptions& o) {
     app::addSceneOptions(command, o.scene);
-    command.add_option("--window", o.window, "Window size W H in pixels")->expected(2)->capture_default_str();
+    command.add_option("--window", o.window, "Window size W H in pixels")
+        ->expected(2)
+        ->transform(app::wholeNumber(0, std::numeric_limits<int>::max()))  // the constructor checks the range
+        ->capture_default_str();
     command.add_option("--steps-per-frame", o.stepsPerFrame,
                        "Simulation steps per 1/60 s frame (the speed of the animation)")
+        ->transform(app::wholeNumber(0, std::numeric_limits<int>::max()))  // the constructor checks the range
         ->capture_default_str();
     command.add_option("--color", o.colouring, "Colouring: speed, mass, radius or id")->capture_default_str();
     command.add_flag("--hide-panels", o.hidePanels, "Start with the panels hidden (as H)");
-    auto* frames = command.add_option("--frames", o.frames, "Headless: render K frames (one tick each), then exit");
+    auto* frames = command.add_option("--frames", o.frames, "Headless: render K frames (one tick each), then exit")
+                       ->transform(app::wholeNumber(1));
     command.add_option("--screenshot", o.screenshot, "Headless: write the last frame as PNG")->needs(frames);
     command.add_option("--record", o.record, "Headless: write every frame as DIR/frame_00000.png ...")->needs(frames);
 }

@@ -1,0 +1,20 @@
+// The numeric options of every subcommand go through these CLI11 validators
+// instead of CLI11's own conversion, which turns "-1" into 2^64 - 1, a value
+// past 2^64 into 2^64 - 1, "010" into 8 and "" into 0 (CLI11 2.1).
+#pragma once
+
+#include <cstdint>
+#include <limits>
+
+#include <CLI/CLI.hpp>
+
+namespace carom::app {
+
+// A whole number in [min, max] (engine/number_text.h), handed on to CLI11
+// as plain decimal digits; its refusal names the value and the range.
+CLI::Validator wholeNumber(std::uint64_t min, std::uint64_t max = std::numeric_limits<std::uint64_t>::max());
+
+// A real number, all of the text; the option's own checks judge its range.
+CLI::Validator realNumber();
+
+}  // namespace carom::app

@@ -1,0 +1,68 @@
+# Numbers on the command line and the inputs carom reads: every numeric
+# option of every subcommand is parsed strictly (no wrap-around, no empty
+# string as 0), and inputs are bounded before memory is spent on them
+# (included by tests/CMakeLists.txt, whose carom_cli_test and out it uses).
+
+set(base "run|--backend|cpu|--particles|10|--output-state|${out}")
+set(u64 "allowed: whole numbers from 0 to 18446744073709551615")
+# A value that wraps would run (almost) forever: these must fail at once.
+# (Empty values are tested in outputs_test.py: this script cannot pass one.)
+function(carom_input_test name regex args)
+    carom_cli_test(${name} fail "${regex}" "${args}")
+    set_tests_properties(cli.${name} PROPERTIES TIMEOUT 60)
+endfunction()
+
+carom_input_test(steps_negative "--steps: '-1' is out of range; ${u64}" "${base}|--steps|-1")
+carom_input_test(steps_past_2_64 "--steps: '18446744073709551616' is out of range; ${u64}"
+                 "${base}|--steps|18446744073709551616")
+carom_input_test(steps_octal_or_hex "--steps: '0x10' is not a whole number" "${base}|--steps|0x10")
+carom_input_test(seed_negative "--seed: '-1' is out of range; ${u64}" "${base}|--steps|1|--seed|-1")
+carom_input_test(seed_2_64 "--seed: '18446744073709551616' is out of range" "${base}|--steps|1|--seed|18446744073709551616")
+carom_input_test(seed_huge "--seed: '99999999999999999999999' is out of range" "${base}|--steps|1|--seed|99999999999999999999999")
+carom_input_test(speed_trailing_text "--speed: '1.5x' is not a number" "${base}|--steps|1|--speed|1.5x")
+carom_input_test(every_negative
+                 "--every: '-1' is out of range; allowed: whole numbers from 1 to 18446744073709551615"
+                 "${base}|--steps|1|--every|-1")
+carom_input_test(particles_past_32_bits
+                 "--particles: '5000000000' is out of range; allowed: whole numbers from 1 to 500000000"
+                 "${base}|--steps|1|--particles|5000000000")
+carom_input_test(bench_seed_negative "--seed: '-1' is out of range; ${u64}" "bench|--quick|--methods|cpu|--seed|-1")
+carom_input_test(validate_seed_negative "--seed: '-1' is out of range; ${u64}" "validate|--quick|--seed|-1")
+if(CAROM_HAVE_VIEWER)
+    carom_input_test(view_frames_negative
+                     "--frames: '-1' is out of range; allowed: whole numbers from 1 to 18446744073709551615"
+                     "view|--backend|cpu|--frames|-1")
+endif()
+
+# --dt auto splits steps by --max-travel: 0 (off) contradicts it.
+carom_input_test(dt_auto_max_travel_zero
+                 "--dt auto splits each step so that no disk moves more than --max-travel radii; --max-travel 0"
+                 "${base}|--steps|1|--dt|auto|--max-travel|0")
+# The CPU backend has no devices or pipelines: naming one is a mistake.
+carom_input_test(cpu_with_device "--device: '5' needs --backend opencl; the cpu backend has no devices to choose from" "${base}|--steps|1|--device|5")
+carom_input_test(cpu_with_pipeline "--pipeline: 'seed' needs --backend opencl; the cpu backend has one pipeline"
+                 "${base}|--steps|1|--pipeline|seed")
+
+# Counts checked against carom's limit before anything is allocated.
+carom_input_test(bench_size_past_limit
+                 "--sizes: '500000001' is too many particles; allowed: whole numbers from 1 to 500000000"
+                 "bench|--methods|cpu|--sizes|500000001")
+carom_input_test(bench_size_4e9 "--sizes: '4e9' is too many particles; allowed: whole numbers from 1 to 500000000"
+                 "bench|--methods|cpu|--sizes|4e9")
+carom_input_test(validate_particles_cap
+                 "--particles: '100000000' is out of range; allowed: whole numbers from 256 to 1000000"
+                 "validate|--quick|--particles|100000000")
+# A file without a newline (here endless zero bytes) is refused at the line cap.
+carom_input_test(input_state_endless_line
+                 "/dev/zero:1: line longer than 4096 bytes; a state file's lines are at most 4096 bytes"
+                 "run|--backend|cpu|--steps|1|--output-state|${out}|--input-state|/dev/zero|--box|10|10")
+
+# Empty values, memory figures, FIFOs and a forged checkpoint need a script to set up.
+if(Python3_Interpreter_FOUND)
+    foreach(test IN ITEMS empty_numbers_are_refused memory_check_uses_available_memory
+                          input_state_fifo resume_forged_count_allocates_nothing)
+        add_test(NAME outputs.${test}
+                 COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/outputs_test.py --carom $<TARGET_FILE:carom>
+                         --work ${CMAKE_CURRENT_BINARY_DIR}/outputs --backends cpu ${test})
+    endforeach()
+endif()

@@ -1,0 +1,135 @@
+// Inputs a person or another program hands carom: numbers on the command
+// line, text shown back in messages, and state files and checkpoints whose
+// size is not what it seems.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <sstream>
+
+#include "engine/checkpoint.h"
+#include "engine/number_text.h"
+#include "engine/resources.h"
+#include "engine/state_csv.h"
+#include "engine/text_format.h"
+#include "support.h"
+
+using namespace carom;
+using namespace carom::test;
+
+namespace {
+
+constexpr std::uint64_t kU64Max = std::numeric_limits<std::uint64_t>::max();
+
+std::string errorOf(const std::function<void()>& action) {
+    try {
+        action();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+std::string stateCsvError(const std::string& text, std::uint64_t availableBytes = 0) {
+    return errorOf([&] {
+        std::istringstream in(text);
+        parseStateCsv(in, "in.csv", availableBytes);
+    });
+}
+
+const std::string kHeaderLine = "id,x,y,vx,vy,mass,radius\n";
+
+}  // namespace
+
+TEST_CASE("number text: whole numbers never wrap, and an empty text is not 0") {
+    CHECK(parseWholeNumber("0", 0, kU64Max) == 0);
+    CHECK(parseWholeNumber("18446744073709551615", 0, kU64Max) == kU64Max);
+    CHECK(parseWholeNumber("010", 0, kU64Max) == 10);  // decimal, not octal
+    CHECK(parseWholeNumber("-0", 0, 5) == 0);
+    const std::string allowed = "allowed: whole numbers from 0 to 18446744073709551615";
+    auto refusal = [](const char* text, std::uint64_t min, std::uint64_t max) {
+        return errorOf([&] { parseWholeNumber(text, min, max); });
+    };
+    CHECK(refusal("-1", 0, kU64Max) == "'-1' is out of range; " + allowed);
+    CHECK(refusal("18446744073709551616", 0, kU64Max) == "'18446744073709551616' is out of range; " + allowed);
+    CHECK(refusal("99999999999999999999999", 0, kU64Max) == "'99999999999999999999999' is out of range; " + allowed);
+    CHECK(refusal("", 0, kU64Max) == "'' is not a whole number; " + allowed);
+    for (const char* malformed : {"0x10", "+5", " 5", "5 ", "1e3", "1.0", "-", "--1", "five"})
+        CHECK_MESSAGE(refusal(malformed, 0, kU64Max).find("is not a whole number") != std::string::npos, malformed);
+    CHECK(refusal("0", 1, 1000) == "'0' is out of range; allowed: whole numbers from 1 to 1000");
+    CHECK(refusal("1001", 1, 1000) == "'1001' is out of range; allowed: whole numbers from 1 to 1000");
+}
+
+TEST_CASE("number text: a real number is the whole text") {
+    CHECK(parseRealNumber("1.5") == 1.5);
+    CHECK(parseRealNumber("-2e3") == -2000.0);
+    CHECK(std::isinf(parseRealNumber("inf")));  // the options' own checks name the range
+    CHECK(std::isnan(parseRealNumber("nan")));
+    for (const char* malformed : {"", " 1", "1 ", "1.5x", "fast", "1,5"})
+        CHECK_MESSAGE(errorOf([&] { parseRealNumber(malformed); }) == "'" + std::string(malformed) + "' is not a number",
+                      malformed);
+}
+
+TEST_CASE("printable: valid UTF-8 as it is; control characters and invalid bytes escaped") {
+    CHECK(printable("caf\xC3\xA9 \xE6\x97\xA5\xE6\x9C\xAC \xF0\x9F\x8E\xB1") == "caf\xC3\xA9 \xE6\x97\xA5\xE6\x9C\xAC \xF0\x9F\x8E\xB1");
+    CHECK(printable("a\x1B[31m\x7F") == "a\\x1B[31m\\x7F");
+    CHECK(printable("\xC2\x9B" "1m") == "\\xC2\\x9B1m");         // C1 control (CSI)
+    CHECK(printable("\xC3") == "\\xC3");                        // truncated sequence
+    CHECK(printable("\xA9x") == "\\xA9x");                      // stray continuation byte
+    CHECK(printable("\xC0\xAF") == "\\xC0\\xAF");               // overlong '/'
+    CHECK(printable("\xED\xA0\x80") == "\\xED\\xA0\\x80");      // surrogate
+    CHECK(printable("\xF4\x90\x80\x80") == "\\xF4\\x90\\x80\\x80");  // past U+10FFFF
+    std::string accents;
+    for (int i = 0; i < 50; ++i) accents += "\xC3\xA9";
+    CHECK(printable(accents) == accents.substr(0, 80) + "...");  // 40 characters, none cut in half
+}
+
+TEST_CASE("state CSV: a line longer than 4096 bytes is refused as it is read") {
+    CHECK(stateCsvError(std::string(1 << 20, '\0')) ==
+          "in.csv:1: line longer than 4096 bytes; a state file's lines are at most 4096 bytes (is it a state CSV?)");
+    CHECK(stateCsvError(kHeaderLine + "0,1,1,0,0,1,1\n" + std::string(5000, '1')).find("in.csv:3: line longer than 4096") == 0);
+    // A line of exactly 4096 bytes is read (trailing spaces are trimmed), with or without its newline.
+    std::string row = "0,1,1,0,0,1,1";
+    row += std::string(4096 - row.size(), ' ');
+    for (const char* end : {"\n", ""}) {
+        std::istringstream in(kHeaderLine + row + end);
+        CHECK(parseStateCsv(in, "in.csv").size() == 1);
+    }
+}
+
+TEST_CASE("state CSV: rows past the memory available are refused before they are stored") {
+    const std::string threeRows = kHeaderLine + "0,1,1,0,0,1,1\n1,4,1,0,0,1,1\n2,7,1,0,0,1,1\n";
+    std::istringstream in(threeRows);
+    CHECK(parseStateCsv(in, "in.csv", 3 * kHostBytesPerParticle).size() == 3);
+    CHECK(stateCsvError(threeRows, 2 * kHostBytesPerParticle).find("in.csv: particle rows: 3 particles need about") == 0);
+}
+
+TEST_CASE("checkpoint: the particle count is checked against memory and the checksum before allocating") {
+    Checkpoint c;
+    c.world.width = c.world.height = 100.0f;
+    for (int i = 0; i < 10; ++i) c.particles.push_back(disk(5.0f + 9.0f * float(i), 50.0f, 1.0f, 0.0f));
+    const std::string bytes = encodeCheckpoint(c);
+    {
+        std::ofstream("inputs.ckpt", std::ios::binary) << bytes;
+    }
+    CHECK(readCheckpoint("inputs.ckpt", 10 * kHostBytesPerParticle).particles.size() == 10);
+    CHECK(errorOf([] { readCheckpoint("inputs.ckpt", 9 * kHostBytesPerParticle); })
+              .find("checkpoint 'inputs.ckpt': 10 particles need about") == 0);
+
+    // A header forged to claim 10^7 particles, the file grown (sparse) to the
+    // size that count needs, and no valid checksum: refused by the checksum.
+    std::string forged = bytes.substr(0, 76);
+    const std::uint64_t count = 10'000'000;
+    for (int i = 0; i < 8; ++i) forged[16 + i] = static_cast<char>(count >> (8 * i));
+    {
+        std::ofstream("forged.ckpt", std::ios::binary) << forged;
+    }
+    std::filesystem::resize_file("forged.ckpt", 76 + 24 * count + 4);
+    CHECK(errorOf([] { readCheckpoint("forged.ckpt"); }).find("checksum mismatch") != std::string::npos);
+    std::remove("inputs.ckpt");
+    std::remove("forged.ckpt");
+}
