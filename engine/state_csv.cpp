@@ -58,6 +58,9 @@ public:
             fail(line, std::string("column '") + kColumns[column] + "': '" + printable(text) + "' is not a number");
         if (errno == ERANGE && std::isinf(value))
             fail(line, std::string("column '") + kColumns[column] + "': " + printable(text) + " is out of float range");
+        if (errno == ERANGE && value == 0.0f)  // it would read as 0 without a word
+            fail(line, std::string("column '") + kColumns[column] + "': " + printable(text) +
+                           " is too small for a float (the smallest above 0 is 1.4e-45); write 0 for zero");
         return value;
     }
 
