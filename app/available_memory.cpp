@@ -4,10 +4,13 @@
 #define NOMINMAX
 #include <windows.h>
 #elif __has_include(<unistd.h>)
+#include <sys/resource.h>
 #include <unistd.h>
 #endif
 
+#include <algorithm>
 #include <fstream>
+#include <initializer_list>
 #include <string>
 
 namespace carom::app {
@@ -25,15 +28,45 @@ std::uint64_t linuxMemAvailable() {
     }
     return 0;
 }
+
+// What the memory limit of this process's cgroup (v2: a container, a Slurm
+// job) leaves, 0 without one. The machine's free memory says nothing of it.
+std::uint64_t linuxCgroupMemoryLeft() {
+    std::ifstream membership("/proc/self/cgroup");
+    for (std::string line; std::getline(membership, line);) {
+        if (line.rfind("0::", 0) != 0) continue;
+        const std::string group = "/sys/fs/cgroup" + line.substr(3);
+        std::ifstream maxFile(group + "/memory.max"), currentFile(group + "/memory.current");
+        std::uint64_t max = 0, current = 0;
+        if (maxFile >> max && currentFile >> current) return max > current ? max - current : 1;  // "max": none
+    }
+    return 0;
+}
 #endif
+
+#if __has_include(<unistd.h>) && !defined(_WIN32)
+// The address-space limit (ulimit -v), 0 without one.
+std::uint64_t addressSpaceLimit() {
+    rlimit limit{};
+    if (getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return 0;
+    return std::uint64_t(limit.rlim_cur);
+}
+#endif
+
+// The smallest of the limits that are known (non-zero); 0 if none is.
+std::uint64_t tightest(std::initializer_list<std::uint64_t> limits) {
+    std::uint64_t least = 0;
+    for (std::uint64_t limit : limits)
+        if (limit > 0 && (least == 0 || limit < least)) least = limit;
+    return least;
+}
 
 std::uint64_t pagesToBytes(long pages, long pageSize) {
     return pages > 0 && pageSize > 0 ? std::uint64_t(pages) * std::uint64_t(pageSize) : 0;
 }
 
-}  // namespace
-
-std::uint64_t availableMemoryBytes() {
+// The machine's memory available now, whatever this process's limits.
+std::uint64_t machineMemoryAvailable() {
 #ifdef _WIN32
     MEMORYSTATUSEX status{};
     status.dwLength = sizeof status;
@@ -50,6 +83,18 @@ std::uint64_t availableMemoryBytes() {
 #else
     return 0;
 #endif
+#endif
+}
+
+}  // namespace
+
+std::uint64_t availableMemoryBytes() {
+#if defined(__linux__)
+    return tightest({machineMemoryAvailable(), linuxCgroupMemoryLeft(), addressSpaceLimit()});
+#elif __has_include(<unistd.h>) && !defined(_WIN32)
+    return tightest({machineMemoryAvailable(), addressSpaceLimit()});
+#else
+    return machineMemoryAvailable();
 #endif
 }
 

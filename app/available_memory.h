@@ -8,7 +8,9 @@ namespace carom::app {
 // The memory available to a new allocation now, in bytes: Linux's
 // MemAvailable (free memory plus the caches it can drop), else the free
 // physical pages, else (macOS) the physical memory; Windows' available
-// physical memory. 0 where the platform does not say.
+// physical memory. Less where the process is limited: what its cgroup's
+// memory.max leaves (Linux, cgroup v2: containers, Slurm jobs) and the
+// address-space limit (ulimit -v). 0 where none of these is known.
 std::uint64_t availableMemoryBytes();
 
 }  // namespace carom::app

@@ -59,6 +59,11 @@ int checkStandardOutput(int status) {
     std::fflush(stdout);
     const int error = errno;  // of the write that failed, if it came in these flushes
     if (!std::ferror(stdout) && std::cout.good()) return status;
+#ifdef SIGPIPE
+    // The reader went away (`carom ... | head`): end quietly, with the status
+    // SIGPIPE itself would have given.
+    if (error == EPIPE) return status != 0 ? status : 128 + SIGPIPE;
+#endif
     std::cerr << "carom: error: writing to standard output failed"
               << (error != 0 ? std::string(": ") + std::strerror(error) : std::string())
               << "; what was printed there is incomplete\n";
@@ -72,6 +77,10 @@ int main(int argc, char** argv) {
     // Past a file size limit (ulimit -f) a write fails (EFBIG) and is
     // reported, keeping the other outputs, instead of killing carom.
     std::signal(SIGXFSZ, SIG_IGN);
+#endif
+#ifdef SIGPIPE
+    // Likewise a FIFO output whose reader went away (EPIPE).
+    std::signal(SIGPIPE, SIG_IGN);
 #endif
     return checkStandardOutput(runCarom(argc, argv));
 }

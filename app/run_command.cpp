@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <iterator>
 #include <limits>
@@ -10,6 +11,7 @@
 #include <optional>
 #include <sstream>
 #include <string_view>
+#include <system_error>
 #include <tuple>
 #include <utility>
 
@@ -32,6 +34,7 @@
 #include "engine/output_paths.h"
 #include "engine/state_csv.h"
 #include "engine/stats.h"
+#include "engine/text_format.h"
 #include "engine/trajectory.h"
 
 namespace carom::app {
@@ -153,7 +156,8 @@ public:
     // Opens every output before the simulation, so a bad path is refused at
     // once. A resumed run appends to its trajectory and statistics (see
     // TrajectoryWriter), so that they continue the previous run's.
-    explicit Outputs(const Start& start) : def_(start.outputs) {
+    explicit Outputs(const Start& start)
+        : def_(start.outputs), resumed_(start.resumed), maxTravel_(start.world.maxTravel) {
         requireDistinctPaths(start);
         const std::optional<std::uint64_t> resumedAt = start.resumed ? std::optional(start.step) : std::nullopt;
         if (!def_.trajectory.empty()) trajectory_.emplace(def_.trajectory, resumedAt);
@@ -163,11 +167,16 @@ public:
             if (!path.empty() && !isSpecialFile(path)) AtomicFile probe(path);
     }
 
-    // Writes a frame, a row and the checkpoint at `step`. An output whose
+    // Writes the checkpoint, a frame and a row at `step`. An output whose
     // write fails is dropped (its previous file, if any, stays) and the
     // others go on: the run stops after this sample (failed()) and keeps them.
+    // The checkpoint goes first, and a sample whose checkpoint failed adds no
+    // frame or row: the trajectory and statistics never run past the step the
+    // checkpoint holds, so the run resumed from it can append to them.
     void sample(std::uint64_t step, const WorldDef& world, const std::vector<Particle>& particles,
                 std::uint64_t collisions) {
+        checkpoint(step, world, particles, collisions);
+        if (!failures_[kCheckpoint].empty()) return;
         const double time = double(step) * world.dt;
         attempt(kTrajectory, [&] {
             trajectory_->write(particles, world, step, time);
@@ -177,10 +186,10 @@ public:
             stats_->write(step, time, measure(particles, world), collisions);
             statsStep_ = step;
         });
-        checkpoint(step, world, particles, collisions);
     }
 
-    // Only finite states reach the outputs (runSteps checks each one it reads).
+    // Only finite states reach the outputs: the backend stops at a step that
+    // leaves a disk non-finite, before it is read.
     void checkpoint(std::uint64_t step, const WorldDef& world, const std::vector<Particle>& particles,
                     std::uint64_t collisions) {
         if (checkpointStep_ == step) return;
@@ -210,7 +219,6 @@ public:
     }
 
     std::uint64_t every() const { return def_.every; }
-    std::optional<std::uint64_t> checkpointStep() const { return checkpointStep_; }
     bool failed() const {
         return std::any_of(std::begin(failures_), std::end(failures_), [](const std::string& f) { return !f.empty(); });
     }
@@ -229,11 +237,12 @@ public:
 
     // A line per output that holds something: what it holds, and at
     // which step. The trajectory and statistics hold the samples (multiples
-    // of --every); the checkpoint and state, the step the run reached.
+    // of --every; a resumed run counts those it appended); the checkpoint
+    // and state, the step the run reached.
     std::string holdings() const {
         std::string lines;
-        auto samples = [](std::size_t count, const char* unit, const std::optional<std::uint64_t>& last) {
-            return std::to_string(count) + " " + unit + (count == 1 ? "" : "s") +
+        auto samples = [this](std::size_t count, const char* unit, const std::optional<std::uint64_t>& last) {
+            return std::to_string(count) + " " + unit + (count == 1 ? "" : "s") + (resumed_ ? " from this run" : "") +
                    (last ? ", the last at step " + std::to_string(*last) : std::string());
         };
         if (trajectory_) lines += line(kTrajectory, samples(trajectory_->frames(), "frame", trajectoryStep_));
@@ -251,8 +260,9 @@ public:
         return lines;
     }
 
-    // How to continue from the checkpoint to `last`, checkpointing as before
-    // and appending to the trajectory and statistics that were kept; empty
+    // How to continue from the checkpoint to `last`, checkpointing as before,
+    // with the same substeps (--max-travel is not in the checkpoint), and
+    // appending to the trajectory and statistics that were kept; empty
     // without a checkpoint.
     std::string resumeCommand(std::uint64_t last) const {
         if (!checkpointStep_) return {};
@@ -262,6 +272,10 @@ public:
         if (!def_.trajectory.empty() && failures_[kTrajectory].empty())
             command += " --trajectory " + shellWord(def_.trajectory);
         if (!def_.stats.empty() && failures_[kStats].empty()) command += " --stats " + shellWord(def_.stats);
+        if (maxTravel_ > 0.0f) {
+            command += " --max-travel ";
+            appendNumber(command, maxTravel_);
+        }
         return command + " --every " + std::to_string(def_.every);
     }
 
@@ -272,13 +286,16 @@ private:
     // over the run's inputs, under any spelling: through symlinks, hard
     // links, "./" or a temporary name (FILE.partial). The one file that may
     // be both is a checkpoint resumed from and written by --checkpoint: it
-    // is replaced whole.
+    // is replaced whole. Outputs may share a character device (/dev/null):
+    // nothing is written over there.
     static void requireDistinctPaths(const Start& start) {
         const std::vector<NamedFile>& outputs = start.outputFiles;
         for (const NamedFile& a : outputs) {
             const std::string temporary = temporaryPath(a.path);
+            std::error_code unknown;
+            const bool device = std::filesystem::is_character_file(followSymlinks(a.path), unknown);
             for (const NamedFile& b : outputs) {
-                if (&a < &b && sameFile(a.path, b.path))
+                if (&a < &b && !device && sameFile(a.path, b.path))
                     throw Error(a.name + " and " + b.name + " name the same file ('" + a.path + "' and '" + b.path +
                                 "'); give each output its own file");
                 if (&a != &b && !temporary.empty() && sameFile(temporary, b.path))
@@ -322,6 +339,8 @@ private:
     }
 
     OutputDef def_;
+    bool resumed_;     // from a checkpoint: the trajectory and statistics are appended to
+    float maxTravel_;  // the run's --max-travel, which a resumed run must be given again
     std::optional<TrajectoryWriter> trajectory_;
     std::optional<StatsWriter> stats_;
     std::optional<std::uint64_t> trajectoryStep_, statsStep_;  // of the last frame and row written

@@ -251,7 +251,7 @@ Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& what) {
 void writeCheckpoint(const std::string& path, const Checkpoint& checkpoint) {
     const std::string bytes = encodeCheckpoint(checkpoint);
     AtomicFile file(path);
-    file.stream().write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    file.append(bytes);
     file.commit();
 }
 

@@ -65,7 +65,7 @@ foreach(test IN ITEMS trajectory_reads_in_ase stats_csv checkpoint_layout resume
                       resume_appends_to_its_outputs empty_output_names_are_refused stop_signals_keep_every_output
                       output_failure_keeps_the_others output_failures_at_the_end_are_all_reported
                       stdout_write_errors_are_reported
-                      blow_up_names_step_and_particle small_runs_start_no_thread_team)
+                      blow_up_names_step_and_particle small_runs_start_no_thread_team fifo_reader_gone_keeps_the_others)
     add_test(NAME outputs.${test}
              COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/outputs_test.py --carom $<TARGET_FILE:carom>
                      --work ${CMAKE_CURRENT_BINARY_DIR}/outputs --backends ${backends} ${test})

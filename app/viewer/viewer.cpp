@@ -349,9 +349,18 @@ void Viewer::advance(int ticks) {
     stepOnce_ = false;
     if (steps > 0) {
         const auto start = Clock::now();
-        backend_->step(steps);
-        simMsPerStep_ = secondsSince(start) * 1e3 / steps;
-        driftTime_ += double(steps) * dt_;
+        try {
+            backend_->step(steps);
+            simMsPerStep_ = secondsSince(start) * 1e3 / steps;
+            driftTime_ += double(steps) * dt_;
+        } catch (const Error& e) {
+            if (headless_) throw;
+            // A blow-up (the simultaneous scheme under strong gravity, too
+            // long a dt) stops the backend at that step: say why, pause, and
+            // keep the window for a reset (R) or another setting.
+            message_ = e.what();
+            paused_ = true;
+        }
     }
     backend_->readParticles(particles_);
 }
