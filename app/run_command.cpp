@@ -160,7 +160,7 @@ public:
         : def_(start.outputs), resumed_(start.resumed), maxTravel_(start.world.maxTravel) {
         requireDistinctPaths(start);
         const std::optional<std::uint64_t> resumedAt = start.resumed ? std::optional(start.step) : std::nullopt;
-        if (!def_.trajectory.empty()) trajectory_.emplace(def_.trajectory, resumedAt);
+        if (!def_.trajectory.empty()) trajectory_.emplace(def_.trajectory, resumedAt, start.particles.size());
         if (!def_.stats.empty()) stats_.emplace(def_.stats, resumedAt);
         // Opening a FIFO would wait for its reader, and closing it would end the reader's input.
         for (const std::string& path : {def_.checkpoint, def_.state})

@@ -8,9 +8,10 @@
 namespace carom {
 namespace {
 
-// How a run resumed at `resumedAt` (if it is) opens `path`: appending, once
-// the frames already there are found to end at or before that step.
-Existing continuation(const std::string& path, std::optional<std::uint64_t> resumedAt) {
+// How a run of `particles` disks resumed at `resumedAt` (if it is) opens
+// `path`: appending, once the frames already there are found to end at or
+// before that step, with as many disks.
+Existing continuation(const std::string& path, std::optional<std::uint64_t> resumedAt, std::size_t particles) {
     if (!resumedAt) return Existing::Replace;
     if (!hasContent(path)) return Existing::Append;
     LinesFromEnd lines(path);
@@ -22,6 +23,10 @@ Existing continuation(const std::string& path, std::optional<std::uint64_t> resu
             !parseStep(line.substr(value + 6, line.find(' ', value + 6) - (value + 6)), step))
             break;
         requireAppendable(path, "frame", step, *resumedAt);
+        std::string count;
+        if (lines.previous(count) && count != std::to_string(particles))
+            refuseToAppend(path, "its last frame has " + count + " disks, the checkpoint " +
+                                     std::to_string(particles) + ", so it is another simulation's trajectory");
         return Existing::Append;
     }
     refuseToAppend(path, "it has no frame header with a step=, so it is no carom trajectory");
@@ -29,8 +34,9 @@ Existing continuation(const std::string& path, std::optional<std::uint64_t> resu
 
 }  // namespace
 
-TrajectoryWriter::TrajectoryWriter(const std::string& path, std::optional<std::uint64_t> resumedAt)
-    : file_(path, continuation(path, resumedAt)) {}
+TrajectoryWriter::TrajectoryWriter(const std::string& path, std::optional<std::uint64_t> resumedAt,
+                                   std::size_t particles)
+    : file_(path, continuation(path, resumedAt, particles)) {}
 
 void TrajectoryWriter::write(const std::vector<Particle>& particles, const WorldDef& world, std::uint64_t step,
                              double time) {

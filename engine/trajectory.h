@@ -24,10 +24,12 @@ namespace carom {
 class TrajectoryWriter {
 public:
     // Opens a temporary file beside `path`; throws Error if it cannot. A run
-    // resumed from a checkpoint at step `resumedAt` continues an existing
-    // `path` (its frames, then this run's: one long run's trajectory); Error
-    // if its last frame is after that step, since appending would repeat steps.
-    explicit TrajectoryWriter(const std::string& path, std::optional<std::uint64_t> resumedAt = std::nullopt);
+    // resumed from a checkpoint at step `resumedAt` with `particles` disks
+    // continues an existing `path` (its frames, then this run's: one long
+    // run's trajectory); Error if its last frame is after that step, since
+    // appending would repeat steps, or has another number of disks.
+    explicit TrajectoryWriter(const std::string& path, std::optional<std::uint64_t> resumedAt = std::nullopt,
+                              std::size_t particles = 0);
 
     // Appends one frame; throws Error if the write fails (disk full).
     void write(const std::vector<Particle>& particles, const WorldDef& world, std::uint64_t step, double time);

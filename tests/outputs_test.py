@@ -399,8 +399,9 @@ def test_resume_appends_to_its_outputs():
     """A run resumed with the same trajectory and statistics names appends to them: 100 steps and
     100 resumed steps give the very files of one 200-step run. Resuming again from the older
     checkpoint would repeat steps: refused, naming the file, its last step and the checkpoint's,
-    and the files are left as they were. A resumed run creates a missing file (statistics with
-    their header); a new run replaces an existing one."""
+    and the files are left as they were; so is another simulation's trajectory (another number of
+    disks). A resumed run creates a missing file (statistics with their header); a new run replaces
+    an existing one."""
     d = work("resume-append")
     scene = ["--backend", "cpu", "--particles", 60, "--seed", 5, "--every", 20, "--quiet"]
     carom("run", *scene, "--steps", 200, "--trajectory", "whole.xyz", "--stats", "whole.csv", cwd=d)
@@ -421,6 +422,9 @@ def test_resume_appends_to_its_outputs():
         f.write("id,x,y\n")
     err = refused(*resumed, "--resume", "step100.ckpt", "--stats", "other.csv", cwd=d)
     assert "cannot append to 'other.csv': its header is 'id,x,y'" in err, err
+    carom("run", "--backend", "cpu", "--particles", 30, "--steps", 20, "--every", 20, "--trajectory", "other.xyz", cwd=d)
+    err = refused(*resumed, "--resume", "step100.ckpt", "--trajectory", "other.xyz", cwd=d)
+    assert "cannot append to 'other.xyz': its last frame has 30 disks, the checkpoint 60" in err, err
 
     carom(*resumed, "--resume", "step100.ckpt", "--stats", "new.csv", cwd=d)
     with open(os.path.join(d, "new.csv")) as f:
