@@ -57,12 +57,5 @@ carom_input_test(input_state_endless_line
                  "/dev/zero:1: line longer than 4096 bytes; a state file's lines are at most 4096 bytes"
                  "run|--backend|cpu|--steps|1|--output-state|${out}|--input-state|/dev/zero|--box|10|10")
 
-# Empty values, memory figures, FIFOs and a forged checkpoint need a script to set up.
-if(Python3_Interpreter_FOUND)
-    foreach(test IN ITEMS empty_numbers_are_refused memory_check_uses_available_memory
-                          input_state_fifo resume_forged_count_allocates_nothing)
-        add_test(NAME outputs.${test}
-                 COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/outputs_test.py --carom $<TARGET_FILE:carom>
-                         --work ${CMAKE_CURRENT_BINARY_DIR}/outputs --backends cpu ${test})
-    endforeach()
-endif()
+# Empty values, memory figures, FIFOs and a forged checkpoint need a script
+# to set up: outputs_test.py, registered in io_tests.cmake.
