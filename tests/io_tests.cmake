@@ -78,3 +78,14 @@ foreach(test IN ITEMS trajectory_reads_in_ase stats_csv checkpoint_layout resume
              COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/outputs_test.py --carom $<TARGET_FILE:carom>
                      --work ${CMAKE_CURRENT_BINARY_DIR}/outputs --backends ${backends} ${sanitized} ${test})
 endforeach()
+
+# Every output reaches the disk before it is renamed into place, and its
+# folder after: fsync and rename are logged by a library preloaded into carom
+# (Linux; not beside AddressSanitizer, which must be loaded first).
+if(CMAKE_SYSTEM_NAME STREQUAL "Linux" AND NOT sanitized)
+    add_library(fsync_spy MODULE fsync_spy.cpp)
+    target_link_libraries(fsync_spy PRIVATE ${CMAKE_DL_LIBS})
+    add_test(NAME outputs.synced_before_rename
+             COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/outputs_test.py --carom $<TARGET_FILE:carom>
+                     --work ${CMAKE_CURRENT_BINARY_DIR}/outputs --spy $<TARGET_FILE:fsync_spy> synced_before_rename)
+endif()

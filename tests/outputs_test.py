@@ -740,6 +740,31 @@ def test_input_state_fifo():
     assert json.loads(done.stdout)["particles"] == 4
 
 
+def test_synced_before_rename():
+    """Each output file is synced to the disk (fsync of FILE.partial) before it is renamed into place,
+    and its folder after the rename, so that a power loss leaves the old file or the complete new one
+    under the name, never an empty one. fsync and rename are logged by tests/fsync_spy.cpp."""
+    d = work("synced")
+    log = os.path.join(d, "calls.log")
+    paths = [os.path.join(d, name) for name in ("t.xyz", "s.csv", "c.ckpt", "end.csv")]
+    env = dict(os.environ, LD_PRELOAD=ARGS.spy, CAROM_SPY_LOG=log)
+    arguments = ["run", "--backend", "cpu", "--particles", 50, "--steps", 20, "--every", 10, "--trajectory", paths[0],
+                 "--stats", paths[1], "--checkpoint", paths[2], "--output-state", paths[3]]
+    done = subprocess.run([ARGS.carom, *map(str, arguments)], capture_output=True, text=True, timeout=120, env=env)
+    assert done.returncode == 0, done.stderr
+    with open(log) as f:
+        calls = [tuple(line.rstrip("\n").split(" ", 1)) for line in f]
+    folder = os.path.realpath(d)
+    for path in paths:
+        partial = os.path.join(folder, os.path.basename(path) + ".partial")
+        renames = [i for i, call in enumerate(calls) if call == ("rename", partial)]
+        assert renames, (path, calls)
+        for i in renames:
+            synced = [j for j in range(i) if calls[j] == ("fsync", partial)]
+            assert synced and ("rename", partial) not in calls[synced[-1] + 1:i], (path, "not synced", calls)
+            assert ("fsync", folder) in calls[i + 1:i + 3], (path, "folder not synced", calls)
+
+
 def skipped_under_sanitizer():
     """True (and says so) where carom is built with AddressSanitizer, which cannot start under an
     address-space limit (ulimit -v): it reserves terabytes for its shadow memory."""
@@ -820,6 +845,7 @@ def main():
     parser.add_argument("--work", required=True)
     parser.add_argument("--backends", default="cpu")
     parser.add_argument("--sanitized", action="store_true", help="carom is built with AddressSanitizer")
+    parser.add_argument("--spy", help="the fsync_spy library, preloaded by test_synced_before_rename")
     parser.add_argument("test")
     ARGS = parser.parse_args()
     globals()["test_" + ARGS.test]()

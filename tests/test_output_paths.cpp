@@ -134,8 +134,8 @@ TEST_CASE("atomic files: appending is atomic too") {
 }
 
 TEST_CASE("atomic files: commit syncs and renames, here and in another folder") {
-    // That fsync is called cannot be observed from here (it takes a power
-    // loss); this checks that the synced commit still puts the file in place.
+    // That fsync comes before the rename is checked by outputs.synced_before_rename
+    // (a preloaded spy); this checks that the synced commit puts the file in place.
     const Folder folder("synced");
     for (const fs::path& path : {fs::path("synced-here.txt"), folder.path / "there.txt"}) {
         {
