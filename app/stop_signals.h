@@ -1,8 +1,9 @@
 // SIGINT, SIGTERM and SIGHUP: Ctrl-C, and what `timeout`, Slurm, `docker stop`
 // and a closed terminal send. While a StopSignals object lives, the first of
 // them is only recorded: `carom run` and `carom view` stop at their next step
-// boundary, write their outputs and exit 128 + the signal. A second signal
-// kills at once. A signal ignored when the object is made (nohup, a shell's
+// boundary, write their outputs and exit 128 + the signal. A second signal,
+// a second or more after the first, kills at once (`timeout` sends two at
+// once). A signal ignored when the object is made (nohup, a shell's
 // background job) stays ignored.
 #pragma once
 

@@ -73,7 +73,7 @@ foreach(test IN ITEMS trajectory_reads_in_ase stats_csv checkpoint_layout resume
                       stdout_write_errors_are_reported
                       blow_up_names_step_and_particle small_runs_start_no_thread_team fifo_reader_gone_keeps_the_others
                       empty_numbers_are_refused memory_check_uses_available_memory input_state_fifo
-                      resume_forged_count_allocates_nothing)
+                      resume_forged_count_allocates_nothing two_signals_at_once_stop_the_run)
     add_test(NAME outputs.${test}
              COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/outputs_test.py --carom $<TARGET_FILE:carom>
                      --work ${CMAKE_CURRENT_BINARY_DIR}/outputs --backends ${backends} ${sanitized} ${test})

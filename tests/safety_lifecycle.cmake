@@ -18,5 +18,5 @@ foreach(stop_status IN ITEMS TERM:143 INT:130)
                      -DEXPECT_FILE=last.png
                      "-DOUTPUT_REGEX=carom view: [0-9]+ frames of 200 disks.*interrupted by SIG${stop} after [0-9]+ of 100000000 frames; last.png shows frame [0-9]+, the last rendered"
                      -P ${CMAKE_CURRENT_SOURCE_DIR}/run_viewer.cmake)
-    set_tests_properties(view.interrupted_writes_the_last_frame_${stop} PROPERTIES TIMEOUT 120)
+    set_tests_properties(view.interrupted_writes_the_last_frame_${stop} PROPERTIES TIMEOUT 120 RESOURCE_LOCK xvfb)
 endforeach()

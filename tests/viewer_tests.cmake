@@ -24,6 +24,9 @@ add_test(NAME view.pairwise_gravity
                  "-DARGS=view|--backend|cpu|--particles|300|--gravity|0|-1|--collisions|pairwise|--window|400|300|--frames|20"
                  "-DOUTPUT_REGEX=pairwise collisions, total energy drift [+-][0-9.]+e-(0[5-9]|[1-9][0-9]) over 0.8 time units"
                  -P ${CMAKE_CURRENT_SOURCE_DIR}/run_viewer.cmake)
+# Two xvfb-run -a at once race for a display number and for their temporary
+# folder (status 5, "problem while cleaning up"): one Xvfb test at a time.
+set_tests_properties(view.screenshot view.record view.pairwise_gravity PROPERTIES RESOURCE_LOCK xvfb)
 set_tests_properties(view.screenshot PROPERTIES FIXTURES_SETUP view_screenshot)
 set_tests_properties(view.record PROPERTIES FIXTURES_SETUP view_record)
 add_test(NAME view.check_screenshot COMMAND carom_view_check -tc=screenshot*)
