@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include "backends/cpu_backend.h"
 #include "kernels/physics.h"
@@ -43,7 +44,7 @@ void Backend::setParticles(const std::vector<Particle>& particles, std::uint64_t
     substepsTaken_ = 0;
     batch_ = previousBatch_ = Batch{};
     nonFinite_.reset();
-    load(start);
+    load(std::move(start));
     totals_ = ContactTotals{};
     substepsSinceDrain_ = 0;
 }

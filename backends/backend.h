@@ -94,7 +94,7 @@ public:
     const GridGeometry& gridGeometry() const { return grid_.geometry; }
 
 protected:
-    virtual void load(const std::vector<Particle>& particles) = 0;
+    virtual void load(std::vector<Particle> particles) = 0;  // takes the copy setParticles made
     // Takes `substeps` steps of `dt` with world_'s gravity and boundary.
     virtual void advance(std::uint64_t substeps, float dt) = 0;
     // The largest v.x^2 + v.y^2 of the current state.

@@ -30,14 +30,14 @@ std::string CpuBackend::device() const {
 #endif
 }
 
-void CpuBackend::load(const std::vector<Particle>& particles) {
-    state_ = particles;
-    tallies_.assign(particles.size(), ContactTally{});
+void CpuBackend::load(std::vector<Particle> particles) {
+    const std::size_t n = particles.size();
+    state_ = std::move(particles);
+    tallies_.assign(n, ContactTally{});
     if (world_.collisions == CollisionScheme::Simultaneous) {
-        next_.resize(particles.size());
+        next_.resize(n);
         return;
     }
-    const std::size_t n = particles.size();
     events_.resize(n);
     for (auto* list : {&pending_, &nextPending_, &changed_, &dirty_}) list->resize(n);
     for (auto* marks : {&pendingMark_, &changedMark_, &dirtyMark_}) marks->assign(n, 0u);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <numeric>
+#include <utility>
 
 namespace carom {
 
@@ -73,7 +74,7 @@ std::string OpenClBackend::device() const {
            pipelines[static_cast<int>(pipeline_)] + " pipeline";
 }
 
-void OpenClBackend::load(const std::vector<Particle>& particles) {
+void OpenClBackend::load(std::vector<Particle> particles) {
     const std::size_t n = particles.size();
     // Free the previous state's buffers first: a state may fill the device.
     hostState_.clear();
@@ -101,7 +102,7 @@ void OpenClBackend::load(const std::vector<Particle>& particles) {
     substep_ = nonFiniteBase_ = 0;
     switch (pipeline_) {
         case Pipeline::Seed:
-            hostState_ = particles;
+            hostState_ = std::move(particles);
             sortedIndices_ = createBuffer(context_.get(), n * sizeof(cl_uint), "sorted indices");
             cells_ = createBuffer(context_.get(),
                                   std::size_t(grid_.geometry.cols) * grid_.geometry.rows * sizeof(GridCell),
@@ -294,7 +295,6 @@ void OpenClBackend::stepResidentPairwise(float dt) {
     enqueueResidentFinish(step, unconfirmedStepIndex_);
     check(clFlush(queue_.get()), "clFlush");
     unconfirmed_ = true;
-    unconfirmedStep_ = step;
 }
 
 // The kernel records a disk left non-finite in the pairwise lengths, which
@@ -323,7 +323,7 @@ void OpenClBackend::confirmStep() {
     unconfirmed_ = false;
     const DevicePairwise::Completion completion = pairwise_.complete(queue_.get());
     if (completion.finishSkipped) {
-        enqueueResidentFinish(unconfirmedStep_, unconfirmedStepIndex_);
+        enqueueResidentFinish(pairwise_.step(), unconfirmedStepIndex_);
         pairwise_.readLengths(queue_.get());  // rare: a wait of its own, for the finish's record
     }
     std::copy_n(pairwise_.nonFiniteRecord(), 2, firstNonFiniteRead_);

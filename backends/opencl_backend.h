@@ -52,7 +52,7 @@ public:
     opencl::Profiler* profiler() { return profiler_.get(); }
 
 private:
-    void load(const std::vector<Particle>& particles) override;
+    void load(std::vector<Particle> particles) override;
     void advance(std::uint64_t substeps, float dt) override;
     float maxSpeedSquared() override;
     void drainTallies(ContactTotals& totals) override;
@@ -108,8 +108,7 @@ private:
     unsigned int speedParity_ = 0;     // the word the last step wrote
     bool speedKnown_ = false;          // whether that word holds the current state's
     bool unconfirmed_ = false;         // a resident pairwise step was enqueued and not yet confirmed
-    CaromPairwiseStep unconfirmedStep_{};  // and its parameters
-    cl_uint unconfirmedStepIndex_ = 0;     // and its nextStepIndex()
+    cl_uint unconfirmedStepIndex_ = 0; // and its nextStepIndex() (its parameters: pairwise_.step())
     std::size_t finishItems_ = 0;      // work-items of finishPairwiseAndCount, which stride over the particles
     opencl::DeviceGrid deviceGrid_;    // resident
     opencl::Buffer ids_;               // resident: the particle id in each slot of state_

@@ -40,6 +40,8 @@ public:
     // lengths()[finishCondition()] is 0: no event pending after the batch.
     cl_mem lengths() const { return counts_.get(); }
     cl_uint finishCondition() const;
+    // The parameters of the step enqueueStep enqueued last.
+    const CaromPairwiseStep& step() const { return step_; }
 
     // Where a finish kernel records a disk it left non-finite: the two words
     // of lengths() from nonFiniteIndex() (carom_record_non_finite). The

@@ -18,10 +18,11 @@ std::string AllPairsCpuBackend::device() const {
 #endif
 }
 
-void AllPairsCpuBackend::load(const std::vector<Particle>& particles) {
-    state_ = particles;
-    next_.resize(particles.size());
-    tallies_.assign(particles.size(), ContactTally{});
+void AllPairsCpuBackend::load(std::vector<Particle> particles) {
+    const std::size_t n = particles.size();
+    state_ = std::move(particles);
+    next_.resize(n);
+    tallies_.assign(n, ContactTally{});
 }
 
 void AllPairsCpuBackend::advance(std::uint64_t substeps, float dt) {

@@ -19,7 +19,7 @@ public:
     void readParticles(std::vector<Particle>& particles) override { particles = state_; }
 
 private:
-    void load(const std::vector<Particle>& particles) override;
+    void load(std::vector<Particle> particles) override;
     void advance(std::uint64_t substeps, float dt) override;
     float maxSpeedSquared() override { return maxSpeedSquaredOf(state_.data(), state_.size()); }
     void drainTallies(ContactTotals& totals) override { drainTallyArray(tallies_.data(), tallies_.size(), totals); }

@@ -139,8 +139,9 @@ Header checkHeader(const unsigned char* data, std::size_t available, std::uint64
     return Header{version, count};
 }
 
-// The CRC-32 register after `size` more bytes, for a checksum computed in pieces.
-std::uint32_t updateCrc32(std::uint32_t crc, const unsigned char* data, std::size_t size) {
+}  // namespace
+
+std::uint32_t crc32(const unsigned char* data, std::size_t size) {
     static const std::array<std::uint32_t, 256> table = [] {
         std::array<std::uint32_t, 256> t{};
         for (std::uint32_t i = 0; i < 256; ++i) {
@@ -150,33 +151,9 @@ std::uint32_t updateCrc32(std::uint32_t crc, const unsigned char* data, std::siz
         }
         return t;
     }();
-    for (std::size_t i = 0; i < size; ++i) crc = table[(crc ^ data[i]) & 0xFFu] ^ (crc >> 8);
-    return crc;
-}
-
-// Checks the checksum of the `size`-byte file `in`, reading it in chunks:
-// nothing sized by the header's particle count is allocated before the
-// checksum says the count is what was written.
-void checkChecksum(std::istream& in, std::uint64_t size, const std::string& what) {
-    std::array<unsigned char, 1 << 16> chunk;
     std::uint32_t crc = 0xFFFFFFFFu;
-    in.seekg(0);
-    for (std::uint64_t left = size - kChecksumBytes; left > 0;) {
-        const std::size_t piece = static_cast<std::size_t>(std::min<std::uint64_t>(left, chunk.size()));
-        if (!in.read(reinterpret_cast<char*>(chunk.data()), static_cast<std::streamsize>(piece)))
-            throw Error("reading checkpoint '" + what + "' failed");
-        crc = updateCrc32(crc, chunk.data(), piece);
-        left -= piece;
-    }
-    if (!in.read(reinterpret_cast<char*>(chunk.data()), kChecksumBytes))
-        throw Error("reading checkpoint '" + what + "' failed");
-    if (Decoder(chunk.data()).u32() != (crc ^ 0xFFFFFFFFu)) fail(what, kChecksumMismatch);
-}
-
-}  // namespace
-
-std::uint32_t crc32(const unsigned char* data, std::size_t size) {
-    return updateCrc32(0xFFFFFFFFu, data, size) ^ 0xFFFFFFFFu;
+    for (std::size_t i = 0; i < size; ++i) crc = table[(crc ^ data[i]) & 0xFFu] ^ (crc >> 8);
+    return crc ^ 0xFFFFFFFFu;
 }
 
 std::string encodeCheckpoint(const Checkpoint& c) {
@@ -268,9 +245,11 @@ Checkpoint readCheckpoint(const std::string& path, std::uint64_t availableBytes)
     in.read(reinterpret_cast<char*>(header), kHeaderBytes);
     const Header checked =
         checkHeader(header, static_cast<std::size_t>(in.gcount()), static_cast<std::uint64_t>(size), path);
+    // The count is held against the file size (checkHeader) and the memory
+    // available before the file is read; decodeCheckpoint checks the
+    // checksum before it decodes a particle.
     requireRoomFor(checked.count, availableBytes, ("checkpoint '" + path + "'").c_str());
     in.clear();
-    checkChecksum(in, static_cast<std::uint64_t>(size), path);
 
     std::string bytes(static_cast<std::size_t>(size), '\0');
     in.seekg(0);
