@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "backends/cpu_backend.h"
+#include "backends/event_driven_backend.h"
 #include "kernels/physics.h"
 #ifdef CAROM_HAVE_OPENCL
 #include "backends/opencl_backend.h"
@@ -51,6 +52,7 @@ void Backend::setParticles(const std::vector<Particle>& particles, std::uint64_t
 
 double Backend::travelLimit() const {
     double limit = HUGE_VAL;
+    if (world_.collisions == CollisionScheme::Events) return limit;  // exact: no substeps
     if (world_.maxTravel > 0.0f) limit = double(world_.maxTravel) * minRadius_;
     if (world_.collisions == CollisionScheme::Pairwise)
         limit = std::min(limit, double(gridTravel_) / kPairwiseSpeedMargin);
@@ -175,6 +177,7 @@ void Backend::setMotion(float dt, float2 gravity) {
     changed.gravity = gravity;
     validate(changed);
     world_ = changed;
+    motionChanged();
 }
 
 void drainTallyArray(ContactTally* tallies, std::size_t count, ContactTotals& totals) {
@@ -205,9 +208,13 @@ std::vector<std::string> availableBackends() {
 }
 
 std::unique_ptr<Backend> makeBackend(const BackendDef& def, const WorldDef& world) {
+    if (world.collisions == CollisionScheme::Events && def.kind != "cpu")
+        throw Error("--collisions events runs on the CPU only (one thread, double precision): use --backend cpu "
+                    "with it, or --collisions pairwise on --backend " + def.kind);
     if (def.kind == "cpu") {
         if (def.pipeline != "seed")
             throw Error("--pipeline " + def.pipeline + " needs --backend opencl; the CPU backend has one pipeline");
+        if (world.collisions == CollisionScheme::Events) return std::make_unique<EventDrivenBackend>(world);
         return std::make_unique<CpuBackend>(world);
     }
 #ifdef CAROM_HAVE_OPENCL

@@ -106,6 +106,8 @@ protected:
     // `totals` in id order, in double, and zeroes them. Called often enough
     // that a float tally never sums more than kTallySubsteps substeps.
     virtual void drainTallies(ContactTotals& totals) = 0;
+    // setMotion changed world_.dt or world_.gravity (the state is as before).
+    virtual void motionChanged() {}
 
     // For implementations: substep number `substep` (counted from 0 since
     // setParticles) left `particle`, the lowest such id, with a position or

@@ -48,9 +48,14 @@ enum class CollisionScheme {
     // rounds of mutually earliest events (kernels/pairwise.h): energy is
     // conserved to rounding at any density, also under gravity.
     Pairwise,
+    // Exact event-driven dynamics (backends/event_driven_backend.h): free
+    // flight between instantaneous binary collisions, event by event, in
+    // double on one CPU thread. The ground truth the stepped schemes are
+    // measured against; dt only sets when the state is sampled.
+    Events,
 };
 
-// "simultaneous" or "pairwise"; throws Error naming the value otherwise.
+// "simultaneous", "pairwise" or "events"; throws Error naming the value otherwise.
 CollisionScheme parseCollisionScheme(const std::string& name);
 const char* collisionSchemeName(CollisionScheme scheme);
 

@@ -101,6 +101,9 @@ void requireValidMotion(const std::vector<Particle>& particles, const WorldDef& 
              " (the fastest now plus what gravity adds across the box), times the box diagonal ", m.diagonal, " is ",
              m.fastest * m.diagonal, "; results are valid up to ", kMaxLengthTimesSpeed, " and speeds up to ",
              kMaxSpeed, ", where the squares in the collision times stay finite float32 numbers (README, Limits)");
+    // The event-driven scheme moves disks exactly, in double, whatever dt
+    // (which only sets when the state is sampled): no step-size limits.
+    if (world.collisions == CollisionScheme::Events) return;
     const double side = std::min(world.width, world.height);
     if (world.maxTravel == 0.0f && m.fastest * world.dt > side)
         fail(what, ": a step of dt ", world.dt, " moves the fastest disk (speed up to ", m.fastest, ") by ",
@@ -189,12 +192,17 @@ const char* boundaryName(Boundary boundary) { return boundary == Boundary::Perio
 CollisionScheme parseCollisionScheme(const std::string& name) {
     if (name == "simultaneous") return CollisionScheme::Simultaneous;
     if (name == "pairwise") return CollisionScheme::Pairwise;
-    if (name == "events") fail("collision scheme 'events' (exact event-driven dynamics) is not available yet; allowed: pairwise, simultaneous");
-    fail("unknown collision scheme '", name, "'; allowed: pairwise, simultaneous");
+    if (name == "events") return CollisionScheme::Events;
+    fail("unknown collision scheme '", name, "'; allowed: pairwise, simultaneous, events");
 }
 
 const char* collisionSchemeName(CollisionScheme scheme) {
-    return scheme == CollisionScheme::Pairwise ? "pairwise" : "simultaneous";
+    switch (scheme) {
+    case CollisionScheme::Simultaneous: return "simultaneous";
+    case CollisionScheme::Pairwise: return "pairwise";
+    case CollisionScheme::Events: return "events";
+    }
+    return "unknown";
 }
 
 void validate(const WorldDef& world) {
@@ -211,8 +219,10 @@ void validate(const WorldDef& world) {
         fail("boundary code ", static_cast<int>(world.boundary), " is unknown; allowed: walls, periodic");
     if (!(std::isfinite(world.maxTravel) && world.maxTravel >= 0.0f))
         fail("max-travel must be a finite number >= 0 (0 = fixed dt), got ", world.maxTravel);
-    if (world.collisions != CollisionScheme::Simultaneous && world.collisions != CollisionScheme::Pairwise)
-        fail("collision scheme code ", static_cast<int>(world.collisions), " is unknown; allowed: pairwise, simultaneous");
+    if (world.collisions != CollisionScheme::Simultaneous && world.collisions != CollisionScheme::Pairwise &&
+        world.collisions != CollisionScheme::Events)
+        fail("collision scheme code ", static_cast<int>(world.collisions),
+             " is unknown; allowed: pairwise, simultaneous, events");
 }
 
 void validate(const SceneDef& scene) {
@@ -351,7 +361,7 @@ std::vector<std::string> validateStart(const std::vector<Particle>& particles, c
     std::vector<std::string> warnings;
     std::ostringstream text;
     const MotionScale m = motionScale(particles, world);
-    if (m.typical > 0.0 && m.spacings() < kWarnStepSpacings) {
+    if (world.collisions != CollisionScheme::Events && m.typical > 0.0 && m.spacings() < kWarnStepSpacings) {
         text << "a step moves a typical disk by " << m.move() << ", only " << m.spacings()
              << " float32 spacings of the positions in this box: each step may be off by up to "
              << 50.0 / m.spacings() << " %; boxes up to " << largestBoxFor(m.move() / kWarnStepSpacings)

@@ -1,0 +1,117 @@
+// The event-driven scheme (--collisions events): exact hard-disk dynamics on
+// one CPU thread, in double. Disks fly freely (parabolas under gravity)
+// between instantaneous events, taken one at a time in time order:
+//   - disk-disk collisions: the first root of |dx + dv s| = r_i + r_j for an
+//     approaching pair (gravity moves both alike, so their relative motion
+//     stays linear), with the elastic two-body impulse along the centre line;
+//   - wall bounces (reflective walls): the first root of a quadratic;
+//   - cell crossings: a disk moves between the cells of at least one largest
+//     diameter that keep every search local (3 x 3 cells).
+// Each disk holds one scheduled event, the earliest of these; a collision
+// changes two disks' velocities and counters, which makes every event
+// computed with their old motion stale: found lazily when it comes up
+// (partner counters, as in Rapaport's and Marin-Risso-Cordero's codes).
+// The calendar is the complete binary tree of Marin, Risso and Cordero
+// (backends/event_calendar.h).
+//
+// Round-off: an approaching pair found overlapping collides at once and a
+// receding one is never scheduled, so a collision can only repeat after
+// another event changed a velocity; a disk found past a wall or a cell
+// boundary is treated as on it (Bannerman, Lue and Woods 2014). Under
+// gravity a disk resting on a wall sinks at most kRestingDepth below it
+// before it bounces, so resting piles take finite time per event.
+//
+// Backend::step advances the time by dt per step; dt only sets when the
+// state is sampled. The sampled state is the double state projected to the
+// current time and rounded to float, which leaves the double state as it
+// is: sampling never changes the dynamics.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "backends/backend.h"
+#include "backends/event_calendar.h"
+#include "engine/event_state.h"
+
+namespace carom {
+
+// How often each kind of event happened since setParticles or restore.
+struct EventCounts {
+    std::uint64_t collisions = 0;     // disk-disk collisions
+    std::uint64_t wallBounces = 0;    // bounces off a wall
+    std::uint64_t cellCrossings = 0;  // moves from one cell to the next
+    std::uint64_t stale = 0;          // events found stale (a partner changed) and recomputed
+    std::uint64_t overlapping = 0;    // collisions of pairs found overlapping by rounding
+};
+
+// A disk's exact state at the current time, in double.
+struct ExactDisk {
+    double x, y, vx, vy, mass, radius;
+};
+
+class EventDrivenBackend final : public Backend {
+public:
+    explicit EventDrivenBackend(const WorldDef& world);
+
+    std::string name() const override { return "cpu"; }
+    std::string device() const override;
+    bool exactArithmetic() const override { return true; }
+
+    // The state at the current time, rounded to float (periodic positions
+    // wrapped into the box, wall positions kept inside it).
+    void readParticles(std::vector<Particle>& particles) override;
+
+    // The state at the current time in double, in id order.
+    std::vector<ExactDisk> exactState() const;
+    // Kinetic energy, and kinetic minus sum m g.x (the conserved total with
+    // gravity), at the current time, in double.
+    double kineticEnergy() const;
+    double totalEnergy() const;
+    // The current time since setParticles (or the origin of the restored state).
+    double time() const { return now_; }
+    const EventCounts& eventCounts() const { return counts_; }
+    // Cells per row and column of the cell lists (EventDiskState::cell).
+    std::uint32_t columns() const { return columns_; }
+    std::uint32_t rows() const { return rows_; }
+
+    // What a checkpoint keeps, and back: restore() takes a state saved by
+    // a backend of the same world and particles (call setParticles with
+    // the particles first) and continues exactly where it left off; it
+    // throws Error naming the value that does not fit.
+    EventEngineState saveState() const;
+    void restore(const EventEngineState& state);
+
+private:
+    void load(std::vector<Particle> particles) override;
+    void advance(std::uint64_t substeps, float dt) override;
+    float maxSpeedSquared() override;
+    void drainTallies(ContactTotals& totals) override;
+    void motionChanged() override;
+
+    // Implemented in event_driven_backend.cpp.
+    void buildCells();
+    void schedule(std::uint32_t i);
+    void runUntil(double time);
+    void collide(std::uint32_t i, std::uint32_t j);
+    void bounce(std::uint32_t i, std::int32_t wall);
+    void cross(std::uint32_t i, std::int32_t direction);
+    void moveTo(std::uint32_t i, double time);
+    void link(std::uint32_t i);
+    void unlink(std::uint32_t i);
+
+    std::vector<EventDiskState> disks_;
+    std::vector<double> mass_, radius_;
+    std::vector<std::int32_t> head_, next_, previous_;  // cell lists
+    EventCalendar calendar_;
+    double now_ = 0.0;
+    double width_ = 0.0, height_ = 0.0, gx_ = 0.0, gy_ = 0.0;
+    double cellWidth_ = 0.0, cellHeight_ = 0.0, restingDepth_ = 0.0;
+    std::uint32_t columns_ = 1, rows_ = 1;
+    bool periodic_ = false;
+    EventCounts counts_;
+    ContactTotals undrained_;  // collisions, virial and wall impulses since the last drainTallies
+};
+
+}  // namespace carom
