@@ -7,9 +7,11 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <utility>
 
 #include "engine/atomic_file.h"
 #include "engine/resources.h"
+#include "engine/text_format.h"
 
 namespace carom {
 namespace {
@@ -21,10 +23,15 @@ constexpr std::uint32_t kReflectiveWalls = 0;
 constexpr std::uint32_t kPeriodic = 1;
 constexpr std::uint32_t kSimultaneous = 0;
 constexpr std::uint32_t kPairwise = 1;
+constexpr std::uint32_t kEvents = 2;
 constexpr std::uint32_t kOldestVersion = 1;
+constexpr std::uint32_t kFirstEventsVersion = 3;
 constexpr std::size_t kHeaderBytes = 76;
 constexpr std::size_t kVersion1HeaderBytes = 72;  // no collision scheme
+constexpr std::size_t kSchemeOffset = 72;
 constexpr std::size_t kParticleBytes = 24;
+constexpr std::size_t kEventsTimeBytes = 8;  // the events state's time, before its disks
+constexpr std::size_t kEventDiskBytes = 64;  // 6 float64, an int32 and 3 uint32
 constexpr std::size_t kChecksumBytes = 4;
 constexpr const char* kChecksumMismatch = "checksum mismatch: the file is corrupted (a flipped bit or a partial copy)";
 
@@ -47,6 +54,7 @@ public:
         std::memcpy(&bits, &v, sizeof bits);
         u64(bits);
     }
+    void i32(std::int32_t v) { u32(static_cast<std::uint32_t>(v)); }
     std::string& bytes() { return bytes_; }
 
 private:
@@ -72,6 +80,7 @@ public:
         std::memcpy(&v, &bits, sizeof v);
         return v;
     }
+    std::int32_t i32() { return static_cast<std::int32_t>(u32()); }
     void skip(std::size_t bytes) { position_ += bytes; }
 
 private:
@@ -91,13 +100,16 @@ private:
 
 std::size_t headerBytes(std::uint32_t version) { return version == 1 ? kVersion1HeaderBytes : kHeaderBytes; }
 
-std::uint64_t expectedSize(std::uint64_t particles, std::uint32_t version) {
-    return headerBytes(version) + particles * kParticleBytes + kChecksumBytes;
+// kMaxParticles keeps this far from overflowing.
+std::uint64_t expectedSize(std::uint64_t particles, std::uint32_t version, bool events) {
+    return headerBytes(version) + particles * kParticleBytes +
+           (events ? kEventsTimeBytes + particles * kEventDiskBytes : 0) + kChecksumBytes;
 }
 
 struct Header {
     std::uint32_t version = 0;
     std::uint64_t count = 0;  // particles
+    bool events = false;      // the events scheme's state follows the particles
 };
 
 // Checks what the first `available` bytes of a `fileSize`-byte file say
@@ -129,14 +141,83 @@ Header checkHeader(const unsigned char* data, std::size_t available, std::uint64
     if (count < 1 || count > kMaxParticles)
         fail(what, "corrupted header: particle count " + std::to_string(count) + " is outside 1.." +
                        std::to_string(kMaxParticles));
-    const std::uint64_t expected = expectedSize(count, version);
+    // Only version 3 holds the events state; the scheme code is checked after the checksum.
+    Decoder scheme(data + kSchemeOffset);
+    const bool events = version >= kFirstEventsVersion && scheme.u32() == kEvents;
+    const std::uint64_t expected = expectedSize(count, version, events);
+    const std::string particles = std::to_string(count) + " particles" + (events ? " and their events state" : "");
     if (fileSize < expected)
-        fail(what, "truncated: " + std::to_string(fileSize) + " bytes, but " + std::to_string(count) +
-                       " particles need " + std::to_string(expected));
+        fail(what, "truncated: " + std::to_string(fileSize) + " bytes, but " + particles + " need " +
+                       std::to_string(expected));
     if (fileSize > expected)
-        fail(what, std::to_string(fileSize) + " bytes, but " + std::to_string(count) + " particles need " +
-                       std::to_string(expected) + ": trailing bytes (corrupted?)");
-    return Header{version, count};
+        fail(what, std::to_string(fileSize) + " bytes, but " + particles + " need " + std::to_string(expected) +
+                       ": trailing bytes (corrupted?)");
+    return Header{version, count, events};
+}
+
+void encodeEvents(Encoder& out, const EventEngineState& state) {
+    out.f64(state.time);
+    for (const EventDiskState& d : state.disks) {
+        for (double v : {d.x, d.y, d.vx, d.vy, d.time, d.eventTime}) out.f64(v);
+        out.i32(d.event);
+        for (std::uint32_t v : {d.partnerCollisions, d.collisions, d.cell}) out.u32(v);
+    }
+}
+
+EventEngineState decodeEvents(Decoder& in, std::size_t count) {
+    EventEngineState state;
+    state.time = in.f64();
+    state.disks.resize(count);
+    for (EventDiskState& d : state.disks) {
+        for (double* v : {&d.x, &d.y, &d.vx, &d.vy, &d.time, &d.eventTime}) *v = in.f64();
+        d.event = in.i32();
+        for (std::uint32_t* v : {&d.partnerCollisions, &d.collisions, &d.cell}) *v = in.u32();
+    }
+    return state;
+}
+
+// What restore() relies on and the file alone can tell: finite values, event
+// codes that name a kind of event or another disk, no walls in a periodic box.
+// Returns what is wrong, empty when nothing is.
+std::string eventsProblem(const EventEngineState& state, Boundary boundary) {
+    std::string problem;
+    auto number = [&problem](const char* name, double value) {
+        problem += name;
+        problem += ' ';
+        appendNumber(problem, value);
+    };
+    if (!std::isfinite(state.time) || state.time < 0) {
+        number("events state: time", state.time);
+        return problem + " must be a finite number >= 0";
+    }
+    const std::int64_t count = static_cast<std::int64_t>(state.disks.size());
+    for (std::int64_t i = 0; i < count; ++i) {
+        const EventDiskState& d = state.disks[i];
+        problem = "events state: disk " + std::to_string(i) + ": ";
+        const std::pair<const char*, double> values[] = {{"x", d.x},  {"y", d.y}, {"vx", d.vx},
+                                                         {"vy", d.vy}, {"time", d.time}};
+        for (const auto& [name, value] : values)
+            if (!std::isfinite(value)) {
+                number(name, value);
+                return problem + " must be finite";
+            }
+        if (d.event < kEventLowestCode || d.event >= count) {
+            problem += "event code " + std::to_string(d.event) + " is unknown; allowed: " +
+                       std::to_string(kEventLowestCode) + " to -1 (kinds of event) or a partner id from 0 to " +
+                       std::to_string(count - 1);
+            return problem;
+        }
+        if (d.event == i) return problem + "its event is a collision with itself (event code " + std::to_string(i) + ")";
+        if (boundary == Boundary::Periodic && d.event <= kEventWallLeft && d.event >= kEventWallTop)
+            return problem + "event code " + std::to_string(d.event) + " is a wall bounce, but the box is periodic";
+        const bool none = d.event == kEventNone;
+        if (none ? d.eventTime != HUGE_VAL : !std::isfinite(d.eventTime)) {
+            number("event time", d.eventTime);
+            return problem + (none ? " must be +infinity for event code -1 (no event)"
+                                   : " must be finite for event code " + std::to_string(d.event));
+        }
+    }
+    return {};
 }
 
 }  // namespace
@@ -158,7 +239,13 @@ std::uint32_t crc32(const unsigned char* data, std::size_t size) {
 
 std::string encodeCheckpoint(const Checkpoint& c) {
     Encoder out;
-    out.bytes().reserve(expectedSize(c.particles.size(), kCheckpointVersion));
+    const bool events = c.world.collisions == CollisionScheme::Events;
+    if (events != c.events.has_value() || (events && c.events->disks.size() != c.particles.size()))
+        throw Error(std::string("a checkpoint holds the engine's state exactly with the events scheme (here ") +
+                    collisionSchemeName(c.world.collisions) + ", " +
+                    (c.events ? std::to_string(c.events->disks.size()) + " disks in the state" : "no state") +
+                    ", " + std::to_string(c.particles.size()) + " particles)");
+    out.bytes().reserve(expectedSize(c.particles.size(), kCheckpointVersion, events));
     out.bytes().append(kMagic, sizeof kMagic);
     out.u32(kByteOrderMark);
     out.u32(kCheckpointVersion);
@@ -168,9 +255,10 @@ std::string encodeCheckpoint(const Checkpoint& c) {
     out.u64(c.step);
     out.f64(c.time);
     out.u64(c.collisions);
-    out.u32(c.world.collisions == CollisionScheme::Pairwise ? kPairwise : kSimultaneous);
+    out.u32(events ? kEvents : c.world.collisions == CollisionScheme::Pairwise ? kPairwise : kSimultaneous);
     for (const Particle& p : c.particles)
         for (float v : {p.position.x, p.position.y, p.velocity.x, p.velocity.y, p.mass, p.radius}) out.f32(v);
+    if (events) encodeEvents(out, *c.events);
     const std::string& bytes = out.bytes();
     out.u32(crc32(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size()));
     return std::move(out.bytes());
@@ -206,22 +294,28 @@ Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& what) {
         p.mass = in.f32();
         p.radius = in.f32();
     }
+    if (header.events) c.events = decodeEvents(in, header.count);
 
     // A valid checksum over invalid values: written by something other than carom.
     if (boundary != kReflectiveWalls && boundary != kPeriodic)
         fail(what, "boundary code " + std::to_string(boundary) +
                        " is unknown; allowed: 0 (reflective walls), 1 (periodic)");
     c.world.boundary = boundary == kPeriodic ? Boundary::Periodic : Boundary::Walls;
-    if (scheme != kSimultaneous && scheme != kPairwise)
-        fail(what, "collision scheme code " + std::to_string(scheme) +
-                       " is unknown; allowed: 0 (simultaneous), 1 (pairwise)");
-    c.world.collisions = scheme == kPairwise ? CollisionScheme::Pairwise : CollisionScheme::Simultaneous;
+    if (scheme != kSimultaneous && scheme != kPairwise && !header.events)
+        fail(what, "collision scheme code " + std::to_string(scheme) + " is unknown in format version " +
+                       std::to_string(header.version) + "; allowed: 0 (simultaneous), 1 (pairwise)" +
+                       (header.version >= kFirstEventsVersion ? ", 2 (events)" : ""));
+    c.world.collisions = header.events         ? CollisionScheme::Events
+                         : scheme == kPairwise ? CollisionScheme::Pairwise
+                                               : CollisionScheme::Simultaneous;
     if (!std::isfinite(c.time) || c.time < 0) fail(what, "time must be a finite number >= 0");
     try {
         validateParticles(c.particles, c.world, "particles");
     } catch (const Error& e) {
         fail(what, e.what());
     }
+    if (c.events)
+        if (const std::string problem = eventsProblem(*c.events, c.world.boundary); !problem.empty()) fail(what, problem);
     return c;
 }
 

@@ -116,7 +116,7 @@ def test_checkpoint_layout():
         magic, mark, version, count = struct.unpack_from("<8sIIQ", data, 0)
         width, height, dt, gx, gy, boundary, step, sim_time, collisions, scheme_code = \
             struct.unpack_from("<5fIQdQI", data, 24)
-        assert (magic, mark, version, count) == (b"CAROMCKP", 0x01020304, 2, 5)
+        assert (magic, mark, version, count) == (b"CAROMCKP", 0x01020304, 3, 5)
         assert (width, height, gx, gy, boundary, step, scheme_code) == (20, 20, 0, -1, 0, 30, code), scheme
         assert abs(dt - 0.02) < 1e-7 and abs(sim_time - 30 * dt) < 1e-12
         assert len(data) == 76 + 24 * count + 4

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iterator>
 
+#include "checkpoint_support.h"
 #include "engine/checkpoint.h"
 #include "support.h"
 
@@ -15,25 +16,11 @@ using namespace carom::test;
 
 namespace {
 
-struct Scenario {
-    WorldDef world;
-    std::vector<Particle> particles;
-};
-
 // Polydisperse, unequal masses, under gravity: every field of the state matters.
 Scenario polydisperseScenario() {
-    SceneDef scene;
-    scene.particles = 1500;
-    scene.packing = 0.4f;
-    scene.radiusMin = 0.5f;
-    scene.radiusMax = 1.2f;
-    scene.massMin = 0.5f;
-    scene.massMax = 4.0f;
-    scene.speed = 1.5f;
-    const InitialState s = makeInitialState(scene);
-    WorldDef world = box(s.width, s.height, 0.005f);
-    world.gravity = float2{0.0f, -0.5f};
-    return Scenario{world, s.particles};
+    Scenario scenario = polydisperseDisks(1500, 0.005f);
+    scenario.world.gravity = float2{0.0f, -0.5f};
+    return scenario;
 }
 
 bool sameBits(const std::vector<Particle>& a, const std::vector<Particle>& b) {
@@ -54,15 +41,6 @@ Checkpoint runAndCheckpoint(const std::string& kind, const Checkpoint& start, st
     return end;
 }
 
-std::string errorOf(const std::string& bytes) {
-    try {
-        decodeCheckpoint(bytes, "c.ckpt");
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "";
-}
-
 std::string small() {
     Checkpoint c;
     c.world = box(10, 10);
@@ -73,19 +51,9 @@ std::string small() {
     return encodeCheckpoint(c);
 }
 
-void putU32(std::string& bytes, std::size_t offset, std::uint32_t v) {
-    for (int i = 0; i < 4; ++i) bytes[offset + i] = static_cast<char>(v >> (8 * i));
-}
-
-// Rewrites the trailing checksum, as if the bytes had been written so.
-void reseal(std::string& bytes) {
-    const std::size_t checked = bytes.size() - 4;
-    putU32(bytes, checked, crc32(reinterpret_cast<const unsigned char*>(bytes.data()), checked));
-}
-
 // 2N steps in one run equal N steps, a checkpoint and N resumed, on `kind`.
 void checkResumeBitForBit(const std::string& kind, const Scenario& scenario, std::uint64_t half) {
-    const Checkpoint start{scenario.world, 0, 0.0, 0, scenario.particles};
+    const Checkpoint start{scenario.world, 0, 0.0, 0, scenario.particles, std::nullopt};
     const Checkpoint whole = runAndCheckpoint(kind, start, 2 * half);
     writeCheckpoint("half.ckpt", runAndCheckpoint(kind, start, half));
     const Checkpoint halfway = readCheckpoint("half.ckpt");
@@ -183,11 +151,11 @@ TEST_CASE("checkpoint: a version-1 file (before the collision schemes) reads as 
     expected.particles = {disk(3, 4, 0.5f, -0.25f, 2, 1), disk(9, 4, -1, 0, 1, 0.75f)};
     const Checkpoint c = decodeCheckpoint(bytes, "v1.ckpt");
     CHECK(c.world.collisions == CollisionScheme::Simultaneous);
-    // Every field, bit for bit; written again, it is a version-2 file.
+    // Every field, bit for bit; written again, it is a version-3 file.
     const std::string rewritten = encodeCheckpoint(c);
     CHECK(rewritten == encodeCheckpoint(expected));
     CHECK(rewritten.size() == bytes.size() + 4);
-    CHECK(rewritten[12] == 2);
+    CHECK(rewritten[12] == 3);
 
     CHECK(errorOf(bytes.substr(0, 70)).find("shorter than the 72-byte header") != std::string::npos);
 }
@@ -203,7 +171,7 @@ TEST_CASE("checkpoint: a run resumed on another backend continues bit for bit wh
         MESSAGE("the OpenCL device lacks correctly rounded divide/sqrt: the backends do not agree bitwise");
         return;
     }
-    const Checkpoint start{scenario.world, 0, 0.0, 0, scenario.particles};
+    const Checkpoint start{scenario.world, 0, 0.0, 0, scenario.particles, std::nullopt};
     const Checkpoint whole = runAndCheckpoint("cpu", start, 2000);
     for (const auto& [first, second] : {std::pair{"cpu", "opencl"}, std::pair{"opencl", "cpu"}}) {
         CAPTURE(first);
@@ -242,11 +210,11 @@ TEST_CASE("checkpoint: every flipped bit is refused") {
 TEST_CASE("checkpoint: wrong files are refused with what is wrong") {
     const std::string bytes = small();
     std::string version = bytes;
-    putU32(version, 12, 3);
-    CHECK(errorOf(version).find("format version 3; this carom reads versions 1 to 2 (written by a newer carom?)") !=
+    putU32(version, 12, 4);
+    CHECK(errorOf(version).find("format version 4; this carom reads versions 1 to 3 (written by a newer carom?)") !=
           std::string::npos);
     putU32(version, 12, 0);
-    CHECK(errorOf(version).find("format version 0; this carom reads versions 1 to 2") != std::string::npos);
+    CHECK(errorOf(version).find("format version 0; this carom reads versions 1 to 3") != std::string::npos);
     CHECK(errorOf(version).find("newer") == std::string::npos);
 
     std::string swapped = bytes;
@@ -282,10 +250,10 @@ TEST_CASE("checkpoint: a valid checksum over invalid values is still refused") {
     CHECK(errorOf(encodeCheckpoint(c)).find("time must be a finite number >= 0") != std::string::npos);
     c.time = 0;
     std::string scheme = encodeCheckpoint(c);
-    putU32(scheme, 72, 2);
+    putU32(scheme, 72, 3);
     reseal(scheme);
-    CHECK(errorOf(scheme).find("collision scheme code 2 is unknown; allowed: 0 (simultaneous), 1 (pairwise)") !=
-          std::string::npos);
+    CHECK(errorOf(scheme).find("collision scheme code 3 is unknown in format version 3; allowed: 0 (simultaneous), "
+                               "1 (pairwise), 2 (events)") != std::string::npos);
 }
 
 TEST_CASE("checkpoint: a failed write leaves the previous checkpoint in place") {
