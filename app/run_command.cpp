@@ -28,6 +28,7 @@
 #include "app/number_options.h"
 #include "app/stop_signals.h"
 #include "backends/backend.h"
+#include "backends/event_driven_backend.h"
 #include "engine/atomic_file.h"
 #include "engine/checkpoint.h"
 #include "engine/diagnostics.h"
@@ -85,6 +86,7 @@ struct Start {
     std::uint64_t collisions = 0;  // collisions before this run
     std::uint64_t steps = 0;       // steps this run takes
     bool resumed = false;          // from a checkpoint, whose step the previous run sampled
+    std::optional<EventEngineState> events;  // the events scheme's exact state, from the checkpoint
     OutputDef outputs;
     std::vector<NamedFile> outputFiles;  // outputs' paths with their names, for the checks and messages
     std::vector<NamedFile> inputFiles;   // the files this run reads: no output may replace them
@@ -114,7 +116,9 @@ Start planRun(const RunOptions& o) {
         start.step = c.step;
         start.collisions = c.collisions;
         start.resumed = true;
+        start.events = std::move(c.events);
         start.world.maxTravel = o.scene.world.maxTravel;  // a run option, not part of the checkpoint
+        refuseSubstepsWithEvents(start.world, maxTravelOption(start.world.maxTravel));
     } else {
         Setup setup = makeSetup(o.scene);
         start.world = setup.world;
@@ -194,11 +198,20 @@ public:
                     std::uint64_t collisions) {
         if (checkpointStep_ == step) return;
         attempt(kCheckpoint, [&] {
-            writeCheckpoint(def_.checkpoint,
-                            Checkpoint{world, step, double(step) * world.dt, collisions, particles});
+            Checkpoint c;
+            c.world = world;
+            c.step = step;
+            c.time = double(step) * world.dt;
+            c.collisions = collisions;
+            c.particles = particles;
+            if (engine_) c.events = engine_->saveState();
+            writeCheckpoint(def_.checkpoint, c);
             checkpointStep_ = step;
         });
     }
+
+    // The events scheme's engine, whose exact state each checkpoint keeps.
+    void keepStateOf(const EventDrivenBackend* engine) { engine_ = engine; }
 
     // Renames the trajectory and statistics into place: every frame and row
     // in them is complete.
@@ -272,10 +285,7 @@ public:
         if (!def_.trajectory.empty() && failures_[kTrajectory].empty())
             command += " --trajectory " + shellWord(def_.trajectory);
         if (!def_.stats.empty() && failures_[kStats].empty()) command += " --stats " + shellWord(def_.stats);
-        if (maxTravel_ > 0.0f) {
-            command += " --max-travel ";
-            appendNumber(command, maxTravel_);
-        }
+        if (maxTravel_ > 0.0f) command += " " + maxTravelOption(maxTravel_);
         return command + " --every " + std::to_string(def_.every);
     }
 
@@ -341,6 +351,7 @@ private:
     OutputDef def_;
     bool resumed_;     // from a checkpoint: the trajectory and statistics are appended to
     float maxTravel_;  // the run's --max-travel, which a resumed run must be given again
+    const EventDrivenBackend* engine_ = nullptr;  // with the events scheme
     std::optional<TrajectoryWriter> trajectory_;
     std::optional<StatsWriter> stats_;
     std::optional<std::uint64_t> trajectoryStep_, statsStep_;  // of the last frame and row written
@@ -430,6 +441,17 @@ nlohmann::json pair(double x, double y) { return nlohmann::json::array({x, y}); 
 // A run whose energy changes by more than this fraction gets a warning.
 constexpr double kEnergyWarningChange = 0.01;
 
+// The events scheme's own account of a run: what happened, and the total
+// energy of its double state, whose change the float32 samples show only to
+// their rounding.
+struct EventsResult {
+    EventCounts counts;
+    double initialEnergy = 0.0, finalEnergy = 0.0;  // EventDrivenBackend::totalEnergy
+    double relativeChange() const {
+        return initialEnergy != 0.0 ? (finalEnergy - initialEnergy) / std::fabs(initialEnergy) : 0.0;
+    }
+};
+
 struct Result {
     std::uint64_t firstStep = 0, lastStep = 0;
     double seconds = 0.0;
@@ -438,6 +460,7 @@ struct Result {
     ContactTotals contacts;        // during this run
     double initialTemperature = 0.0, finalTemperature = 0.0;
     bool interrupted = false;
+    std::optional<EventsResult> events;  // with the events scheme
 
     // Pressure and rates over the run, at the mean of the first and last kT.
     Thermodynamics thermodynamics(const Backend& backend) const {
@@ -470,6 +493,14 @@ void printSummary(const Backend& backend, const Result& r, const std::string& re
     if (w.collisions == CollisionScheme::Pairwise)
         std::printf("  scheme       pairwise (at most %u collision rounds per substep, %llu late contacts)\n",
                     r.contacts.maxRounds, static_cast<unsigned long long>(r.contacts.lateContacts));
+    else if (r.events)
+        std::printf("  scheme       events (%llu collisions, %llu wall bounces, %llu cell crossings; %llu stale and "
+                    "%llu overlapping events)\n",
+                    static_cast<unsigned long long>(r.events->counts.collisions),
+                    static_cast<unsigned long long>(r.events->counts.wallBounces),
+                    static_cast<unsigned long long>(r.events->counts.cellCrossings),
+                    static_cast<unsigned long long>(r.events->counts.stale),
+                    static_cast<unsigned long long>(r.events->counts.overlapping));
     else
         std::printf("  scheme       %s\n", collisionSchemeName(w.collisions));
     std::printf("  wall time    %.3f s, %.3g particle-steps/s\n", r.seconds,
@@ -482,6 +513,10 @@ void printSummary(const Backend& backend, const Result& r, const std::string& re
     else
         std::printf("  energy       %.9g -> %.9g (relative change %+.2e)\n", r.initial.kineticEnergy,
                     r.final.kineticEnergy, energyChange(r));
+    if (r.events)
+        std::printf("               %s in double, the engine's state: %.17g -> %.17g (relative change %+.2e)\n",
+                    hasGravity(w) ? "total" : "kinetic", r.events->initialEnergy, r.events->finalEnergy,
+                    r.events->relativeChange());
     std::printf("  momentum     (%.6g, %.6g) -> (%.6g, %.6g)\n", r.initial.momentum[0], r.initial.momentum[1],
                 r.final.momentum[0], r.final.momentum[1]);
     std::printf("  collisions   %llu, max overlap %.3g, escaped %zu\n",
@@ -538,6 +573,15 @@ void printJson(const Backend& backend, const Result& r) {
         {"temperature", r.finalTemperature},
         {"collision_rate", t.collisionRate},
     };
+    if (r.events) {
+        const EventCounts& counts = r.events->counts;
+        summary["events"] = {{"collisions", counts.collisions},       {"wall_bounces", counts.wallBounces},
+                             {"cell_crossings", counts.cellCrossings}, {"stale", counts.stale},
+                             {"overlapping", counts.overlapping}};
+        // The float32 samples' energies above change by their rounding; the engine's double state by its own.
+        summary["energy"]["exact_total"] = {{"initial", r.events->initialEnergy}, {"final", r.events->finalEnergy}};
+        summary["energy"]["exact_relative_change"] = r.events->relativeChange();
+    }
     if (w.boundary == Boundary::Periodic) {
         summary["pressure"] = {{"virial", t.virialPressure}, {"Z", t.virialZ}};
     } else {
@@ -592,9 +636,10 @@ std::uint64_t runSteps(Backend& backend, Start& start, std::uint64_t last, Outpu
 }
 
 // The simultaneous scheme does not conserve energy in dense gases (it
-// heats them); the pairwise scheme does, so a change there is a bug.
+// heats them); the pairwise and events schemes do, so a change there is a
+// bug (the events scheme's measured in double, on its exact state).
 void warnAboutEnergy(const Result& r, const WorldDef& world) {
-    const double change = energyChange(r);
+    const double change = r.events ? r.events->relativeChange() : energyChange(r);
     if (!(std::fabs(change) > kEnergyWarningChange)) return;
     std::fprintf(stderr, "carom: warning: the %s energy changed by %+.3g %% over this run",
                  hasGravity(world) ? "total" : "kinetic", 100 * change);
@@ -602,8 +647,8 @@ void warnAboutEnergy(const Result& r, const WorldDef& world) {
         std::fprintf(stderr, ": the simultaneous collision scheme does not conserve it in dense or crowded "
                              "systems; use --collisions pairwise, or a smaller --dt\n");
     else
-        std::fprintf(stderr, ", although the pairwise scheme conserves it: this is a bug in carom; please "
-                             "report it with the command line\n");
+        std::fprintf(stderr, ", although the %s scheme conserves it: this is a bug in carom; please report it "
+                             "with the command line\n", collisionSchemeName(world.collisions));
 }
 
 // What each output holds (the samples end at the last multiple of --every,
@@ -643,6 +688,17 @@ int runCommand(const RunOptions& o) {
     Outputs outputs(start);
     std::unique_ptr<Backend> backend = makeBackend(o.scene.backend, start.world);
     backend->setParticles(start.particles, start.step);
+    // The events scheme's engine (makeBackend gives it for that scheme only)
+    // continues from its exact state, and its checkpoints keep that state.
+    auto* engine = dynamic_cast<EventDrivenBackend*>(backend.get());
+    if (start.events) {
+        try {
+            engine->restore(*start.events);
+        } catch (const Error& e) {
+            throw Error("checkpoint '" + o.resume + "': " + e.what());
+        }
+    }
+    outputs.keepStateOf(engine);
     if (const std::string slow = gridCostWarning(start.particles, start.world); !slow.empty())
         std::cerr << "carom: warning: " << slow << '\n';
 
@@ -650,6 +706,7 @@ int runCommand(const RunOptions& o) {
     r.firstStep = start.step;
     r.initial = measure(start.particles, start.world);
     r.initialTemperature = temperature(start.particles, start.world.boundary);
+    if (engine) r.events.emplace().initialEnergy = engine->totalEnergy();
     const std::uint64_t last = start.step + start.steps;
     Progress progress(!o.quiet && !o.json && stderrIsTerminal(), start.step, last);
     const auto began = std::chrono::steady_clock::now();
@@ -661,6 +718,10 @@ int runCommand(const RunOptions& o) {
     r.finalTemperature = temperature(start.particles, start.world.boundary);
     r.contacts = backend->contacts();
     r.collisions = r.contacts.collisions;
+    if (engine) {
+        r.events->counts = engine->eventCounts();
+        r.events->finalEnergy = engine->totalEnergy();
+    }
     outputs.finish(r.lastStep, start.world, start.particles, start.collisions + r.collisions);
     if (outputs.failed()) throw outputFailure(outputs, r.lastStep, last);
 

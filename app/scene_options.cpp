@@ -188,7 +188,9 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
             }
         },
         "How collisions are resolved: pairwise (binary elastic collisions at their exact contact times; energy "
-        "is conserved) or simultaneous (the seed's scheme: impulses from the state before the step, summed)");
+        "is conserved), simultaneous (the seed's scheme: impulses from the state before the step, summed) or "
+        "events (exact event-driven dynamics in double on one CPU thread; --dt only sets when the state is "
+        "sampled)");
 
     auto* input = command.add_option("--input-state", o.inputState,
                                      "Start from the particles in this CSV (id,x,y,vx,vy,mass,radius); needs --box");
@@ -205,7 +207,29 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
         tracked(overriding, o.given);
 }
 
-Setup makeSetup(const SceneOptions& o) {
+void refuseSubstepsWithEvents(const WorldDef& world, const std::string& asked) {
+    if (world.collisions != CollisionScheme::Events || world.maxTravel == 0.0f) return;
+    throw Error(asked + " splits steps into substeps, but the events scheme has no steps to split (it moves the "
+                        "disks exactly from event to event; --dt only sets when the state is sampled): leave it "
+                        "out, or use --collisions pairwise");
+}
+
+std::string maxTravelOption(float maxTravel) {
+    std::string option = "--max-travel ";
+    appendNumber(option, maxTravel);
+    return option;
+}
+
+namespace {
+
+// What asked a setup's world for substeps, for refuseSubstepsWithEvents.
+std::string substepsSource(const SceneOptions& o) {
+    if (o.given.count("--max-travel")) return maxTravelOption(o.world.maxTravel);
+    if (o.dtAuto) return "--dt auto";
+    return "the scene file '" + o.sceneFile + "' (max_travel or dt = \"auto\")";
+}
+
+Setup makeSetupOf(const SceneOptions& o) {
     if (o.dtAuto && o.given.count("--max-travel") && o.world.maxTravel == 0.0f) {
         std::string message = "--dt auto splits each step so that no disk moves more than --max-travel radii; "
                               "--max-travel 0 turns that off: give --max-travel > 0 (without it, ";
@@ -240,6 +264,14 @@ Setup makeSetup(const SceneOptions& o) {
     setup.world.height = initial.height;
     validate(setup.world);
     setup.particles = std::move(initial.particles);
+    return setup;
+}
+
+}  // namespace
+
+Setup makeSetup(const SceneOptions& o) {
+    Setup setup = makeSetupOf(o);
+    refuseSubstepsWithEvents(setup.world, substepsSource(o));
     return setup;
 }
 

@@ -49,4 +49,11 @@ struct Setup {
 // and for requests that cannot fit in memory, before allocating them.
 Setup makeSetup(const SceneOptions& options);
 
+// The events scheme has no steps to split: throws Error, naming `asked` (what
+// asked for the substeps: "--max-travel 0.5", "--dt auto", a scene file),
+// when `world` has it with substeps (maxTravel > 0).
+void refuseSubstepsWithEvents(const WorldDef& world, const std::string& asked);
+// "--max-travel 0.5", for messages.
+std::string maxTravelOption(float maxTravel);
+
 }  // namespace carom::app

@@ -862,6 +862,142 @@ def test_memory_check_uses_available_memory():
     assert abs(named - (available >> 20)) < 0.05 * (available >> 20), (named, available >> 20)
 
 
+# --- The events scheme (--collisions events, issue 12) ---
+
+EVENTS_DISKS = ["--particles", 300, "--packing", 0.45, "--radius-min", 0.5, "--radius-max", 1.2,
+                "--mass-min", 0.5, "--mass-max", 4, "--speed", 1.5, "--seed", 7, "--dt", 0.01,
+                "--collisions", "events"]
+EVENTS_SCENES = {"periodic": [*EVENTS_DISKS, "--boundary", "periodic"],
+                 "walls-gravity": [*EVENTS_DISKS, "--boundary", "walls", "--gravity", 0, -0.5]}
+
+
+def reseal(data):
+    """The bytes with their trailing CRC-32 rewritten, as carom would have written them."""
+    return data[:-4] + struct.pack("<I", zlib.crc32(data[:-4]))
+
+
+def test_events_checkpoint_layout():
+    """An events run's checkpoint is format version 3 with scheme code 2 and holds, after the float32
+    particles, the engine's time and 64 bytes per disk (checkpoint.h): each disk's double state at its
+    own time, projected to the engine's time, is the float32 particle; every event is pending (at or
+    after that time) and names a kind of event or another disk; no event means an infinite time."""
+    d = work("events-layout")
+    ckpt = os.path.join(d, "c.ckpt")
+    n, dt, steps, gravity = 60, 0.02, 30, -1.0
+    carom("run", "--backend", "cpu", "--particles", n, "--box", 40, 40, "--radius-min", 0.5, "--radius-max", 1.5,
+          "--steps", steps, "--dt", dt, "--gravity", 0, gravity, "--collisions", "events", "--checkpoint", ckpt)
+    data = read_bytes(ckpt)
+    magic, mark, version, count = struct.unpack_from("<8sIIQ", data, 0)
+    assert (magic, mark, version, count) == (b"CAROMCKP", 0x01020304, 3, n)
+    step, sim_time, _, scheme_code = struct.unpack_from("<QdQI", data, 48)
+    assert (step, scheme_code) == (steps, 2)
+    assert len(data) == 76 + 24 * n + 8 + 64 * n + 4
+    assert struct.unpack_from("<I", data, len(data) - 4)[0] == zlib.crc32(data[:-4])
+    (now,) = struct.unpack_from("<d", data, 76 + 24 * n)
+    assert abs(now - sim_time) < 1e-9, (now, sim_time)
+    for i in range(n):
+        x, y, vx, vy, t, event_time, event, _, _, _ = struct.unpack_from("<6di3I", data, 84 + 24 * n + 64 * i)
+        px, py, pvx, pvy = struct.unpack_from("<4f", data, 76 + 24 * i)
+        s = now - t
+        assert 0 <= s, (i, t, now)
+        projected = (x + vx * s, y + vy * s + 0.5 * gravity * s * s, vx, vy + gravity * s)
+        for got, want in zip((px, py, pvx, pvy), projected):
+            assert abs(got - want) <= 1e-5 * max(1.0, abs(want)), (i, got, want)
+        assert -9 <= event < n and event != i, (i, event)
+        assert (event == -1) == (event_time == float("inf")), (i, event, event_time)
+        assert event_time >= now, (i, event_time, now)
+
+
+def test_events_resume_continues_bit_for_bit():
+    """200 steps of the events scheme in one run equal 100 steps and 100 resumed from the checkpoint
+    (the checkpoint keeps the engine's exact state), periodic and with walls and gravity: the final
+    state and checkpoint, and the trajectory and statistics the resumed run appends to, byte for byte."""
+    for name, scene in EVENTS_SCENES.items():
+        d = work(f"events-resume-{name}")
+        whole = run_with_outputs(d, "cpu", "whole", *scene, "--steps", 200)
+        one = run_with_outputs(d, "cpu", "one", *scene, "--steps", 100)
+        two_state = os.path.join(d, "two.state")
+        out, _ = carom("run", "--backend", "cpu", "--resume", one["ckpt"], "--steps", 100, "--every", 20,
+                       "--trajectory", one["xyz"], "--stats", one["csv"], "--checkpoint", one["ckpt"],
+                       "--output-state", two_state, "--quiet")
+        assert "  scheme       events (" in out, out
+        assert read_bytes(whole["state"]) == read_bytes(two_state), name
+        for kind in ("ckpt", "xyz", "csv"):
+            assert read_bytes(whole[kind]) == read_bytes(one[kind]), (name, kind)
+        with open(whole["csv"]) as f:
+            assert [int(r["step"]) for r in csv.DictReader(f)] == list(range(0, 201, 20)), name
+        no_partial_files(d)
+
+
+def test_events_json_and_summary():
+    """--json reports the scheme, the engine's event counts (its collisions are the run's) and the
+    change of the total energy of its double state, within 1e-12 relative over the run, where the
+    float32 samples only show their rounding; the text summary prints the same figures; no energy
+    warning."""
+    for name, scene in EVENTS_SCENES.items():
+        args = ["run", "--backend", "cpu", *scene, "--steps", 100, "--quiet"]
+        out, err = carom(*args, "--json")
+        summary = json.loads(out)
+        assert summary["scheme"] == "events", summary
+        events = summary["events"]
+        assert set(events) == {"collisions", "wall_bounces", "cell_crossings", "stale", "overlapping"}, events
+        assert events["collisions"] == summary["collisions"] > 0, (events, summary["collisions"])
+        assert events["cell_crossings"] > 0, events
+        assert (events["wall_bounces"] > 0) == (name == "walls-gravity"), (name, events)
+        energy = summary["energy"]
+        exact = energy["exact_total"]
+        change = energy["exact_relative_change"]
+        assert change == (exact["final"] - exact["initial"]) / abs(exact["initial"]), energy
+        assert abs(change) < 1e-12, (name, change)
+        for moment in ("initial", "final"):  # the same energy, from float32 samples
+            assert abs(exact[moment] - energy["total"][moment]) < 1e-5 * abs(exact[moment]), (name, energy)
+        assert ENERGY_WARNING not in err, err
+
+        text, _ = carom(*args)
+        expected = (f"  scheme       events ({events['collisions']} collisions, {events['wall_bounces']} wall "
+                    f"bounces, {events['cell_crossings']} cell crossings; {events['stale']} stale and "
+                    f"{events['overlapping']} overlapping events)")
+        assert expected in text, (expected, text)
+        total = "total" if name == "walls-gravity" else "kinetic"
+        assert f"               {total} in double, the engine's state: " in text, text
+        assert f"(relative change {change:+.2e})" in text, (change, text)
+
+
+def test_events_resume_refusals():
+    """Resuming an events checkpoint with substeps (--max-travel) or on OpenCL is refused, naming what
+    to use; so is a checkpoint whose engine state is forged (valid checksum): an unknown event code by
+    the reader, a cell outside the grid by the engine; and one cut short. Nothing is written."""
+    d = work("events-refusals")
+    ckpt, state = os.path.join(d, "c.ckpt"), os.path.join(d, "end.csv")
+    n = 50
+    carom("run", "--backend", "cpu", "--particles", n, "--steps", 10, "--collisions", "events", "--checkpoint", ckpt)
+    resume = ["run", "--backend", "cpu", "--steps", 10, "--output-state", state]
+    err = refused(*resume, "--resume", ckpt, "--max-travel", 0.3)
+    assert "--max-travel 0.3 splits steps into substeps, but the events scheme has no steps to split" in err, err
+    if "opencl" in ARGS.backends.split(","):
+        err = refused("run", "--backend", "opencl", "--steps", 10, "--resume", ckpt, "--output-state", state)
+        assert "--collisions events runs on the CPU only (one thread, double precision): use --backend cpu" in err
+
+    data = bytearray(read_bytes(ckpt))
+    disks = 84 + 24 * n
+    forged = os.path.join(d, "forged.ckpt")
+    for offset, value, message in ((disks + 48, -12, r"events state: disk 0: event code -12 is unknown; allowed: "
+                                                     r"-9 to -1 \(kinds of event\) or a partner id from 0 to 49"),
+                                   (disks + 64 * 3 + 60, 1 << 30, r"checkpoint '.*forged.ckpt': .*cell")):
+        changed = bytearray(data)
+        struct.pack_into("<i", changed, offset, value)
+        with open(forged, "wb") as f:
+            f.write(reseal(bytes(changed)))
+        err = refused(*resume, "--resume", forged)
+        assert re.search(message, err), (message, err)
+    with open(forged, "wb") as f:
+        f.write(reseal(bytes(data[:-68]) + bytes(4)))  # a disk short
+    err = refused(*resume, "--resume", forged)
+    assert f"but {n} particles and their events state need {len(data)}" in err, err
+    assert not os.path.exists(state)
+    no_partial_files(d)
+
+
 def main():
     global ARGS
     parser = argparse.ArgumentParser()
