@@ -33,3 +33,14 @@ if(Python3_Interpreter_FOUND)
     endforeach()
 endif()
 
+# The viewer runs the events scheme (under gravity, where parabolic flights
+# and wall bounces matter): the headless line names the scheme, and the
+# total energy of the engine's double state drifts by less than 1e-12.
+if(CAROM_HAVE_VIEWER)
+    add_test(NAME view.events_gravity
+             COMMAND ${CMAKE_COMMAND} -DCAROM=$<TARGET_FILE:carom> -DOUT_DIR=${CMAKE_CURRENT_BINARY_DIR}/view/events
+                     "-DARGS=view|--backend|cpu|--particles|300|--gravity|0|-1|--collisions|events|--window|400|300|--frames|20"
+                     "-DOUTPUT_REGEX=20 frames of 300 disks, events collisions, total energy drift ([+-]0|[+-][0-9.]+e-(1[2-9]|[2-9][0-9]|[1-9][0-9][0-9])) over 0.8 time units"
+                     -P ${CMAKE_CURRENT_SOURCE_DIR}/run_viewer.cmake)
+    set_tests_properties(view.events_gravity PROPERTIES RESOURCE_LOCK xvfb)
+endif()

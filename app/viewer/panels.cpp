@@ -142,11 +142,18 @@ void Viewer::drawPanels() {
         ImGui::Text("%zu disks, %.0f frames/s, %.3f ms per step", particles_.size(), ImGui::GetIO().Framerate,
                     simMsPerStep_);
         ImGui::Text("collisions per second: %.0f", collisionsPerSecond_);
+        if (engine_) {
+            const EventCounts& counts = engine_->eventCounts();
+            ImGui::Text("events: %llu wall bounces, %llu cell crossings",
+                        static_cast<unsigned long long>(counts.wallBounces),
+                        static_cast<unsigned long long>(counts.cellCrossings));
+        }
         energyPlot(energyHistory_, gravityOn_);
-        ImGui::Text("total energy %.6g, drift %+.2e", diagnostics_.totalEnergy(), relativeEnergyDrift());
+        ImGui::Text("total energy %.6g, drift %+.2e", totalEnergy(), relativeEnergyDrift());
         ImGui::PushTextWrapPos(0.0f);
-        ImGui::TextDisabled("drift: the relative change over the last %.4g time units, since the scene, a grab, a "
-                            "burst or gravity last changed the energy", driftTime_);
+        ImGui::TextDisabled("drift: the relative change%s over the last %.4g time units, since the scene, a grab, a "
+                            "burst or gravity last changed the energy",
+                            engine_ ? " of the engine's double state" : "", driftTime_);
         ImGui::PopTextWrapPos();
         ImGui::Text("momentum (%.4g, %.4g)", diagnostics_.momentum[0], diagnostics_.momentum[1]);
         plot("##momentum", momentumHistory_);

@@ -156,6 +156,7 @@ void Viewer::start(app::Setup setup) {
         std::cerr << "carom: warning: " << warning << '\n';
     initial_ = std::move(setup);
     backend_ = makeBackend(options_.scene.backend, world);
+    engine_ = dynamic_cast<const EventDrivenBackend*>(backend_.get());
     particles_ = initial_.particles;
     collisionsBeforeUpload_ = collisionsAtLastReadout_ = 0;
     backend_->setParticles(particles_);
@@ -178,12 +179,14 @@ void Viewer::upload() {
 }
 
 void Viewer::restartEnergyDrift() {
-    energyAtDriftStart_ = measureMotion(particles_, backend_->world()).totalEnergy();
+    energyAtDriftStart_ = engine_ ? engine_->totalEnergy() : measureMotion(particles_, backend_->world()).totalEnergy();
     driftTime_ = 0.0;
 }
 
+double Viewer::totalEnergy() const { return engine_ ? engine_->totalEnergy() : diagnostics_.totalEnergy(); }
+
 double Viewer::relativeEnergyDrift() const {
-    return (diagnostics_.totalEnergy() - energyAtDriftStart_) / std::abs(energyAtDriftStart_);
+    return (totalEnergy() - energyAtDriftStart_) / std::abs(energyAtDriftStart_);
 }
 
 void Viewer::reset() {

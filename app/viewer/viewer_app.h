@@ -6,6 +6,7 @@
 #include <deque>
 
 #include "app/viewer/viewer.h"
+#include "backends/event_driven_backend.h"
 #include "engine/diagnostics.h"
 
 namespace carom::viewer {
@@ -54,6 +55,9 @@ private:
     void saveScreenshot(const std::string& path);
     Vec2 cursorPixel() const;
     double simulatedSecondsPerSecond() const;
+    // The total energy now: of particles_ (float32), or with the events
+    // scheme of the engine's double state, whose drift float32 would hide.
+    double totalEnergy() const;
     // (E - E0) / |E0| of the total energy since restartEnergyDrift.
     double relativeEnergyDrift() const;
 
@@ -61,6 +65,7 @@ private:
     app::Setup initial_;  // what R resets to
     SceneDef sceneEdit_;  // the scene panel's values
     std::unique_ptr<Backend> backend_;
+    const EventDrivenBackend* engine_ = nullptr;  // backend_, with the events scheme
     std::vector<Particle> particles_;  // read back once per frame
     std::vector<DiskInstance> instances_;
 
