@@ -686,7 +686,7 @@ int runCommand(const RunOptions& o) {
     for (const std::string& warning : validateStart(start.particles, start.world, source.empty() ? "the scene" : source))
         std::cerr << "carom: warning: " << warning << '\n';
     Outputs outputs(start);
-    std::unique_ptr<Backend> backend = makeBackend(o.scene.backend, start.world);
+    std::unique_ptr<Backend> backend = makeBackend(backendFor(o.scene, start.world.collisions), start.world);
     backend->setParticles(start.particles, start.step);
     // The events scheme's engine (makeBackend gives it for that scheme only)
     // continues from its exact state, and its checkpoints keep that state.

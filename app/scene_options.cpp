@@ -109,9 +109,12 @@ CLI::Option* tracked(CLI::Option* option, std::set<std::string>& given) {
 void addSceneOptions(CLI::App& command, SceneOptions& o) {
     const std::vector<std::string> backends = availableBackends();
     o.backend.kind = backends.back();  // OpenCL when this build has it
-    command.add_option("--backend", o.backend.kind, "Compute backend")
-        ->check(CLI::IsMember(backends))
-        ->capture_default_str();
+    tracked(command
+                .add_option("--backend", o.backend.kind,
+                            "Compute backend (--collisions events runs on the CPU, its default)")
+                ->check(CLI::IsMember(backends))
+                ->capture_default_str(),
+            o.given);
     // CLI11 validates options in the order they are added, so --backend is
     // known when --device and --pipeline are checked.
     auto forOpenCL = [&o](const char* cpuHas) {
@@ -205,6 +208,13 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
          {particles, packing, box, radius, radiusMin, radiusMax, mass, massMin, massMax, speed, seed, dt, gravity,
           maxTravel, boundary, collisions})
         tracked(overriding, o.given);
+}
+
+BackendDef backendFor(const SceneOptions& o, CollisionScheme scheme) {
+    BackendDef def = o.backend;
+    const bool openclAsked = o.given.count("--backend") || !def.device.empty() || def.pipeline != "seed";
+    if (scheme == CollisionScheme::Events && !openclAsked) def.kind = "cpu";
+    return def;
 }
 
 void refuseSubstepsWithEvents(const WorldDef& world, const std::string& asked) {

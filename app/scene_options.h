@@ -49,6 +49,11 @@ struct Setup {
 // and for requests that cannot fit in memory, before allocating them.
 Setup makeSetup(const SceneOptions& options);
 
+// The backend to run `scheme` on: the options' (--backend, default OpenCL
+// where this build has it), but the CPU for the events scheme unless an
+// OpenCL --backend, --device or --pipeline was given (makeBackend refuses it).
+BackendDef backendFor(const SceneOptions& options, CollisionScheme scheme);
+
 // The events scheme has no steps to split: throws Error, naming `asked` (what
 // asked for the substeps: "--max-travel 0.5", "--dt auto", a scene file),
 // when `world` has it with substeps (maxTravel > 0).

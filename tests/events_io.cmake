@@ -17,10 +17,14 @@ carom_cli_test(events_scene_max_travel_overridden pass "\"scheme\": \"events\""
 carom_cli_test(events_json pass
                "\"events\": {[^}]*\"cell_crossings\": [1-9][0-9]*,[^}]*\"collisions\": [1-9][0-9]*,.*\"scheme\": \"events\""
                "run|--backend|cpu|--particles|200|--packing|0.5|--steps|20|--collisions|events|--json")
+# It runs on the CPU, which is its default backend; OpenCL asked for without
+# --backend (--pipeline, --device) is refused as --backend opencl is (cli.events_on_opencl).
+carom_cli_test(events_default_backend pass "\"backend\": \"cpu\",.*\"scheme\": \"events\""
+               "run|--particles|100|--steps|5|--collisions|events|--json")
 if(OpenCL_FOUND)
     carom_cli_test(events_resident_pipeline fail
                    "--collisions events runs on the CPU only \\(one thread, double precision\\): use --backend cpu"
-                   "run|--backend|opencl|--pipeline|resident|--steps|5|--output-state|${out}|--collisions|events")
+                   "run|--pipeline|resident|--steps|5|--output-state|${out}|--collisions|events")
 endif()
 
 # Checkpoints, resumed runs and the summary (outputs_test.py).

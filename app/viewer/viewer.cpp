@@ -155,7 +155,7 @@ void Viewer::start(app::Setup setup) {
     for (const std::string& warning : validateStart(setup.particles, world, "the scene"))
         std::cerr << "carom: warning: " << warning << '\n';
     initial_ = std::move(setup);
-    backend_ = makeBackend(options_.scene.backend, world);
+    backend_ = makeBackend(app::backendFor(options_.scene, world.collisions), world);
     engine_ = dynamic_cast<const EventDrivenBackend*>(backend_.get());
     particles_ = initial_.particles;
     collisionsBeforeUpload_ = collisionsAtLastReadout_ = 0;
