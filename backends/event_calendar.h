@@ -30,7 +30,7 @@ public:
         for (std::size_t i = 0; i < leaves_; ++i)
             nodes_[leaves_ + i] = i < times.size() ? Node{times[i], std::uint32_t(i), keys[i]}
                                                    : Node{HUGE_VAL, std::uint32_t(i), ~0u};
-        for (std::size_t k = leaves_ - 1; k >= 1; --k) nodes_[k] = earlier(nodes_[2 * k], nodes_[2 * k + 1]);
+        for (std::size_t k = leaves_ - 1; k >= 1; --k) nodes_[k] = earlierChild(k);
     }
     // Sets leaf `leaf`'s time and walks up towards the root, as far as the
     // winners change (most updates stop within a few levels).
@@ -38,7 +38,7 @@ public:
         std::size_t k = leaves_ + std::size_t(leaf);
         nodes_[k].time = time;
         for (k /= 2; k >= 1; k /= 2) {
-            const Node winner = earlier(nodes_[2 * k], nodes_[2 * k + 1]);
+            const Node winner = earlierChild(k);
             if (winner.leaf == nodes_[k].leaf && winner.time == nodes_[k].time) break;
             nodes_[k] = winner;
         }
@@ -52,8 +52,12 @@ private:
         double time;
         std::uint32_t leaf, key;
     };
-    static Node earlier(const Node& a, const Node& b) {
-        return b.time < a.time || (b.time == a.time && b.key < a.key) ? b : a;
+    // The earlier child of node k, chosen by index rather than by a branch:
+    // which child wins is a coin toss the processor cannot predict.
+    Node earlierChild(std::size_t k) const {
+        const Node* child = &nodes_[2 * k];
+        const bool right = (child[1].time < child[0].time) | ((child[1].time == child[0].time) & (child[1].key < child[0].key));
+        return child[right];
     }
     std::vector<Node> nodes_;  // nodes_[1] is the root; leaves at [leaves_, 2 leaves_)
     std::size_t leaves_ = 1;

@@ -41,15 +41,16 @@ double arrivalTime(double h0, double u, double a) {
 // |d + dv s| = sigma in the stable form c / (-b + sqrt(b^2 - a c)).
 // A receding pair is never scheduled, an approaching overlapping one (by
 // rounding) collides at once: no collision repeats in zero time.
+// Computed whole and then selected, without branches: whether a neighbour
+// approaches is a coin toss the processor cannot predict.
 double contactTime(double dx, double dy, double dvx, double dvy, double sigma) {
     const double b = dx * dvx + dy * dvy;
-    if (b >= 0) return kNever;
     const double c = dx * dx + dy * dy - sigma * sigma;
-    if (c <= 0) return 0;
     const double a = dvx * dvx + dvy * dvy;
     const double d = b * b - a * c;
-    if (d <= 0) return kNever;  // they pass each other
-    return c / (-b + std::sqrt(d));
+    const double root = c / (-b + std::sqrt(std::max(d, 0.0)));
+    const double approaching = c <= 0 ? 0.0 : d <= 0 ? kNever : root;  // d <= 0: they pass each other
+    return b < 0 ? approaching : kNever;
 }
 
 // A hint to start loading memory that will be read soon.
