@@ -8,14 +8,17 @@ namespace carom {
 namespace {
 
 constexpr double kNever = HUGE_VAL;
-// How far below a wall a disk slower than rounding can resolve may sink
-// before it bounces, relative to the longer box side: the floor of a
-// resting pile is this much lower, and a bounce off it takes at least
-// sqrt(2 depth / g), never zero time.
+// How far below where it arrives a disk too slow to rise that high sinks
+// before it bounces off a wall, relative to the longer box side: a bounce
+// then takes at least sqrt(2 depth / g), never zero time, and a resting
+// pile's floor lies a few depths low.
 constexpr double kRestingDepth = 1e-12;
 // Collisions of pairs closer than this fraction of their contact distance
 // count as overlapping (EventCounts::overlapping): deeper than rounding.
 constexpr double kOverlapTolerance = 1e-9;
+// How far outside its cell a restored disk may lie, relative to the box
+// side: rounding at a crossing leaves it a few ulps past the edge.
+constexpr double kCellSlack = 1e-9;
 // Events between re-sorts of the storage order, per disk: disks move a few
 // diameters in that time, and a sort costs about what N / 3 events do.
 constexpr std::uint64_t kSortInterval = 8;
@@ -203,6 +206,15 @@ void EventDrivenBackend::restore(const EventEngineState& state) {
         if (!(std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.vx) && std::isfinite(d.vy) &&
               std::isfinite(d.time) && d.time <= state.time))
             throw Error(which + " has a position, velocity or time that is not finite, or a time after the state's");
+        // Its centre within rounding of its cell (a crossing leaves it on the edge).
+        const double column = d.cell % columns_, row = d.cell / columns_;
+        const double slackX = kCellSlack * width_, slackY = kCellSlack * height_;
+        if (!(d.x >= column * cellWidth_ - slackX && d.x <= (column + 1) * cellWidth_ + slackX &&
+              d.y >= row * cellHeight_ - slackY && d.y <= (row + 1) * cellHeight_ + slackY))
+            throw Error(which + " at (" + std::to_string(d.x) + ", " + std::to_string(d.y) + ") is not in its cell " +
+                        std::to_string(d.cell) + " (column " + std::to_string(d.cell % columns_) + ", row " +
+                        std::to_string(d.cell / columns_) + " of cells " + std::to_string(cellWidth_) + " x " +
+                        std::to_string(cellHeight_) + ")");
         if (d.event < kEventLowestCode || d.event >= std::int32_t(disks_.size()) || d.event == std::int32_t(i))
             throw Error(which + " has event code " + std::to_string(d.event) + "; allowed: " +
                         std::to_string(kEventLowestCode) + " to -1, or another disk's id below " +
@@ -226,6 +238,11 @@ void EventDrivenBackend::restore(const EventEngineState& state) {
     disks_ = std::move(disks);
     mass_ = std::move(mass);
     now_ = state.time;
+    // Step k ends at k dt, as in the run that saved the state, unless the
+    // state's time is not its step's: then the steps count from it.
+    const bool onStep = now_ == double(step_) * double(world_.dt);
+    timeOrigin_ = onStep ? 0.0 : now_;
+    stepOrigin_ = onStep ? 0 : step_;
     sortByCell();
     counts_ = EventCounts{};
     undrained_ = ContactTotals{};

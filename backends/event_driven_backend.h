@@ -18,8 +18,10 @@
 // receding one is never scheduled, so a collision can only repeat after
 // another event changed a velocity; a disk found past a wall or a cell
 // boundary is treated as on it (Bannerman, Lue and Woods 2014). Under
-// gravity a disk resting on a wall sinks at most kRestingDepth below it
-// before it bounces, so resting piles take finite time per event.
+// gravity a disk arriving at a wall slower than a fall through
+// kRestingDepth (1e-12 of the longer box side) bounces that much below
+// where it arrived instead, so a resting pile's bounces never take zero
+// time; its floor sinks by a few resting depths (tests/test_events.cpp).
 //
 // Backend::step advances the time by dt per step; dt only sets when the
 // state is sampled. The sampled state is the double state projected to the

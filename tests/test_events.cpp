@@ -531,6 +531,24 @@ TEST_CASE("events: a checkpoint resumes bit for bit") {
     }
 }
 
+TEST_CASE("events: a state restored at another step than its own continues from its time") {
+    const InitialState s = polydisperse(300, 0.4f);
+    const WorldDef world = eventWorld(s.width, s.height, 0.05f, Boundary::Periodic);
+    auto first = startEvents(world, s.particles);
+    first->step(100);
+    std::vector<Particle> particles;
+    first->readParticles(particles);
+    EventDrivenBackend restored(world);
+    restored.setParticles(particles);  // step 0, while the state is at step 100
+    restored.restore(first->saveState());
+    const std::uint64_t collisions = first->eventCounts().collisions;
+    restored.step(100);
+    first->step(100);
+    CHECK(restored.time() == doctest::Approx(first->time()).epsilon(1e-12));
+    CHECK(restored.eventCounts().collisions == first->eventCounts().collisions - collisions);
+    CHECK(restored.eventCounts().collisions > 100);
+}
+
 TEST_CASE("events: restore refuses a state that does not fit, naming the value") {
     std::vector<Particle> seven;
     for (int i = 0; i < 7; ++i) seven.push_back(disk(3 + 5 * i, 5, i % 2 ? 1.0f : -1.0f, 0.5f));
@@ -572,6 +590,10 @@ TEST_CASE("events: restore refuses a state that does not fit, naming the value")
     EventEngineState past = saved;
     past.disks[5].eventTime = saved.time - 0.25;
     refusal(past, std::to_string(saved.time - 0.25));
+
+    EventEngineState misplaced = saved;  // a cell that is not the one its centre lies in
+    misplaced.disks[6].cell = misplaced.disks[0].cell;
+    refusal(misplaced, "is not in its cell " + std::to_string(saved.disks[0].cell));
 
     // The refusals left the backend as it was: it continues as one that
     // restored the saved state.
