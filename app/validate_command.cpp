@@ -43,7 +43,8 @@ void addValidateOptions(CLI::App& command, ValidateOptions& o) {
         ->capture_default_str();
     command.add_option("--json", o.json, "Also write every check and measurement as JSON to this file");
     command.add_option("--backend", o.backend,
-                       "Backend of every run but the conservation checks, which run on all (pairwise scheme)")
+                       "Backend of every run but the conservation checks, which run on all (pairwise scheme), "
+                       "and the event-driven runs, which run on the CPU")
         ->check(CLI::IsMember(availableBackends()))
         ->capture_default_str();
     command.add_option("--device", o.device,
@@ -61,9 +62,10 @@ void addValidateOptions(CLI::App& command, ValidateOptions& o) {
            << validation::kMaxDt << "]";
     command.add_option("--dt", o.dt, dtHelp.str())->transform(realNumber())->capture_default_str();
     command.add_option("--particles", o.particles,
-                       "Disks in each equation-of-state run (default " +
+                       "Disks in each equation-of-state run of the stepped scheme (default " +
                            std::to_string(validation::kEosParticles(false)) + ", " +
-                           std::to_string(validation::kEosParticles(true)) + " with --quick)")
+                           std::to_string(validation::kEosParticles(true)) + " with --quick; the event-driven runs use " +
+                           std::to_string(validation::kEventsParticles) + ")")
         ->transform(wholeNumber(validation::kMinEosParticles, validation::kMaxEosParticles));
 }
 

@@ -14,8 +14,6 @@ using namespace carom::validation;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // The speed whose Rayleigh CDF is p.
 double rayleighQuantile(double p, double kTOverMass) { return std::sqrt(-2.0 * kTOverMass * std::log1p(-p)); }
 

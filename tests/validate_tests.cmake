@@ -27,9 +27,10 @@ if(OpenCL_FOUND)
                    "${validate}|--backend|opencl|--device|99")
 endif()
 
-# The quick suite itself, about 25 s of one core (the OpenCL conservation
-# runs are listed as not run until the OpenCL backend runs the pairwise
-# scheme). It runs alone and on one OpenMP thread: the CPU backend's threads
+# The quick suite itself, about 35 s of one core, 10 s of it the
+# event-driven section, which runs on the CPU whatever --backend says (the
+# OpenCL conservation runs are listed as not run until the OpenCL backend
+# runs the pairwise scheme). It runs alone and on one OpenMP thread: the CPU backend's threads
 # meet at a barrier several times a step, and when other processes hold the
 # cores each meeting waits for a time slice, which made a two-thread run take
 # over 20 minutes beside a parallel build. Its results do not depend on the

@@ -8,12 +8,6 @@
 
 namespace carom::validation {
 
-namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-}  // namespace
-
 MeanAndError blockAverage(const std::vector<double>& blockMeans) {
     MeanAndError result;
     const double n = double(blockMeans.size());

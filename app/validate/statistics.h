@@ -10,6 +10,8 @@
 
 namespace carom::validation {
 
+constexpr double kPi = 3.14159265358979323846;
+
 struct MeanAndError {
     double mean = 0.0;
     double error = 0.0;  // standard error of the mean
