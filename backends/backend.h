@@ -115,6 +115,8 @@ protected:
     void recordNonFinite(std::uint64_t substep, std::uint32_t particle);
     // Substeps taken by the advance() calls before the current one, since setParticles.
     std::uint64_t substepsTaken() const { return substepsTaken_; }
+    // The step the state held when step() was last called (setParticles' `step` before).
+    std::uint64_t stepNumber() const { return stepNumber_; }
     // For implementations: a pairwise (sub)step used this many rounds.
     void recordRounds(unsigned int rounds);
     // What every pass of a pairwise (sub)step of duration dt reads.

@@ -1,18 +1,448 @@
 #include "backends/event_driven_backend.h"
 
-// Placeholder so the tree builds while the engine is written (replaced by the next commit).
+#include <algorithm>
+#include <cmath>
+#include <string>
+
 namespace carom {
+namespace {
+
+constexpr double kNever = HUGE_VAL;
+// How far below a wall a disk slower than rounding can resolve may sink
+// before it bounces, relative to the longer box side: the floor of a
+// resting pile is this much lower, and a bounce off it takes at least
+// sqrt(2 depth / g), never zero time.
+constexpr double kRestingDepth = 1e-12;
+// Collisions of pairs closer than this fraction of their contact distance
+// count as overlapping (EventCounts::overlapping): deeper than rounding.
+constexpr double kOverlapTolerance = 1e-9;
+
+// The time s >= 0 at which h(s) = h0 + u s + a s^2 / 2 first reaches 0
+// while decreasing: a disk at height h0 above a boundary (a wall, a cell
+// edge) with velocity u and acceleration a towards it negative. A disk
+// found below by rounding (h0 < 0) counts as on it. kNever if it never
+// arrives. The roots are taken in the forms without cancellation.
+double arrivalTime(double h0, double u, double a) {
+    if (h0 < 0) h0 = 0;
+    if (u < 0) {
+        const double d = u * u - 2 * a * h0;
+        if (d < 0) return kNever;  // pushed back (a > 0) before it arrives
+        return 2 * h0 / (-u + std::sqrt(d));
+    }
+    if (a >= 0) return kNever;  // moving away and not pulled back
+    return (u + std::sqrt(u * u - 2 * a * h0)) / -a;
+}
+
+// The time until an approaching pair at separation (dx, dy) with relative
+// velocity (dvx, dvy) touches at distance sigma: the first root of
+// |d + dv s| = sigma in the stable form c / (-b + sqrt(b^2 - a c)).
+// A receding pair is never scheduled, an approaching overlapping one (by
+// rounding) collides at once: no collision repeats in zero time.
+double contactTime(double dx, double dy, double dvx, double dvy, double sigma) {
+    const double b = dx * dvx + dy * dvy;
+    if (b >= 0) return kNever;
+    const double c = dx * dx + dy * dy - sigma * sigma;
+    if (c <= 0) return 0;
+    const double a = dvx * dvx + dvy * dvy;
+    const double d = b * b - a * c;
+    if (d <= 0) return kNever;  // they pass each other
+    return c / (-b + std::sqrt(d));
+}
+
+double nearestImage(double d, double extent) {
+    if (d > 0.5 * extent) return d - extent;
+    if (d < -0.5 * extent) return d + extent;
+    return d;
+}
+
+// The earliest of a disk's candidate events; equal times go to the lower
+// code, so the choice does not depend on the order the cells are scanned in.
+struct Candidate {
+    double time = kNever;
+    std::int32_t code = kEventNone;
+    void offer(double t, std::int32_t c) {
+        if (t < time || (t == time && c < code)) {
+            time = t;
+            code = c;
+        }
+    }
+};
+
+}  // namespace
+
 EventDrivenBackend::EventDrivenBackend(const WorldDef& world) : Backend(world) {}
-std::string EventDrivenBackend::device() const { return "CPU, one thread, double precision"; }
-void EventDrivenBackend::readParticles(std::vector<Particle>&) { throw Error("events: not yet"); }
-std::vector<ExactDisk> EventDrivenBackend::exactState() const { throw Error("events: not yet"); }
-double EventDrivenBackend::kineticEnergy() const { throw Error("events: not yet"); }
-double EventDrivenBackend::totalEnergy() const { throw Error("events: not yet"); }
-EventEngineState EventDrivenBackend::saveState() const { throw Error("events: not yet"); }
-void EventDrivenBackend::restore(const EventEngineState&) { throw Error("events: not yet"); }
-void EventDrivenBackend::load(std::vector<Particle>) { throw Error("events: not yet"); }
-void EventDrivenBackend::advance(std::uint64_t, float) { throw Error("events: not yet"); }
-float EventDrivenBackend::maxSpeedSquared() { throw Error("events: not yet"); }
-void EventDrivenBackend::drainTallies(ContactTotals&) {}
-void EventDrivenBackend::motionChanged() {}
+
+std::string EventDrivenBackend::device() const { return "CPU, one thread, double precision (event-driven)"; }
+
+void EventDrivenBackend::load(std::vector<Particle> particles) {
+    const std::size_t n = particles.size();
+    width_ = world_.width;
+    height_ = world_.height;
+    gx_ = world_.gravity.x;
+    gy_ = world_.gravity.y;
+    periodic_ = world_.boundary == Boundary::Periodic;
+    // The grid Backend sized: cells a hair wider than the largest diameter,
+    // at least 3 a side in a periodic box, so the 3 x 3 cells around a disk
+    // are distinct and hold every disk it can touch.
+    columns_ = std::uint32_t(grid_.geometry.cols);
+    rows_ = std::uint32_t(grid_.geometry.rows);
+    cellWidth_ = width_ / columns_;
+    cellHeight_ = height_ / rows_;
+    restingDepth_ = kRestingDepth * std::max(width_, height_);
+    step_ = stepNumber();
+    stepOrigin_ = 0;  // step k ends at k dt, in this run and in any run resumed from it
+    timeOrigin_ = 0.0;
+    now_ = double(step_) * double(world_.dt);
+
+    disks_.assign(n, EventDiskState{});
+    mass_.resize(n);
+    radius_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const Particle& p = particles[i];
+        EventDiskState& d = disks_[i];
+        d.x = p.position.x;
+        d.y = p.position.y;
+        if (periodic_) {  // a centre on the far edge is the same point as one on the near edge
+            if (d.x >= width_) d.x -= width_;
+            if (d.y >= height_) d.y -= height_;
+        }
+        d.vx = p.velocity.x;
+        d.vy = p.velocity.y;
+        d.time = now_;
+        const auto column = std::uint32_t(std::clamp(std::floor(d.x / cellWidth_), 0.0, double(columns_ - 1)));
+        const auto row = std::uint32_t(std::clamp(std::floor(d.y / cellHeight_), 0.0, double(rows_ - 1)));
+        d.cell = row * columns_ + column;
+        mass_[i] = p.mass;
+        radius_[i] = p.radius;
+    }
+    rebuild();
+    for (std::uint32_t i = 0; i < n; ++i) schedule(i);
+    counts_ = EventCounts{};
+    undrained_ = ContactTotals{};
+}
+
+void EventDrivenBackend::rebuild() {
+    head_.assign(std::size_t(columns_) * rows_, -1);
+    next_.assign(disks_.size(), -1);
+    previous_.assign(disks_.size(), -1);
+    for (std::uint32_t i = 0; i < disks_.size(); ++i) link(i);
+    calendar_.reset(std::uint32_t(disks_.size()));
+}
+
+EventEngineState EventDrivenBackend::saveState() const { return EventEngineState{now_, disks_}; }
+
+void EventDrivenBackend::restore(const EventEngineState& state) {
+    if (state.disks.size() != disks_.size())
+        throw Error("the event-driven state holds " + std::to_string(state.disks.size()) + " disks, the particles " +
+                    std::to_string(disks_.size()));
+    if (!(std::isfinite(state.time) && state.time >= 0))
+        throw Error("the event-driven state's time " + std::to_string(state.time) + " must be finite and >= 0");
+    const std::uint64_t cells = std::uint64_t(columns_) * rows_;
+    for (std::size_t i = 0; i < state.disks.size(); ++i) {
+        const EventDiskState& d = state.disks[i];
+        const std::string which = "the event-driven state's disk " + std::to_string(i);
+        if (d.cell >= cells)
+            throw Error(which + " is in cell " + std::to_string(d.cell) + "; this box has " + std::to_string(cells) +
+                        " cells (" + std::to_string(columns_) + " x " + std::to_string(rows_) + ")");
+        if (!(std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.vx) && std::isfinite(d.vy) &&
+              std::isfinite(d.time) && d.time <= state.time))
+            throw Error(which + " has a position, velocity or time that is not finite, or a time after the state's");
+        if (d.event < kEventLowestCode || d.event >= std::int32_t(disks_.size()) || d.event == std::int32_t(i))
+            throw Error(which + " has event code " + std::to_string(d.event) + "; allowed: " +
+                        std::to_string(kEventLowestCode) + " to -1, or another disk's id below " +
+                        std::to_string(disks_.size()));
+        if (!(d.eventTime >= state.time) || (d.event != kEventNone && !std::isfinite(d.eventTime)))
+            throw Error(which + " has its event at time " + std::to_string(d.eventTime) +
+                        ", before the state's time " + std::to_string(state.time) + " or not finite");
+    }
+    disks_ = state.disks;
+    now_ = state.time;
+    rebuild();
+    for (std::uint32_t i = 0; i < disks_.size(); ++i) calendar_.set(i, disks_[i].eventTime);
+    counts_ = EventCounts{};
+    undrained_ = ContactTotals{};
+}
+
+void EventDrivenBackend::link(std::uint32_t i) {
+    const std::int32_t first = head_[disks_[i].cell];
+    next_[i] = first;
+    previous_[i] = -1;
+    if (first >= 0) previous_[first] = std::int32_t(i);
+    head_[disks_[i].cell] = std::int32_t(i);
+}
+
+void EventDrivenBackend::unlink(std::uint32_t i) {
+    if (previous_[i] >= 0)
+        next_[previous_[i]] = next_[i];
+    else
+        head_[disks_[i].cell] = next_[i];
+    if (next_[i] >= 0) previous_[next_[i]] = previous_[i];
+}
+
+void EventDrivenBackend::moveTo(std::uint32_t i, double time) {
+    EventDiskState& d = disks_[i];
+    const double s = time - d.time;
+    if (s == 0) return;
+    d.x += (d.vx + 0.5 * gx_ * s) * s;
+    d.y += (d.vy + 0.5 * gy_ * s) * s;
+    d.vx += gx_ * s;
+    d.vy += gy_ * s;
+    d.time = time;
+}
+
+double EventDrivenBackend::wallTime(double h0, double u, double a) const {
+    const double s = arrivalTime(h0, u, a);
+    // Pulled towards the wall and arriving slower than a fall through the
+    // resting depth: it bounces that much lower instead, never in zero time.
+    if (a < 0 && u * u - 2 * a * std::max(h0, 0.0) < -2 * a * restingDepth_)
+        return arrivalTime(std::max(h0, 0.0) + restingDepth_, u, a);
+    return s;
+}
+
+void EventDrivenBackend::schedule(std::uint32_t i) {
+    EventDiskState& d = disks_[i];  // at now_
+    const double r = radius_[i];
+    Candidate next;
+    if (!periodic_) {
+        next.offer(wallTime(d.x - r, d.vx, gx_), kEventWallLeft);
+        next.offer(wallTime(width_ - r - d.x, -d.vx, -gx_), kEventWallRight);
+        next.offer(wallTime(d.y - r, d.vy, gy_), kEventWallBottom);
+        next.offer(wallTime(height_ - r - d.y, -d.vy, -gy_), kEventWallTop);
+    }
+    const std::uint32_t column = d.cell % columns_, row = d.cell / columns_;
+    // A walled box's edge cells have a wall where a crossing would be.
+    if (periodic_ || column > 0) next.offer(arrivalTime(d.x - column * cellWidth_, d.vx, gx_), kEventCrossLeft);
+    if (periodic_ || column + 1 < columns_)
+        next.offer(arrivalTime((column + 1) * cellWidth_ - d.x, -d.vx, -gx_), kEventCrossRight);
+    if (periodic_ || row > 0) next.offer(arrivalTime(d.y - row * cellHeight_, d.vy, gy_), kEventCrossDown);
+    if (periodic_ || row + 1 < rows_)
+        next.offer(arrivalTime((row + 1) * cellHeight_ - d.y, -d.vy, -gy_), kEventCrossUp);
+    if (next.time < kNever) next.time += now_;
+
+    for (int dr = -1; dr <= 1; ++dr) {
+        std::int64_t nr = std::int64_t(row) + dr;
+        if (periodic_)
+            nr = (nr + rows_) % rows_;
+        else if (nr < 0 || nr >= rows_)
+            continue;
+        for (int dc = -1; dc <= 1; ++dc) {
+            std::int64_t nc = std::int64_t(column) + dc;
+            if (periodic_)
+                nc = (nc + columns_) % columns_;
+            else if (nc < 0 || nc >= columns_)
+                continue;
+            for (std::int32_t j = head_[std::size_t(nr) * columns_ + std::size_t(nc)]; j >= 0; j = next_[j]) {
+                if (j == std::int32_t(i)) continue;
+                const EventDiskState& o = disks_[j];
+                const double s = now_ - o.time;  // the partner projected to now_
+                double dx = d.x - (o.x + (o.vx + 0.5 * gx_ * s) * s);
+                double dy = d.y - (o.y + (o.vy + 0.5 * gy_ * s) * s);
+                if (periodic_) {
+                    dx = nearestImage(dx, width_);
+                    dy = nearestImage(dy, height_);
+                }
+                const double t = contactTime(dx, dy, d.vx - (o.vx + gx_ * s), d.vy - (o.vy + gy_ * s), r + radius_[j]);
+                if (t < kNever) next.offer(now_ + t, j);
+            }
+        }
+    }
+    d.eventTime = next.time;
+    d.event = next.code;
+    if (next.code >= 0) d.partnerCollisions = disks_[next.code].collisions;
+    calendar_.set(i, next.time);
+}
+
+void EventDrivenBackend::runUntil(double time) {
+    while (calendar_.nextTime() <= time) {
+        const std::uint32_t i = calendar_.next();
+        const EventDiskState& d = disks_[i];
+        now_ = std::max(now_, d.eventTime);
+        const std::int32_t event = d.event;
+        if (event >= 0) {
+            if (disks_[event].collisions == d.partnerCollisions) {
+                collide(i, std::uint32_t(event));
+            } else {  // the partner's motion changed since: look again
+                ++counts_.stale;
+                moveTo(i, now_);
+                schedule(i);
+            }
+        } else if (event >= kEventWallTop) {
+            bounce(i, event);
+        } else {
+            cross(i, event);
+        }
+    }
+    now_ = std::max(now_, time);
+}
+
+void EventDrivenBackend::collide(std::uint32_t i, std::uint32_t j) {
+    moveTo(i, now_);
+    moveTo(j, now_);
+    EventDiskState& a = disks_[i];
+    EventDiskState& b = disks_[j];
+    double dx = a.x - b.x, dy = a.y - b.y;
+    if (periodic_) {
+        dx = nearestImage(dx, width_);
+        dy = nearestImage(dy, height_);
+    }
+    const double approach = dx * (a.vx - b.vx) + dy * (a.vy - b.vy);
+    if (approach < 0) {  // rounding can leave a grazing pair receding by now
+        const double distance2 = dx * dx + dy * dy;
+        const double sigma = radius_[i] + radius_[j];
+        const double mi = mass_[i], mj = mass_[j];
+        // The elastic impulse along the centre line, as in kernels/physics.h.
+        const double f = 2 * approach / ((mi + mj) * distance2);
+        a.vx -= mj * f * dx;
+        a.vy -= mj * f * dy;
+        b.vx += mi * f * dx;
+        b.vy += mi * f * dy;
+        ++a.collisions;
+        ++b.collisions;
+        ++counts_.collisions;
+        if (distance2 < sigma * sigma * (1 - kOverlapTolerance)) ++counts_.overlapping;
+        ++undrained_.collisions;
+        // r_ij . J_ij with r_ij = sigma_ij exactly, J = 2 mu |v_n|.
+        undrained_.virial += sigma * 2 * (mi * mj / (mi + mj)) * -approach / std::sqrt(distance2);
+    }
+    schedule(i);
+    schedule(j);
+}
+
+void EventDrivenBackend::bounce(std::uint32_t i, std::int32_t wall) {
+    moveTo(i, now_);
+    EventDiskState& d = disks_[i];
+    const int side = kEventWallLeft - wall;  // 0 left, 1 right, 2 bottom, 3 top
+    double& v = side < 2 ? d.vx : d.vy;
+    // Only towards the wall: rounding may have turned it already.
+    if (side % 2 == 0 ? v < 0 : v > 0) {
+        undrained_.wallImpulse[side] += 2 * mass_[i] * std::fabs(v);
+        v = -v;
+        ++d.collisions;
+        ++counts_.wallBounces;
+    }
+    schedule(i);
+}
+
+void EventDrivenBackend::cross(std::uint32_t i, std::int32_t direction) {
+    moveTo(i, now_);
+    unlink(i);
+    EventDiskState& d = disks_[i];
+    std::uint32_t column = d.cell % columns_, row = d.cell / columns_;
+    switch (direction) {
+    case kEventCrossLeft:
+        if (column == 0) {
+            column = columns_;
+            d.x += width_;  // periodic: it enters on the right
+        }
+        --column;
+        break;
+    case kEventCrossRight:
+        if (++column == columns_) {
+            column = 0;
+            d.x -= width_;
+        }
+        break;
+    case kEventCrossDown:
+        if (row == 0) {
+            row = rows_;
+            d.y += height_;
+        }
+        --row;
+        break;
+    default:  // kEventCrossUp
+        if (++row == rows_) {
+            row = 0;
+            d.y -= height_;
+        }
+        break;
+    }
+    d.cell = row * columns_ + column;
+    link(i);
+    ++counts_.cellCrossings;
+    schedule(i);
+}
+
+void EventDrivenBackend::advance(std::uint64_t substeps, float dt) {
+    // The end of the batch as a function of the step number alone, so that
+    // how the steps are split into calls never changes a sampling time.
+    step_ += substeps;
+    runUntil(timeOrigin_ + double(step_ - stepOrigin_) * double(dt));
+}
+
+void EventDrivenBackend::motionChanged() {
+    // Every disk to now_ under the old gravity, then new trajectories.
+    for (std::uint32_t i = 0; i < disks_.size(); ++i) moveTo(i, now_);
+    gx_ = world_.gravity.x;
+    gy_ = world_.gravity.y;
+    timeOrigin_ = now_;
+    stepOrigin_ = step_;
+    for (std::uint32_t i = 0; i < disks_.size(); ++i) schedule(i);
+}
+
+std::vector<ExactDisk> EventDrivenBackend::exactState() const {
+    std::vector<ExactDisk> state(disks_.size());
+    for (std::size_t i = 0; i < disks_.size(); ++i) {
+        const EventDiskState& d = disks_[i];
+        const double s = now_ - d.time;
+        double x = d.x + (d.vx + 0.5 * gx_ * s) * s;
+        double y = d.y + (d.vy + 0.5 * gy_ * s) * s;
+        if (periodic_) {
+            if (x < 0) x += width_;
+            else if (x >= width_) x -= width_;
+            if (y < 0) y += height_;
+            else if (y >= height_) y -= height_;
+        }
+        state[i] = ExactDisk{x, y, d.vx + gx_ * s, d.vy + gy_ * s, mass_[i], radius_[i]};
+    }
+    return state;
+}
+
+void EventDrivenBackend::readParticles(std::vector<Particle>& particles) {
+    const std::vector<ExactDisk> exact = exactState();
+    particles.resize(exact.size());
+    const auto width = float(width_), height = float(height_);
+    for (std::size_t i = 0; i < exact.size(); ++i) {
+        const ExactDisk& e = exact[i];
+        Particle p{};
+        p.position = {float(e.x), float(e.y)};
+        p.velocity = {float(e.vx), float(e.vy)};
+        p.mass = float(e.mass);
+        p.radius = float(e.radius);
+        if (periodic_) {  // a coordinate a hair below the side rounds up to it, which is 0
+            if (!(p.position.x < width)) p.position.x = 0.0f;
+            if (!(p.position.y < height)) p.position.y = 0.0f;
+        } else {  // within the bounds validateParticles reads back (a resting disk may sink a hair)
+            p.position.x = std::clamp(p.position.x, p.radius, width - p.radius);
+            p.position.y = std::clamp(p.position.y, p.radius, height - p.radius);
+        }
+        particles[i] = p;
+    }
+}
+
+double EventDrivenBackend::kineticEnergy() const {
+    double sum = 0;
+    for (const ExactDisk& e : exactState()) sum += 0.5 * e.mass * (e.vx * e.vx + e.vy * e.vy);
+    return sum;
+}
+
+double EventDrivenBackend::totalEnergy() const {
+    double sum = 0;
+    for (const ExactDisk& e : exactState())
+        sum += 0.5 * e.mass * (e.vx * e.vx + e.vy * e.vy) - e.mass * (gx_ * e.x + gy_ * e.y);
+    return sum;
+}
+
+float EventDrivenBackend::maxSpeedSquared() {
+    double largest = 0;
+    for (const ExactDisk& e : exactState()) largest = std::max(largest, e.vx * e.vx + e.vy * e.vy);
+    return float(largest);
+}
+
+void EventDrivenBackend::drainTallies(ContactTotals& totals) {
+    totals.collisions += undrained_.collisions;
+    totals.virial += undrained_.virial;
+    for (int w = 0; w < 4; ++w) totals.wallImpulse[w] += undrained_.wallImpulse[w];
+    undrained_ = ContactTotals{};
+}
+
 }  // namespace carom

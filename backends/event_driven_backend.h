@@ -27,7 +27,6 @@
 // is: sampling never changes the dynamics.
 #pragma once
 
-#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -90,13 +89,21 @@ private:
     void drainTallies(ContactTotals& totals) override;
     void motionChanged() override;
 
-    // Implemented in event_driven_backend.cpp.
-    void buildCells();
+    // The cell lists from the disks' cells, and an empty calendar.
+    void rebuild();
+    // Finds disk i's earliest event from now_ (the disk is at now_) and
+    // puts it in the calendar.
     void schedule(std::uint32_t i);
+    // When a disk at height h0 above a wall, with velocity u and
+    // acceleration a along the wall's inward normal, reaches it.
+    double wallTime(double h0, double u, double a) const;
+    // Takes the events up to `time` in order, then sets now_ to it.
     void runUntil(double time);
+    // The events: each moves its disks to now_ and schedules them again.
     void collide(std::uint32_t i, std::uint32_t j);
     void bounce(std::uint32_t i, std::int32_t wall);
     void cross(std::uint32_t i, std::int32_t direction);
+    // Free flight of disk i to `time`.
     void moveTo(std::uint32_t i, double time);
     void link(std::uint32_t i);
     void unlink(std::uint32_t i);
@@ -106,6 +113,10 @@ private:
     std::vector<std::int32_t> head_, next_, previous_;  // cell lists
     EventCalendar calendar_;
     double now_ = 0.0;
+    // Step `step_` ends at timeOrigin_ + (step_ - stepOrigin_) dt: the origin
+    // moves only when setMotion changes dt.
+    std::uint64_t step_ = 0, stepOrigin_ = 0;
+    double timeOrigin_ = 0.0;
     double width_ = 0.0, height_ = 0.0, gx_ = 0.0, gy_ = 0.0;
     double cellWidth_ = 0.0, cellHeight_ = 0.0, restingDepth_ = 0.0;
     std::uint32_t columns_ = 1, rows_ = 1;
