@@ -11,10 +11,10 @@
 # Python 3 reads the JSON.
 set -euo pipefail
 carom=${1:-build/carom} runs=${2:-3} sizes=${3:-1e3,1e4,1e5,1e6}
+echo "machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc --all) cores"
 export OMP_NUM_THREADS=1  # the event-driven engine runs on one thread whatever this says
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-echo "machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores"
 echo "load before: $(uptime)"
 for r in $(seq "$runs"); do
     "$carom" bench --methods events --sizes "$sizes" --json "$work/run$r.json" > "$work/run$r.txt" 2>&1 ||

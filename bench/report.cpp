@@ -44,15 +44,16 @@ std::vector<std::pair<std::string, double>> slowestFirst(const std::map<std::str
 }
 
 // The event-driven rows: rates per wall-clock second, not step times (a
-// step of dt only sets when the state is sampled).
-void printEventRates(std::ostream& out, const Report& report) {
+// step of dt only sets when the state is sampled); after the stepped table
+// when there was one.
+void printEventRates(std::ostream& out, const Report& report, bool afterTable) {
     bool first = true;
     char line[200];
     for (const Row& row : report.rows) {
         if (!row.timing.events) continue;
         const EventRates& e = *row.timing.events;
         if (first) {
-            out << "\nevent-driven, periodic box: per wall-clock second, median of the samples, timed after at "
+            out << (afterTable ? "\n" : "") << "event-driven, periodic box: per wall-clock second, median of the samples, timed after at "
                    "least "
                 << report.plan.warmupCollisionsPerDisk << " collisions per disk\n";
             std::snprintf(line, sizeof line, "%-16s %10s %14s %16s %12s %11s %8s %12s\n", "method", "N",
@@ -144,7 +145,8 @@ void printTable(std::ostream& out, const Report& report) {
         << " samples after warm-up\n\n";
     char line[200];
     const auto stepped = [](const Row& row) { return !row.timing.events; };
-    if (std::any_of(report.rows.begin(), report.rows.end(), stepped)) {
+    const bool anyStepped = std::any_of(report.rows.begin(), report.rows.end(), stepped);
+    if (anyStepped) {
         std::snprintf(line, sizeof line, "%-16s %-12s %10s %11s %16s %7s %9s %9s %10s %9s\n", "method", "scheme",
                       "N", "ms/step", "particle-steps/s", "pw/sim", "vs seed", "vs naive", "floor ms", "of floor");
         out << line;
@@ -164,7 +166,7 @@ void printTable(std::ostream& out, const Report& report) {
         out << "  pw/sim: a pairwise step's time over a simultaneous step's (same method and N); vs seed and vs "
                "naive compare within a scheme\n";
     }
-    printEventRates(out, report);
+    printEventRates(out, report, anyStepped);
     bool profiled = false;
     for (const Row& row : report.rows) {
         if (row.profile.empty()) continue;
