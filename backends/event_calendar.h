@@ -7,7 +7,7 @@
 // 2007): an update is one walk of log2 N levels with no tuning parameter
 // (the queue needs a bucket width matched to the event rate, and a rebuild
 // when it drifts), the cost is the same in any state (dense, dilute, under
-// gravity), and the winner of a tie is the lower disk id whatever order the
+// gravity), and the winner of a tie is the lower particle id whatever order the
 // events were scheduled in, so a calendar rebuilt from a checkpoint is the
 // calendar the run had. At 10^6 disks the walk is 20 levels of 16-byte
 // nodes, the upper ones in cache; bench/events.sh measures what it costs.
@@ -21,34 +21,46 @@ namespace carom {
 
 class EventCalendar {
 public:
-    // `count` leaves, every one at +infinity.
-    void reset(std::uint32_t count) {
+    // One leaf per disk: leaf i holds times[i], and ties between equal
+    // times go to the lower keys[i] (the particle id).
+    void reset(const std::vector<double>& times, const std::vector<std::uint32_t>& keys) {
         leaves_ = 1;
-        while (leaves_ < count) leaves_ *= 2;
-        nodes_.assign(2 * std::size_t(leaves_), Node{HUGE_VAL, 0});
-        for (std::uint32_t i = 0; i < leaves_; ++i) nodes_[leaves_ + i].id = i;
-        for (std::size_t k = leaves_ - 1; k >= 1; --k) nodes_[k] = earlier(nodes_[2 * k], nodes_[2 * k + 1]);
+        while (leaves_ < times.size()) leaves_ *= 2;
+        nodes_.assign(2 * std::size_t(leaves_), Node{HUGE_VAL, 0, 0});
+        for (std::size_t i = 0; i < leaves_; ++i)
+            nodes_[leaves_ + i] = i < times.size() ? Node{times[i], std::uint32_t(i), keys[i]}
+                                                   : Node{HUGE_VAL, std::uint32_t(i), ~0u};
+        for (std::size_t k = leaves_ - 1; k >= 1; --k) nodes_[k] = earlierChild(k);
     }
-    // Sets disk `id`'s event time and walks up to the root.
-    void set(std::uint32_t id, double time) {
-        std::size_t k = leaves_ + std::size_t(id);
+    // Sets leaf `leaf`'s time and walks up towards the root, as far as the
+    // winners change (most updates stop within a few levels).
+    void set(std::uint32_t leaf, double time) {
+        std::size_t k = leaves_ + std::size_t(leaf);
         nodes_[k].time = time;
-        for (k /= 2; k >= 1; k /= 2) nodes_[k] = earlier(nodes_[2 * k], nodes_[2 * k + 1]);
+        for (k /= 2; k >= 1; k /= 2) {
+            const Node winner = earlierChild(k);
+            if (winner.leaf == nodes_[k].leaf && winner.time == nodes_[k].time) break;
+            nodes_[k] = winner;
+        }
     }
-    // The disk with the earliest event (the lowest id among equal times), and its time.
-    std::uint32_t next() const { return nodes_[1].id; }
+    // The leaf with the earliest time (the lowest key among equal times), and its time.
+    std::uint32_t next() const { return nodes_[1].leaf; }
     double nextTime() const { return nodes_[1].time; }
 
 private:
     struct Node {
         double time;
-        std::uint32_t id;
+        std::uint32_t leaf, key;
     };
-    static Node earlier(const Node& a, const Node& b) {
-        return b.time < a.time || (b.time == a.time && b.id < a.id) ? b : a;
+    // The earlier child of node k, chosen by index rather than by a branch:
+    // which child wins is a coin toss the processor cannot predict.
+    Node earlierChild(std::size_t k) const {
+        const Node* child = &nodes_[2 * k];
+        const bool right = (child[1].time < child[0].time) | ((child[1].time == child[0].time) & (child[1].key < child[0].key));
+        return child[right];
     }
     std::vector<Node> nodes_;  // nodes_[1] is the root; leaves at [leaves_, 2 leaves_)
-    std::uint32_t leaves_ = 1;
+    std::size_t leaves_ = 1;
 };
 
 }  // namespace carom

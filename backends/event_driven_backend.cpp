@@ -8,14 +8,20 @@ namespace carom {
 namespace {
 
 constexpr double kNever = HUGE_VAL;
-// How far below a wall a disk slower than rounding can resolve may sink
-// before it bounces, relative to the longer box side: the floor of a
-// resting pile is this much lower, and a bounce off it takes at least
-// sqrt(2 depth / g), never zero time.
+// How far below where it arrives a disk too slow to rise that high sinks
+// before it bounces off a wall, relative to the longer box side: a bounce
+// then takes at least sqrt(2 depth / g), never zero time, and a resting
+// pile's floor lies a few depths low.
 constexpr double kRestingDepth = 1e-12;
 // Collisions of pairs closer than this fraction of their contact distance
 // count as overlapping (EventCounts::overlapping): deeper than rounding.
 constexpr double kOverlapTolerance = 1e-9;
+// How far outside its cell a restored disk may lie, relative to the box
+// side: rounding at a crossing leaves it a few ulps past the edge.
+constexpr double kCellSlack = 1e-9;
+// Events between re-sorts of the storage order, per disk: disks move a few
+// diameters in that time, and a sort costs about what N / 3 events do.
+constexpr std::uint64_t kSortInterval = 8;
 
 // The time s >= 0 at which h(s) = h0 + u s + a s^2 / 2 first reaches 0
 // while decreasing: a disk at height h0 above a boundary (a wall, a cell
@@ -38,15 +44,25 @@ double arrivalTime(double h0, double u, double a) {
 // |d + dv s| = sigma in the stable form c / (-b + sqrt(b^2 - a c)).
 // A receding pair is never scheduled, an approaching overlapping one (by
 // rounding) collides at once: no collision repeats in zero time.
+// Computed whole and then selected, without branches: whether a neighbour
+// approaches is a coin toss the processor cannot predict.
 double contactTime(double dx, double dy, double dvx, double dvy, double sigma) {
     const double b = dx * dvx + dy * dvy;
-    if (b >= 0) return kNever;
     const double c = dx * dx + dy * dy - sigma * sigma;
-    if (c <= 0) return 0;
     const double a = dvx * dvx + dvy * dvy;
     const double d = b * b - a * c;
-    if (d <= 0) return kNever;  // they pass each other
-    return c / (-b + std::sqrt(d));
+    const double root = c / (-b + std::sqrt(std::max(d, 0.0)));
+    const double approaching = c <= 0 ? 0.0 : d <= 0 ? kNever : root;  // d <= 0: they pass each other
+    return b < 0 ? approaching : kNever;
+}
+
+// A hint to start loading memory that will be read soon.
+inline void prefetch(const void* address) {
+#if defined(__GNUC__) || defined(__clang__)
+    __builtin_prefetch(address);
+#else
+    (void)address;
+#endif
 }
 
 double nearestImage(double d, double extent) {
@@ -55,17 +71,21 @@ double nearestImage(double d, double extent) {
     return d;
 }
 
-// The earliest of a disk's candidate events; equal times go to the lower
-// code, so the choice does not depend on the order the cells are scanned in.
+// The earliest of a disk's candidate events. Equal times go to the lower
+// key (the event code, or the partner's particle id), so the choice depends
+// neither on the storage order nor on the order the cells are scanned in.
 struct Candidate {
     double time = kNever;
-    std::int32_t code = kEventNone;
-    void offer(double t, std::int32_t c) {
-        if (t < time || (t == time && c < code)) {
+    std::int32_t code = kEventNone;  // an event code or the partner's storage index
+    std::int64_t key = kEventNone;
+    void offer(double t, std::int32_t c, std::int64_t k) {
+        if (t < time || (t == time && k < key)) {
             time = t;
             code = c;
+            key = k;
         }
     }
+    void offer(double t, std::int32_t c) { offer(t, c, c); }
 };
 
 }  // namespace
@@ -94,12 +114,12 @@ void EventDrivenBackend::load(std::vector<Particle> particles) {
     timeOrigin_ = 0.0;
     now_ = double(step_) * double(world_.dt);
 
-    disks_.assign(n, EventDiskState{});
+    disks_.assign(n, Disk{});
+    scheduled_.assign(n, Scheduled{});
     mass_.resize(n);
-    radius_.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
         const Particle& p = particles[i];
-        EventDiskState& d = disks_[i];
+        Disk& d = disks_[i];
         d.x = p.position.x;
         d.y = p.position.y;
         if (periodic_) {  // a centre on the far edge is the same point as one on the near edge
@@ -109,27 +129,66 @@ void EventDrivenBackend::load(std::vector<Particle> particles) {
         d.vx = p.velocity.x;
         d.vy = p.velocity.y;
         d.time = now_;
+        d.radius = p.radius;
         const auto column = std::uint32_t(std::clamp(std::floor(d.x / cellWidth_), 0.0, double(columns_ - 1)));
         const auto row = std::uint32_t(std::clamp(std::floor(d.y / cellHeight_), 0.0, double(rows_ - 1)));
         d.cell = row * columns_ + column;
+        d.id = std::uint32_t(i);
+        scheduled_[i] = Scheduled{kNever, kEventNone, 0};
         mass_[i] = p.mass;
-        radius_[i] = p.radius;
     }
-    rebuild();
+    sortByCell();
     for (std::uint32_t i = 0; i < n; ++i) schedule(i);
     counts_ = EventCounts{};
     undrained_ = ContactTotals{};
 }
 
-void EventDrivenBackend::rebuild() {
+void EventDrivenBackend::sortByCell() {
+    const std::size_t n = disks_.size();
+    // A stable counting sort by cell: the order is a function of the state.
+    std::vector<std::uint32_t> start(std::size_t(columns_) * rows_ + 1, 0);
+    for (const Disk& d : disks_) ++start[d.cell + 1];
+    for (std::size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+    std::vector<std::uint32_t> index(n);  // old storage index -> new
+    for (std::size_t i = 0; i < n; ++i) index[i] = start[disks_[i].cell]++;
+    std::vector<Disk> disks(n);
+    std::vector<Scheduled> scheduled(n);
+    std::vector<double> mass(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        disks[index[i]] = disks_[i];
+        Scheduled e = scheduled_[i];
+        if (e.event >= 0) e.event = std::int32_t(index[e.event]);
+        scheduled[index[i]] = e;
+        mass[index[i]] = mass_[i];
+    }
+    disks_ = std::move(disks);
+    scheduled_ = std::move(scheduled);
+    mass_ = std::move(mass);
+
     head_.assign(std::size_t(columns_) * rows_, -1);
-    next_.assign(disks_.size(), -1);
-    previous_.assign(disks_.size(), -1);
-    for (std::uint32_t i = 0; i < disks_.size(); ++i) link(i);
-    calendar_.reset(std::uint32_t(disks_.size()));
+    previous_.assign(n, -1);
+    for (std::uint32_t i = std::uint32_t(n); i-- > 0;) link(i);  // each list in storage order
+    std::vector<double> times(n);
+    std::vector<std::uint32_t> ids(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        times[i] = scheduled_[i].time;
+        ids[i] = disks_[i].id;
+    }
+    calendar_.reset(times, ids);
+    eventsSinceSort_ = 0;
 }
 
-EventEngineState EventDrivenBackend::saveState() const { return EventEngineState{now_, disks_}; }
+EventEngineState EventDrivenBackend::saveState() const {
+    EventEngineState state{now_, std::vector<EventDiskState>(disks_.size())};
+    for (std::size_t i = 0; i < disks_.size(); ++i) {
+        const Disk& d = disks_[i];
+        const Scheduled& e = scheduled_[i];
+        state.disks[d.id] = EventDiskState{d.x,    d.y,    d.vx,    d.vy,
+                                           d.time, e.time, e.event >= 0 ? std::int32_t(disks_[e.event].id) : e.event,
+                                           e.partnerCollisions, d.collisions, d.cell};
+    }
+    return state;
+}
 
 void EventDrivenBackend::restore(const EventEngineState& state) {
     if (state.disks.size() != disks_.size())
@@ -147,6 +206,15 @@ void EventDrivenBackend::restore(const EventEngineState& state) {
         if (!(std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.vx) && std::isfinite(d.vy) &&
               std::isfinite(d.time) && d.time <= state.time))
             throw Error(which + " has a position, velocity or time that is not finite, or a time after the state's");
+        // Its centre within rounding of its cell (a crossing leaves it on the edge).
+        const double column = d.cell % columns_, row = d.cell / columns_;
+        const double slackX = kCellSlack * width_, slackY = kCellSlack * height_;
+        if (!(d.x >= column * cellWidth_ - slackX && d.x <= (column + 1) * cellWidth_ + slackX &&
+              d.y >= row * cellHeight_ - slackY && d.y <= (row + 1) * cellHeight_ + slackY))
+            throw Error(which + " at (" + std::to_string(d.x) + ", " + std::to_string(d.y) + ") is not in its cell " +
+                        std::to_string(d.cell) + " (column " + std::to_string(d.cell % columns_) + ", row " +
+                        std::to_string(d.cell / columns_) + " of cells " + std::to_string(cellWidth_) + " x " +
+                        std::to_string(cellHeight_) + ")");
         if (d.event < kEventLowestCode || d.event >= std::int32_t(disks_.size()) || d.event == std::int32_t(i))
             throw Error(which + " has event code " + std::to_string(d.event) + "; allowed: " +
                         std::to_string(kEventLowestCode) + " to -1, or another disk's id below " +
@@ -155,32 +223,51 @@ void EventDrivenBackend::restore(const EventEngineState& state) {
             throw Error(which + " has its event at time " + std::to_string(d.eventTime) +
                         ", before the state's time " + std::to_string(state.time) + " or not finite");
     }
-    disks_ = state.disks;
+    // In id order (the partners' storage indices are their ids), then sorted.
+    std::vector<double> mass(disks_.size());
+    std::vector<Disk> disks(disks_.size());
+    for (const Disk& d : disks_) {
+        mass[d.id] = mass_[&d - disks_.data()];
+        disks[d.id].radius = d.radius;
+    }
+    for (std::size_t i = 0; i < disks.size(); ++i) {
+        const EventDiskState& s = state.disks[i];
+        disks[i] = Disk{s.x, s.y, s.vx, s.vy, s.time, disks[i].radius, -1, s.collisions, s.cell, std::uint32_t(i)};
+        scheduled_[i] = Scheduled{s.eventTime, s.event, s.partnerCollisions};
+    }
+    disks_ = std::move(disks);
+    mass_ = std::move(mass);
     now_ = state.time;
-    rebuild();
-    for (std::uint32_t i = 0; i < disks_.size(); ++i) calendar_.set(i, disks_[i].eventTime);
+    // Step k ends at k dt, as in the run that saved the state, unless the
+    // state's time is not its step's: then the steps count from it.
+    const bool onStep = now_ == double(step_) * double(world_.dt);
+    timeOrigin_ = onStep ? 0.0 : now_;
+    stepOrigin_ = onStep ? 0 : step_;
+    sortByCell();
     counts_ = EventCounts{};
     undrained_ = ContactTotals{};
 }
 
 void EventDrivenBackend::link(std::uint32_t i) {
-    const std::int32_t first = head_[disks_[i].cell];
-    next_[i] = first;
+    Disk& d = disks_[i];
+    std::int32_t& first = head_[d.cell];
+    d.next = first;
     previous_[i] = -1;
     if (first >= 0) previous_[first] = std::int32_t(i);
-    head_[disks_[i].cell] = std::int32_t(i);
+    first = std::int32_t(i);
 }
 
 void EventDrivenBackend::unlink(std::uint32_t i) {
+    const Disk& d = disks_[i];
     if (previous_[i] >= 0)
-        next_[previous_[i]] = next_[i];
+        disks_[previous_[i]].next = d.next;
     else
-        head_[disks_[i].cell] = next_[i];
-    if (next_[i] >= 0) previous_[next_[i]] = previous_[i];
+        head_[d.cell] = d.next;
+    if (d.next >= 0) previous_[d.next] = previous_[i];
 }
 
 void EventDrivenBackend::moveTo(std::uint32_t i, double time) {
-    EventDiskState& d = disks_[i];
+    Disk& d = disks_[i];
     const double s = time - d.time;
     if (s == 0) return;
     d.x += (d.vx + 0.5 * gx_ * s) * s;
@@ -200,8 +287,8 @@ double EventDrivenBackend::wallTime(double h0, double u, double a) const {
 }
 
 void EventDrivenBackend::schedule(std::uint32_t i) {
-    EventDiskState& d = disks_[i];  // at now_
-    const double r = radius_[i];
+    const Disk& d = disks_[i];  // at now_
+    const double r = d.radius;
     Candidate next;
     if (!periodic_) {
         next.offer(wallTime(d.x - r, d.vx, gx_), kEventWallLeft);
@@ -219,21 +306,32 @@ void EventDrivenBackend::schedule(std::uint32_t i) {
         next.offer(arrivalTime((row + 1) * cellHeight_ - d.y, -d.vy, -gy_), kEventCrossUp);
     if (next.time < kNever) next.time += now_;
 
+    // The first disk of each of the 3 x 3 cells, loaded (and prefetched)
+    // before any list is walked, so that their cache misses overlap.
+    std::int32_t first[9];
+    int cells = 0;
     for (int dr = -1; dr <= 1; ++dr) {
         std::int64_t nr = std::int64_t(row) + dr;
-        if (periodic_)
-            nr = (nr + rows_) % rows_;
-        else if (nr < 0 || nr >= rows_)
-            continue;
+        if (nr < 0 || nr >= rows_) {
+            if (!periodic_) continue;
+            nr = nr < 0 ? nr + rows_ : nr - rows_;
+        }
         for (int dc = -1; dc <= 1; ++dc) {
             std::int64_t nc = std::int64_t(column) + dc;
-            if (periodic_)
-                nc = (nc + columns_) % columns_;
-            else if (nc < 0 || nc >= columns_)
-                continue;
-            for (std::int32_t j = head_[std::size_t(nr) * columns_ + std::size_t(nc)]; j >= 0; j = next_[j]) {
-                if (j == std::int32_t(i)) continue;
-                const EventDiskState& o = disks_[j];
+            if (nc < 0 || nc >= columns_) {
+                if (!periodic_) continue;
+                nc = nc < 0 ? nc + columns_ : nc - columns_;
+            }
+            const std::int32_t j = head_[std::size_t(nr) * columns_ + std::size_t(nc)];
+            if (j < 0) continue;
+            prefetch(&disks_[j]);
+            first[cells++] = j;
+        }
+    }
+    for (int c = 0; c < cells; ++c) {
+        for (std::int32_t j = first[c]; j >= 0;) {
+            const Disk& o = disks_[j];
+            if (j != std::int32_t(i)) {
                 const double s = now_ - o.time;  // the partner projected to now_
                 double dx = d.x - (o.x + (o.vx + 0.5 * gx_ * s) * s);
                 double dy = d.y - (o.y + (o.vy + 0.5 * gy_ * s) * s);
@@ -241,25 +339,25 @@ void EventDrivenBackend::schedule(std::uint32_t i) {
                     dx = nearestImage(dx, width_);
                     dy = nearestImage(dy, height_);
                 }
-                const double t = contactTime(dx, dy, d.vx - (o.vx + gx_ * s), d.vy - (o.vy + gy_ * s), r + radius_[j]);
-                if (t < kNever) next.offer(now_ + t, j);
+                const double t = contactTime(dx, dy, d.vx - (o.vx + gx_ * s), d.vy - (o.vy + gy_ * s), r + o.radius);
+                if (t < kNever) next.offer(now_ + t, j, o.id);
             }
+            j = o.next;
         }
     }
-    d.eventTime = next.time;
-    d.event = next.code;
-    if (next.code >= 0) d.partnerCollisions = disks_[next.code].collisions;
+    scheduled_[i] = Scheduled{next.time, next.code, next.code >= 0 ? disks_[next.code].collisions : 0u};
     calendar_.set(i, next.time);
 }
 
 void EventDrivenBackend::runUntil(double time) {
     while (calendar_.nextTime() <= time) {
+        if (++eventsSinceSort_ > kSortInterval * disks_.size()) sortByCell();
         const std::uint32_t i = calendar_.next();
-        const EventDiskState& d = disks_[i];
-        now_ = std::max(now_, d.eventTime);
-        const std::int32_t event = d.event;
+        const Scheduled e = scheduled_[i];
+        now_ = std::max(now_, e.time);
+        const std::int32_t event = e.event;
         if (event >= 0) {
-            if (disks_[event].collisions == d.partnerCollisions) {
+            if (disks_[event].collisions == e.partnerCollisions) {
                 collide(i, std::uint32_t(event));
             } else {  // the partner's motion changed since: look again
                 ++counts_.stale;
@@ -278,8 +376,8 @@ void EventDrivenBackend::runUntil(double time) {
 void EventDrivenBackend::collide(std::uint32_t i, std::uint32_t j) {
     moveTo(i, now_);
     moveTo(j, now_);
-    EventDiskState& a = disks_[i];
-    EventDiskState& b = disks_[j];
+    Disk& a = disks_[i];
+    Disk& b = disks_[j];
     double dx = a.x - b.x, dy = a.y - b.y;
     if (periodic_) {
         dx = nearestImage(dx, width_);
@@ -288,7 +386,7 @@ void EventDrivenBackend::collide(std::uint32_t i, std::uint32_t j) {
     const double approach = dx * (a.vx - b.vx) + dy * (a.vy - b.vy);
     if (approach < 0) {  // rounding can leave a grazing pair receding by now
         const double distance2 = dx * dx + dy * dy;
-        const double sigma = radius_[i] + radius_[j];
+        const double sigma = a.radius + b.radius;
         const double mi = mass_[i], mj = mass_[j];
         // The elastic impulse along the centre line, as in kernels/physics.h.
         const double f = 2 * approach / ((mi + mj) * distance2);
@@ -310,7 +408,7 @@ void EventDrivenBackend::collide(std::uint32_t i, std::uint32_t j) {
 
 void EventDrivenBackend::bounce(std::uint32_t i, std::int32_t wall) {
     moveTo(i, now_);
-    EventDiskState& d = disks_[i];
+    Disk& d = disks_[i];
     const int side = kEventWallLeft - wall;  // 0 left, 1 right, 2 bottom, 3 top
     double& v = side < 2 ? d.vx : d.vy;
     // Only towards the wall: rounding may have turned it already.
@@ -326,7 +424,7 @@ void EventDrivenBackend::bounce(std::uint32_t i, std::int32_t wall) {
 void EventDrivenBackend::cross(std::uint32_t i, std::int32_t direction) {
     moveTo(i, now_);
     unlink(i);
-    EventDiskState& d = disks_[i];
+    Disk& d = disks_[i];
     std::uint32_t column = d.cell % columns_, row = d.cell / columns_;
     switch (direction) {
     case kEventCrossLeft:
@@ -382,7 +480,7 @@ void EventDrivenBackend::motionChanged() {
 std::vector<ExactDisk> EventDrivenBackend::exactState() const {
     std::vector<ExactDisk> state(disks_.size());
     for (std::size_t i = 0; i < disks_.size(); ++i) {
-        const EventDiskState& d = disks_[i];
+        const Disk& d = disks_[i];
         const double s = now_ - d.time;
         double x = d.x + (d.vx + 0.5 * gx_ * s) * s;
         double y = d.y + (d.vy + 0.5 * gy_ * s) * s;
@@ -392,7 +490,7 @@ std::vector<ExactDisk> EventDrivenBackend::exactState() const {
             if (y < 0) y += height_;
             else if (y >= height_) y -= height_;
         }
-        state[i] = ExactDisk{x, y, d.vx + gx_ * s, d.vy + gy_ * s, mass_[i], radius_[i]};
+        state[d.id] = ExactDisk{x, y, d.vx + gx_ * s, d.vy + gy_ * s, mass_[i], d.radius};
     }
     return state;
 }

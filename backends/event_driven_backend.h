@@ -18,8 +18,10 @@
 // receding one is never scheduled, so a collision can only repeat after
 // another event changed a velocity; a disk found past a wall or a cell
 // boundary is treated as on it (Bannerman, Lue and Woods 2014). Under
-// gravity a disk resting on a wall sinks at most kRestingDepth below it
-// before it bounces, so resting piles take finite time per event.
+// gravity a disk arriving at a wall slower than a fall through
+// kRestingDepth (1e-12 of the longer box side) bounces that much below
+// where it arrived instead, so a resting pile's bounces never take zero
+// time; its floor sinks by a few resting depths (tests/test_events.cpp).
 //
 // Backend::step advances the time by dt per step; dt only sets when the
 // state is sampled. The sampled state is the double state projected to the
@@ -89,8 +91,11 @@ private:
     void drainTallies(ContactTotals& totals) override;
     void motionChanged() override;
 
-    // The cell lists from the disks' cells, and an empty calendar.
-    void rebuild();
+    // Disks are stored in the order of their cells (row by row), re-sorted
+    // every kSortInterval x N events as they wander, so that a neighbour
+    // search reads nearby memory. Every choice between equal times goes by
+    // particle id, never by this order: it changes no result.
+    void sortByCell();
     // Finds disk i's earliest event from now_ (the disk is at now_) and
     // puts it in the calendar.
     void schedule(std::uint32_t i);
@@ -108,10 +113,31 @@ private:
     void link(std::uint32_t i);
     void unlink(std::uint32_t i);
 
-    std::vector<EventDiskState> disks_;
-    std::vector<double> mass_, radius_;
-    std::vector<std::int32_t> head_, next_, previous_;  // cell lists
-    EventCalendar calendar_;
+    // What a neighbour search reads, in one cache line per disk: the
+    // trajectory, the size, the cell, the next disk in the cell's list.
+    struct alignas(64) Disk {
+        double x, y, vx, vy;       // at `time` (EventDiskState)
+        double time;
+        double radius;
+        std::int32_t next;         // the next disk in its cell's list (storage index), -1 at the end
+        std::uint32_t collisions;  // EventDiskState::collisions
+        std::uint32_t cell;        // EventDiskState::cell
+        std::uint32_t id;          // its particle id
+    };
+    // A disk's scheduled event (EventDiskState::eventTime, event with the
+    // partner's storage index, partnerCollisions).
+    struct Scheduled {
+        double time;
+        std::int32_t event;
+        std::uint32_t partnerCollisions;
+    };
+    std::vector<Disk> disks_;  // in storage order, as are the three below
+    std::vector<Scheduled> scheduled_;
+    std::vector<double> mass_;
+    std::vector<std::int32_t> previous_;  // the previous disk in its cell's list, -1 at the start
+    std::vector<std::int32_t> head_;      // each cell's first disk, -1 for none
+    EventCalendar calendar_;              // leaves in storage order, ties by particle id
+    std::uint64_t eventsSinceSort_ = 0;
     double now_ = 0.0;
     // Step `step_` ends at timeOrigin_ + (step_ - stepOrigin_) dt: the origin
     // moves only when setMotion changes dt.

@@ -72,11 +72,9 @@ public:
             const std::string name = text(*collisions, "collisions");
             try {
                 scene.world.collisions = parseCollisionScheme(name);
-            } catch (const Error& e) {
-                // Its message for "events" says why; for other names it repeats the
-                // name in full, where the file's message shows it cut short.
-                fail(*collisions, "collisions",
-                     name == "events" ? e.what() : "allowed: \"pairwise\" or \"simultaneous\"");
+            } catch (const Error&) {
+                // Its message repeats the name in full, where the file's shows it cut short.
+                fail(*collisions, "collisions", "allowed: \"pairwise\", \"simultaneous\" or \"events\"");
             }
         }
         if (const toml::node* dt = root.get("dt")) {

@@ -181,10 +181,7 @@ TEST_CASE("scene file: bad input is refused with file, line, key, value and what
              Case{"box = [60, 40]\nmax_travel = -1\n", "s.toml:2: max_travel = -1"},
              Case{"box = [60, 40]\nboundary = 3\n", "boundary = 3: must be a non-empty string"},
              Case{"box = [60, 40]\ncollisions = \"elastic\"\n",
-                  "s.toml:2: collisions = \"elastic\": allowed: \"pairwise\" or \"simultaneous\""},
-             Case{"box = [60, 40]\ncollisions = \"events\"\n",
-                  "s.toml:2: collisions = \"events\": collision scheme 'events' (exact event-driven dynamics) is not "
-                  "available yet; allowed: pairwise, simultaneous"},
+                  "s.toml:2: collisions = \"elastic\": allowed: \"pairwise\", \"simultaneous\" or \"events\""},
              Case{"box = [60, 40]\ncollisions = true\n", "s.toml:2: collisions = true: must be a non-empty string"},
              // motion and run
              Case{"box = [60, 40]\ndt = -0.01\n", "s.toml:2: dt = -0.01: must be a finite number > 0"},
