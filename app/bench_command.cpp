@@ -27,7 +27,8 @@ namespace {
 const std::vector<std::uint32_t> kDefaultSizes = {1000,   2000,   5000,    10000,   20000,   50000,   100000,
                                                   200000, 500000, 1000000, 2000000, 4000000, 8000000, 16000000};
 const std::vector<std::uint32_t> kQuickSizes = {1000, 4000};
-const std::vector<CollisionScheme> kSchemes = {CollisionScheme::Simultaneous, CollisionScheme::Pairwise};
+const std::vector<CollisionScheme> kSchemes = {CollisionScheme::Simultaneous, CollisionScheme::Pairwise,
+                                               CollisionScheme::Events};
 // Bandwidth buffers: well beyond the caches, and about the size of the
 // largest state swept; small for --quick.
 constexpr std::size_t kMinBandwidthBytes = std::size_t(64) << 20;
@@ -95,9 +96,15 @@ std::vector<Variant> chosenVariants(const BenchOptions& o) {
     for (const Method& method : methods)
         for (CollisionScheme scheme : schemes)
             if (runsScheme(method, scheme)) variants.push_back({method, scheme});
-    if (variants.empty())
-        throw Error("--collisions pairwise: none of the methods chosen runs the pairwise scheme (the naive methods "
-                    "run the simultaneous scheme only); add a grid method such as cpu");
+    if (variants.empty()) {
+        std::string names;
+        for (CollisionScheme scheme : schemes)
+            names += (names.empty() ? "" : ",") + std::string(collisionSchemeName(scheme));
+        throw Error("--collisions " + names + ": none of the methods chosen runs " +
+                    (schemes.size() == 1 ? "the " + names + " scheme" : "any of these schemes") +
+                    " (the naive methods run the simultaneous scheme only, the events method the events scheme "
+                    "only); add a method that does, such as cpu or events");
+    }
     return variants;
 }
 
@@ -135,6 +142,8 @@ void benchOneSize(const BenchOptions& o, std::uint32_t particles, bool largerFol
         world.height = initial.height;
         world.dt = o.dt;
         world.collisions = variant.scheme;
+        // The event-driven benchmarks' box (the literature's and issue 12's targets).
+        if (variant.method.eventDriven) world.boundary = Boundary::Periodic;
         const GridGeometry g = gridGeometryFor(world, o.radius, particles);
         std::unique_ptr<Backend> backend = makeMethodBackend(variant.method, world, o.device);
         backend->setParticles(initial.particles);
@@ -146,8 +155,11 @@ void benchOneSize(const BenchOptions& o, std::uint32_t particles, bool largerFol
             row.profile = profileMethod(variant.method, world, initial.particles, o.device,
                                         row.timing.stepsPerSample, row.timing.substepsPerStep, stepsTimed);
         }
-        std::cerr << "  " << variantLabel(variant) << ", N = " << particles << ": "
-                  << row.timing.secondsPerStep * 1e3 << " ms/step\n";
+        std::cerr << "  " << variantLabel(variant) << ", N = " << particles << ": ";
+        if (row.timing.events)
+            std::cerr << row.timing.events->collisionsPerSecond << " collisions/s\n";
+        else
+            std::cerr << row.timing.secondsPerStep * 1e3 << " ms/step\n";
         report.rows.push_back(row);
         if (row.timing.secondsPerStep <= report.plan.budgetSeconds) {
             kept.push_back(variant);
@@ -162,8 +174,8 @@ int listMethods() {
     std::cout << "methods (carom bench --methods NAME,...):\n";
     for (const Method& m : availableMethods()) std::cout << "  " << m.name << std::string(18 - m.name.size(), ' ')
                                                          << m.description << '\n';
-    std::cout << "collision schemes (--collisions NAME,...; default: both): simultaneous, pairwise; the naive "
-                 "methods run simultaneous only\n";
+    std::cout << "collision schemes (--collisions NAME,...; default: all): simultaneous, pairwise, events; the "
+                 "naive methods run simultaneous only, the events method events only (in a periodic box)\n";
     std::cout << "default sizes (--sizes N,...):";
     for (std::uint32_t n : kDefaultSizes) std::cout << ' ' << n;
     std::cout << "\nquick sizes (--quick):";
@@ -178,9 +190,10 @@ void addBenchOptions(CLI::App& command, BenchOptions& o) {
     command.add_option("--methods", o.methods, "Methods to compare, comma-separated (see --list; default: all)")
         ->delimiter(',');
     command.add_option("--collisions", o.collisions,
-                       "Collision schemes to measure each method under, comma-separated: simultaneous, pairwise "
-                       "(default: both; the naive methods run simultaneous only). The table gives pw/sim, a "
-                       "pairwise step's time over a simultaneous one's")
+                       "Collision schemes to measure each method under, comma-separated: simultaneous, pairwise, "
+                       "events (default: all; the naive methods run simultaneous only, the events method events "
+                       "only). The table gives pw/sim, a pairwise step's time over a simultaneous one's, and the "
+                       "events method's collisions, events and particle-time per second")
         ->delimiter(',');
     command.add_option("--sizes", o.sizes, "Particle counts N, comma-separated, e.g. 1e3,1e6,1.6e7 "
                                            "(default: 1e3 to 1.6e7)")
@@ -202,7 +215,8 @@ void addBenchOptions(CLI::App& command, BenchOptions& o) {
         ->capture_default_str();
     command.add_option("--json", o.json,
                        "Write the results as JSON to this file: a result per method, scheme and N (its fields "
-                       "method, scheme, particles, ms_per_step, pairwise_over_simultaneous, ...)");
+                       "method, scheme, particles, ms_per_step, pairwise_over_simultaneous, ...; the events "
+                       "method's collisions_per_second, particle_time_per_second, events_per_second, ...)");
     command.add_option("--csv", o.csv, "Write the results as CSV to this file: a row per method, scheme and N");
     command.add_option("--plot", o.plot,
                        "Write an SVG plot of throughput against N to this file: a line per method and scheme");

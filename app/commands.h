@@ -36,7 +36,7 @@ int devicesCommand();
 
 struct BenchOptions {
     std::vector<std::string> methods;  // empty = every method this build has
-    std::vector<std::string> collisions;  // scheme names; empty = both (each method under those it runs)
+    std::vector<std::string> collisions;  // scheme names; empty = all (each method under those it runs)
     std::vector<std::string> sizes;    // N as written ("1e6"); empty = the default sweep
     float packing = 0.5f;
     float radius = 1.0f;

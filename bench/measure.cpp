@@ -44,30 +44,58 @@ double bestOf(int repeats, Run&& run) {
 
 }  // namespace
 
+std::uint64_t eventsOf(const EventCounts& counts) {
+    return counts.collisions + counts.wallBounces + counts.cellCrossings + counts.stale;
+}
+
 Timing timeSteps(Backend& backend, const TimingPlan& plan) {
     Timing timing;
-    // Warm-up: one step, then doubling batches until warmupSeconds have passed.
+    const auto* engine = dynamic_cast<const EventDrivenBackend*>(&backend);
+    const double particles = double(backend.particleCount());
+    const auto leftLattice = [&] {
+        return !engine || double(engine->eventCounts().collisions) >= plan.warmupCollisionsPerDisk * particles;
+    };
+    // Warm-up: one step, then doubling batches until warmupSeconds have
+    // passed (and the event-driven gas has left its lattice).
     double perStep = timedSteps(backend, 1);
     timing.warmupSteps = 1;
-    int samples = plan.samples;
-    if (perStep > plan.budgetSeconds) {
-        samples = std::min(samples, plan.samplesOverBudget);
-    } else {
-        double warmed = perStep;
-        for (std::uint64_t batch = 1; warmed < plan.warmupSeconds; batch *= 2) {
-            const double seconds = timedSteps(backend, batch);
-            warmed += seconds;
-            timing.warmupSteps += batch;
-            perStep = seconds / double(batch);
-        }
+    const bool overBudget = perStep > plan.budgetSeconds;
+    const int samples = overBudget ? std::min(plan.samples, plan.samplesOverBudget) : plan.samples;
+    double warmed = perStep;
+    for (std::uint64_t batch = 1; (!overBudget && warmed < plan.warmupSeconds) || !leftLattice(); batch *= 2) {
+        const double seconds = timedSteps(backend, batch);
+        warmed += seconds;
+        timing.warmupSteps += batch;
+        perStep = seconds / double(batch);
     }
     timing.stepsPerSample = std::max<std::uint64_t>(1, std::uint64_t(std::ceil(plan.sampleSeconds / perStep)));
-    for (int s = 0; s < samples; ++s)
-        timing.sampleSecondsPerStep.push_back(timedSteps(backend, timing.stepsPerSample) /
-                                              double(timing.stepsPerSample));
+    const EventCounts warm = engine ? engine->eventCounts() : EventCounts{};
+    std::vector<double> collisionRates, eventRates, particleTimeRates;
+    for (int s = 0; s < samples; ++s) {
+        const EventCounts before = engine ? engine->eventCounts() : EventCounts{};
+        const double simulatedBefore = engine ? engine->time() : 0.0;
+        const double seconds = timedSteps(backend, timing.stepsPerSample);
+        timing.sampleSecondsPerStep.push_back(seconds / double(timing.stepsPerSample));
+        if (!engine) continue;
+        const EventCounts& after = engine->eventCounts();
+        collisionRates.push_back(double(after.collisions - before.collisions) / seconds);
+        eventRates.push_back(double(eventsOf(after) - eventsOf(before)) / seconds);
+        particleTimeRates.push_back(particles * (engine->time() - simulatedBefore) / seconds);
+    }
     timing.secondsPerStep = median(timing.sampleSecondsPerStep);
     const ContactTotals& totals = backend.contacts();
     timing.substepsPerStep = double(totals.substeps) / double(totals.steps);
+    if (engine) {
+        const EventCounts& end = engine->eventCounts();
+        timing.events = EventRates{median(collisionRates),
+                                   median(eventRates),
+                                   median(particleTimeRates),
+                                   collisionRates,
+                                   double(warm.collisions) / particles,
+                                   {end.collisions - warm.collisions, end.wallBounces - warm.wallBounces,
+                                    end.cellCrossings - warm.cellCrossings, end.stale - warm.stale,
+                                    end.overlapping - warm.overlapping}};
+    }
     return timing;
 }
 

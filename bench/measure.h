@@ -4,10 +4,12 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "backends/backend.h"
+#include "backends/event_driven_backend.h"
 #include "bench/methods.h"
 
 namespace carom::bench {
@@ -18,7 +20,26 @@ struct TimingPlan {
     double warmupSeconds = 0.2;     // untimed steps first (caches, clocks, lazy allocations)
     double budgetSeconds = 1.0;     // a step slower than this: fewer samples, and larger N is dropped
     int samplesOverBudget = 3;
+    // The event-driven backend also warms up until this many collisions per
+    // disk: the gas leaves its starting lattice before it is timed.
+    double warmupCollisionsPerDisk = 3;
 };
+
+// What the event-driven backend did per wall-clock second, each the median
+// over the samples: its collisions, its events of every kind (collisions,
+// wall bounces, cell crossings and stale events recomputed) and its
+// particle-time (N x the simulated time).
+struct EventRates {
+    double collisionsPerSecond = 0;
+    double eventsPerSecond = 0;
+    double particleTimePerSecond = 0;
+    std::vector<double> sampleCollisionsPerSecond;
+    double warmupCollisionsPerDisk = 0;  // collisions per disk before the first sample
+    EventCounts sampled;                 // counted over all the samples
+};
+
+// The events the calendar handed out, of every kind (EventRates).
+std::uint64_t eventsOf(const EventCounts& counts);
 
 struct Timing {
     double secondsPerStep = 0;                 // median over the samples
@@ -26,9 +47,11 @@ struct Timing {
     std::uint64_t stepsPerSample = 1;
     std::uint64_t warmupSteps = 0;
     double substepsPerStep = 1;  // the mean over every step taken (Backend::step splits some)
+    std::optional<EventRates> events;  // for the event-driven backend
 };
 
-// Warms the backend up, then times plan.samples samples of whole steps.
+// Warms the backend up, then times plan.samples samples of whole steps; an
+// event-driven backend's events are counted too.
 Timing timeSteps(Backend& backend, const TimingPlan& plan);
 
 // Host memory: an OpenMP-parallel copy between two buffers of `bytes`, best

@@ -51,11 +51,15 @@ const std::vector<Method>& allMethods() {
         {"cpu", "CPU backend: shared grid builder, OpenMP step", false, false},
         {"opencl-seed", "OpenCL seed pipeline: host grid, state read back each step", true, false},
         {"opencl-resident", "OpenCL resident pipeline: grid and state stay on the device", true, false},
+        {"events", "event-driven exact dynamics on one CPU thread (periodic box); events scheme only", false, false,
+         true},
     };
     return methods;
 }
 
 bool runsScheme(const Method& method, CollisionScheme scheme) {
+    if (method.eventDriven || scheme == CollisionScheme::Events)
+        return method.eventDriven && scheme == CollisionScheme::Events;
     return scheme == CollisionScheme::Simultaneous || !method.allPairs;
 }
 
@@ -98,8 +102,8 @@ std::map<std::string, double> profileMethod(const Method& method, const WorldDef
                                             std::uint64_t steps, double substepsPerStep,
                                             std::uint64_t warmupSteps) {
     if (!method.opencl)
-        return method.allPairs ? std::map<std::string, double>{}
-                               : profileHostGrid(world, particles, steps, substepsPerStep);
+        return method.allPairs || method.eventDriven ? std::map<std::string, double>{}
+                                                     : profileHostGrid(world, particles, steps, substepsPerStep);
 #ifdef CAROM_HAVE_OPENCL
     OpenClBackend backend(world, device, pipelineOf(method), true);
     backend.setParticles(particles);
@@ -121,6 +125,7 @@ Traffic trafficPerParticleStep(const Variant& variant, double cellsPerParticle) 
     const double grid = kIndexBytes + kCellBytes * cellsPerParticle;
     const double search = pairwise ? kForwardSearchBytes : 0.0;
     Traffic t;
+    if (method.eventDriven) return t;
     if (method.allPairs) {
         (method.opencl ? t.device : t.host) = kStateBytes;
     } else if (!method.opencl) {

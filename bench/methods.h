@@ -18,10 +18,12 @@ struct Method {
     std::string description;
     bool opencl = false;    // runs on the OpenCL device, else on the host CPU
     bool allPairs = false;  // the naive O(N^2) baseline, simultaneous scheme only
+    bool eventDriven = false;  // the event-driven engine, events scheme only: timed in collisions per second
 };
 
 // Whether `method` runs `scheme`: the naive baselines run the simultaneous
-// scheme only.
+// scheme only, the events method the events scheme only and the other
+// methods the stepped schemes.
 bool runsScheme(const Method& method, CollisionScheme scheme);
 
 // A method under one collision scheme: what one line of the results measures.
@@ -49,7 +51,7 @@ std::unique_ptr<Backend> makeMethodBackend(const Method& method, const WorldDef&
 // the collisions of the moment ask for; the scene starts on a lattice, with
 // none); for the CPU backend its serial part, the grid build
 // (one per substep: `substepsPerStep` of them), timed alone; nothing for the
-// CPU all-pairs method.
+// CPU all-pairs and events methods.
 std::map<std::string, double> profileMethod(const Method& method, const WorldDef& world,
                                             const std::vector<Particle>& particles, const std::string& device,
                                             std::uint64_t steps, double substepsPerStep,
@@ -63,7 +65,9 @@ std::map<std::string, double> profileMethod(const Method& method, const WorldDef
 // The pairwise scheme adds a pass, its forward search, which reads each
 // disk's state (32 B), sorted index and cell (2 x 4 B) and writes its event
 // (8 B); the seed pipeline also builds and uploads the cells (4 B). The
-// rounds touch only the few disks on their lists and are not counted.
+// rounds touch only the few disks on their lists and are not counted. The
+// events method has no such model (its cost is per event, not per step):
+// no bytes.
 struct Traffic {
     double device = 0;    // the OpenCL device's memory
     double host = 0;      // host memory

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <map>
 
 #include <nlohmann/json.hpp>
@@ -42,12 +43,70 @@ std::vector<std::pair<std::string, double>> slowestFirst(const std::map<std::str
     return parts;
 }
 
+// The event-driven rows: rates per wall-clock second, not step times (a
+// step of dt only sets when the state is sampled); after the stepped table
+// when there was one.
+void printEventRates(std::ostream& out, const Report& report, bool afterTable) {
+    bool first = true;
+    char line[200];
+    for (const Row& row : report.rows) {
+        if (!row.timing.events) continue;
+        const EventRates& e = *row.timing.events;
+        if (first) {
+            out << (afterTable ? "\n" : "") << "event-driven, periodic box: per wall-clock second, median of the samples, timed after at "
+                   "least "
+                << report.plan.warmupCollisionsPerDisk << " collisions per disk\n";
+            std::snprintf(line, sizeof line, "%-16s %10s %14s %16s %12s %11s %8s %12s\n", "method", "N",
+                          "collisions/s", "particle-time/s", "events/s", "events/coll", "stale", "warm-up c/N");
+            out << line;
+            first = false;
+        }
+        const EventCounts& c = e.sampled;
+        const double collisions = double(c.collisions);
+        std::snprintf(line, sizeof line, "%-16s %10u %14.4g %16.4g %12.4g %11.3g %7.1f%% %12.3g\n",
+                      row.variant.method.name.c_str(), row.particles, e.collisionsPerSecond,
+                      e.particleTimePerSecond, e.eventsPerSecond,
+                      collisions > 0 ? double(eventsOf(c)) / collisions : 0.0,
+                      eventsOf(c) > 0 ? 100.0 * double(c.stale) / double(eventsOf(c)) : 0.0,
+                      e.warmupCollisionsPerDisk);
+        out << line;
+    }
+    if (!first)
+        out << "  events: collisions, wall bounces, cell crossings and stale events recomputed; stale: their share; "
+               "warm-up c/N: collisions per disk before the samples\n";
+}
+
+// An event-driven row: its rates instead of step times.
+nlohmann::json eventRowJson(const Row& row) {
+    const EventRates& e = *row.timing.events;
+    const EventCounts& c = e.sampled;
+    return {
+        {"method", row.variant.method.name},
+        {"scheme", collisionSchemeName(row.variant.scheme)},
+        {"boundary", "periodic"},
+        {"particles", row.particles},
+        {"collisions_per_second", e.collisionsPerSecond},
+        {"particle_time_per_second", e.particleTimePerSecond},
+        {"events_per_second", e.eventsPerSecond},
+        {"sample_collisions_per_second", e.sampleCollisionsPerSecond},
+        {"steps_per_sample", row.timing.stepsPerSample},
+        {"warmup_steps", row.timing.warmupSteps},
+        {"warmup_collisions_per_disk", e.warmupCollisionsPerDisk},
+        {"sampled_events",
+         {{"collisions", c.collisions},
+          {"wall_bounces", c.wallBounces},
+          {"cell_crossings", c.cellCrossings},
+          {"stale", c.stale},
+          {"overlapping", c.overlapping}}},
+    };
+}
+
 }  // namespace
 
 std::string variantLabel(const Variant& variant) {
-    return variant.scheme == CollisionScheme::Simultaneous ? variant.method.name
-                                                           : variant.method.name + ' ' +
-                                                                 collisionSchemeName(variant.scheme);
+    return variant.scheme == CollisionScheme::Simultaneous || variant.method.eventDriven
+               ? variant.method.name
+               : variant.method.name + ' ' + collisionSchemeName(variant.scheme);
 }
 
 double particleStepsPerSecond(const Row& row) { return row.particles / row.timing.secondsPerStep; }
@@ -85,23 +144,29 @@ void printTable(std::ostream& out, const Report& report) {
         << report.scene.speed << ", dt " << report.dt << "; median of " << report.plan.samples
         << " samples after warm-up\n\n";
     char line[200];
-    std::snprintf(line, sizeof line, "%-16s %-12s %10s %11s %16s %7s %9s %9s %10s %9s\n", "method", "scheme", "N",
-                  "ms/step", "particle-steps/s", "pw/sim", "vs seed", "vs naive", "floor ms", "of floor");
-    out << line;
-    for (const Row& row : report.rows) {
-        const Method& method = row.variant.method;
-        const double floorMs = floorSecondsPerStep(report, row) * 1e3;
-        std::snprintf(line, sizeof line, "%-16s %-12s %10u %11.4g %16.3g %7s %9s %9s %10.3g %8.1f%%\n",
-                      method.name.c_str(), collisionSchemeName(row.variant.scheme), row.particles,
-                      row.timing.secondsPerStep * 1e3, particleStepsPerSecond(row),
-                      optionalRatio(pairwiseOverSimultaneous(report, row)).c_str(),
-                      optionalRatio(speedupOver(report, row, "opencl-seed")).c_str(),
-                      optionalRatio(speedupOver(report, row, naiveCounterpart(method))).c_str(), floorMs,
-                      100.0 * fractionOfFloor(report, row));
+    const auto stepped = [](const Row& row) { return !row.timing.events; };
+    const bool anyStepped = std::any_of(report.rows.begin(), report.rows.end(), stepped);
+    if (anyStepped) {
+        std::snprintf(line, sizeof line, "%-16s %-12s %10s %11s %16s %7s %9s %9s %10s %9s\n", "method", "scheme",
+                      "N", "ms/step", "particle-steps/s", "pw/sim", "vs seed", "vs naive", "floor ms", "of floor");
         out << line;
+        for (const Row& row : report.rows) {
+            if (!stepped(row)) continue;
+            const Method& method = row.variant.method;
+            const double floorMs = floorSecondsPerStep(report, row) * 1e3;
+            std::snprintf(line, sizeof line, "%-16s %-12s %10u %11.4g %16.3g %7s %9s %9s %10.3g %8.1f%%\n",
+                          method.name.c_str(), collisionSchemeName(row.variant.scheme), row.particles,
+                          row.timing.secondsPerStep * 1e3, particleStepsPerSecond(row),
+                          optionalRatio(pairwiseOverSimultaneous(report, row)).c_str(),
+                          optionalRatio(speedupOver(report, row, "opencl-seed")).c_str(),
+                          optionalRatio(speedupOver(report, row, naiveCounterpart(method))).c_str(), floorMs,
+                          100.0 * fractionOfFloor(report, row));
+            out << line;
+        }
+        out << "  pw/sim: a pairwise step's time over a simultaneous step's (same method and N); vs seed and vs "
+               "naive compare within a scheme\n";
     }
-    out << "  pw/sim: a pairwise step's time over a simultaneous step's (same method and N); vs seed and vs naive "
-           "compare within a scheme\n";
+    printEventRates(out, report, anyStepped);
     bool profiled = false;
     for (const Row& row : report.rows) {
         if (row.profile.empty()) continue;
@@ -129,6 +194,10 @@ void writeJson(std::ostream& out, const Report& report) {
     const Bandwidth& b = report.bandwidth;
     json rows = json::array();
     for (const Row& row : report.rows) {
+        if (row.timing.events) {
+            rows.push_back(eventRowJson(row));
+            continue;
+        }
         const Traffic t = trafficPerParticleStep(row.variant, row.cellsPerParticle);
         rows.push_back({
             {"method", row.variant.method.name},
@@ -184,7 +253,8 @@ void writeJson(std::ostream& out, const Report& report) {
           {"sample_seconds", report.plan.sampleSeconds},
           {"warmup_seconds", report.plan.warmupSeconds},
           {"budget_ms_per_step", report.plan.budgetSeconds * 1e3},
-          {"statistic", "median of the samples' mean ms/step"}}},
+          {"warmup_collisions_per_disk", report.plan.warmupCollisionsPerDisk},
+          {"statistic", "median of the samples' mean ms/step; for the events method, of the samples' rates"}}},
         {"bandwidth_bytes_per_second",
          {{"host_copy", b.hostCopy}, {"device_copy", b.deviceCopy}, {"upload", b.upload}, {"download", b.download},
           {"note", "copies count bytes read plus bytes written; best of several runs"}}},
@@ -201,29 +271,48 @@ void writeJson(std::ostream& out, const Report& report) {
 }
 
 void writeCsv(std::ostream& out, const Report& report) {
-    // The scheme's columns come last, so the earlier columns keep their places.
+    // Later columns come last, so the earlier columns keep their places: the
+    // scheme's, then the events method's rates (its step columns are empty,
+    // as the rates are the stepped rows').
     out << "method,particles,ms_per_step,particle_steps_per_second,speedup_vs_seed,speedup_vs_naive,"
-           "floor_ms_per_step,fraction_of_floor,samples,steps_per_sample,scheme,pairwise_over_simultaneous\n";
+           "floor_ms_per_step,fraction_of_floor,samples,steps_per_sample,scheme,pairwise_over_simultaneous,"
+           "collisions_per_second,particle_time_per_second,events_per_second\n";
     const auto optional = [](std::optional<double> v) { return v ? format("%.6g", *v) : std::string(); };
-    for (const Row& row : report.rows)
-        out << row.variant.method.name << ',' << row.particles << ','
-            << format("%.6g", row.timing.secondsPerStep * 1e3) << ',' << format("%.6g", particleStepsPerSecond(row))
-            << ',' << optional(speedupOver(report, row, "opencl-seed")) << ','
-            << optional(speedupOver(report, row, naiveCounterpart(row.variant.method))) << ','
-            << format("%.6g", floorSecondsPerStep(report, row) * 1e3) << ','
-            << format("%.6g", fractionOfFloor(report, row)) << ',' << row.timing.sampleSecondsPerStep.size() << ','
-            << row.timing.stepsPerSample << ',' << collisionSchemeName(row.variant.scheme) << ','
-            << optional(pairwiseOverSimultaneous(report, row)) << '\n';
+    for (const Row& row : report.rows) {
+        const std::optional<EventRates>& events = row.timing.events;
+        out << row.variant.method.name << ',' << row.particles << ',';
+        if (events)
+            out << ",,,,,,";
+        else
+            out << format("%.6g", row.timing.secondsPerStep * 1e3) << ','
+                << format("%.6g", particleStepsPerSecond(row)) << ','
+                << optional(speedupOver(report, row, "opencl-seed")) << ','
+                << optional(speedupOver(report, row, naiveCounterpart(row.variant.method))) << ','
+                << format("%.6g", floorSecondsPerStep(report, row) * 1e3) << ','
+                << format("%.6g", fractionOfFloor(report, row)) << ',';
+        out << row.timing.sampleSecondsPerStep.size() << ',' << row.timing.stepsPerSample << ','
+            << collisionSchemeName(row.variant.scheme) << ',' << optional(pairwiseOverSimultaneous(report, row));
+        if (events)
+            out << ',' << format("%.6g", events->collisionsPerSecond) << ','
+                << format("%.6g", events->particleTimePerSecond) << ',' << format("%.6g", events->eventsPerSecond);
+        else
+            out << ",,,";
+        out << '\n';
+    }
 }
 
 // Log-log axes: N across, particle-steps/s up, one line per method and
 // scheme (pairwise dotted), and the bandwidth floor of the grid methods under
 // the simultaneous scheme as dashed lines (the table and JSON have the
-// pairwise floors).
+// pairwise floors). The events method's rows are left out: it has no step
+// time (the table, JSON and CSV have its rates).
 void writeSvgPlot(std::ostream& out, const Report& report) {
     const double width = 860, height = 540, left = 90, right = 230, top = 50, bottom = 60;
     const double plotW = width - left - right, plotH = height - top - bottom;
-    if (report.rows.empty()) {
+    std::vector<Row> rows;  // the stepped ones: the events method has no step time to plot
+    std::copy_if(report.rows.begin(), report.rows.end(), std::back_inserter(rows),
+                 [](const Row& row) { return !row.timing.events; });
+    if (rows.empty()) {
         out << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height
             << "\"><text x=\"20\" y=\"40\">no results</text></svg>\n";
         return;
@@ -235,13 +324,13 @@ void writeSvgPlot(std::ostream& out, const Report& report) {
                                                          {"opencl-resident", "#2ca02c"}};
     // Floors (in particle-steps/s) of the grid methods, at the largest N's cells per particle.
     std::map<std::string, double> floors;
-    for (const Row& row : report.rows) {
+    for (const Row& row : rows) {
         const double seconds = floorSecondsPerStep(report, row);
         if (!row.variant.method.allPairs && row.variant.scheme == CollisionScheme::Simultaneous && seconds > 0)
             floors[row.variant.method.name] = row.particles / seconds;
     }
     double minN = INFINITY, maxN = 0, minY = INFINITY, maxY = 0;
-    for (const Row& row : report.rows) {
+    for (const Row& row : rows) {
         minN = std::min(minN, double(row.particles));
         maxN = std::max(maxN, double(row.particles));
         minY = std::min(minY, particleStepsPerSecond(row));
@@ -274,7 +363,7 @@ void writeSvgPlot(std::ostream& out, const Report& report) {
     for (const Method& method : allMethods()) {
         for (const CollisionScheme scheme : {CollisionScheme::Simultaneous, CollisionScheme::Pairwise}) {
             std::string points;
-            for (const Row& row : report.rows)
+            for (const Row& row : rows)
                 if (row.variant.method.name == method.name && row.variant.scheme == scheme)
                     points += format("%.1f,", px(row.particles)) + format("%.1f ", py(particleStepsPerSecond(row)));
             if (points.empty()) continue;

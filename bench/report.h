@@ -45,7 +45,8 @@ struct Report {
     std::vector<Dropped> dropped;
 };
 
-// "cpu" for the simultaneous scheme, "cpu pairwise" for the pairwise one.
+// "cpu" for the simultaneous scheme, "cpu pairwise" for the pairwise one;
+// "events" for the events method (it runs that scheme only).
 std::string variantLabel(const Variant& variant);
 
 double particleStepsPerSecond(const Row& row);

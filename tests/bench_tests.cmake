@@ -11,7 +11,15 @@ carom_cli_test(bench_small pass "cpu +simultaneous +100 .*naive-cpu +simultaneou
 carom_cli_test(bench_schemes pass
                "naive-cpu +simultaneous +1000 .*cpu +simultaneous +1000 .*cpu +pairwise +1000 +[0-9.e+-]+ +[0-9.e+-]+ +[0-9.]+x .*cpu +pairwise +4000 "
                "bench|--methods|cpu,naive-cpu|--quick")
-carom_cli_test(bench_collisions_unknown fail "--collisions: unknown collision scheme 'sideways'; allowed: pairwise, simultaneous"
+# The events method: its own table of rates (never the step columns), at every N; only it runs the events scheme.
+carom_cli_test(bench_events_quick pass
+               "event-driven, periodic box.*method +N +collisions/s +particle-time/s +events/s.*events +1000 +[0-9.e+]+ +[0-9.e+]+ +[0-9.e+]+ .*events +4000 +[0-9.e+]+ "
+               "bench|--methods|events,cpu|--collisions|events|--quick")
+carom_cli_test(bench_events_cpu_only fail "--collisions events: none of the methods chosen runs the events scheme"
+               "${bench}|--methods|cpu,naive-cpu|--collisions|events")
+carom_cli_test(bench_events_stepped_only fail "--collisions simultaneous,pairwise: none of the methods chosen runs"
+               "${bench}|--methods|events|--collisions|simultaneous,pairwise")
+carom_cli_test(bench_collisions_unknown fail "--collisions: unknown collision scheme 'sideways'; allowed: pairwise, simultaneous, events"
                "${bench}|--collisions|sideways")
 carom_cli_test(bench_pairwise_naive_only fail "--collisions pairwise: none of the methods chosen runs the pairwise scheme"
                "${bench}|--methods|naive-cpu|--collisions|pairwise")
