@@ -1,10 +1,14 @@
 #!/usr/bin/env bash
-# The two collision schemes side by side: the figures of the README's
+# The collision schemes side by side: the figures of the README's
 # "Collision schemes" and "Pairwise against simultaneous" tables.
 #   bench/schemes.sh energy CAROM [carom run options, e.g. --backend opencl --device NVIDIA --pipeline resident]
 #       the relative change of the total energy (energy.total in --json) of
-#       each scene under each scheme, one run each; a run that goes
+#       each scene under each stepped scheme, one run each; a run that goes
 #       non-finite prints its error instead
+#   bench/schemes.sh events CAROM
+#       the same scenes under --collisions events (CPU): the relative change
+#       of the total energy of the double state (energy.exact_relative_change)
+#       and of the float32 samples (energy.total)
 #   bench/schemes.sh ratio CAROM RUNS [carom bench options]
 #       RUNS runs of `carom bench --methods cpu --sizes 1e4` (or the options
 #       given), each the median of its samples; prints every run's
@@ -14,18 +18,22 @@ set -uo pipefail
 mode=$1 carom=$2
 shift 2
 
-energy_change() {  # label, then carom run options
+energy_change() {  # label, then carom run options; the schemes are $schemes
     local label=$1 scheme out
     shift
-    for scheme in simultaneous pairwise; do
+    for scheme in $schemes; do
         if out=$("$carom" run --collisions "$scheme" "$@" --quiet --json 2>/tmp/carom-schemes.err); then
             echo "$out" | python3 -c '
 import json, sys
 d = json.load(sys.stdin)
 e = d["energy"]["total"]
-print("%s | %s | %+.2e | late contacts %d, max rounds %d, %d collisions, %.1f s" % (sys.argv[1], sys.argv[2],
-      (e["final"] - e["initial"]) / abs(e["initial"]), d["late_contacts"], d["max_rounds"], d["collisions"],
-      d["wall_seconds"]))' "$label" "$scheme"
+change = (e["final"] - e["initial"]) / abs(e["initial"])
+if "exact_relative_change" in d["energy"]:
+    print("%s | %s | %+.2e in double, %+.2e in the float32 samples | %d collisions, %.1f s" % (sys.argv[1],
+          sys.argv[2], d["energy"]["exact_relative_change"], change, d["collisions"], d["wall_seconds"]))
+else:
+    print("%s | %s | %+.2e | late contacts %d, max rounds %d, %d collisions, %.1f s" % (sys.argv[1], sys.argv[2],
+          change, d["late_contacts"], d["max_rounds"], d["collisions"], d["wall_seconds"]))' "$label" "$scheme"
         else
             echo "$label | $scheme | $(tail -n 1 /tmp/carom-schemes.err)"
         fi
@@ -33,7 +41,8 @@ print("%s | %s | %+.2e | late contacts %d, max rounds %d, %d collisions, %.1f s"
 }
 
 case $mode in
-energy)
+energy | events)
+    if [ "$mode" = events ]; then schemes=events; else schemes="simultaneous pairwise"; fi
     energy_change "1 000 disks, packing 0.7, 1 000 steps" --particles 1000 --packing 0.7 --steps 1000 "$@"
     energy_change "20 000 disks, packing 0.7, dt 0.002, 2 000 steps" --particles 20000 --packing 0.7 --dt 0.002 \
         --steps 2000 "$@"
