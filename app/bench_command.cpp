@@ -107,6 +107,16 @@ std::vector<Variant> chosenVariants(const BenchOptions& o) {
                     " (the naive methods run the simultaneous scheme only, the events method the events scheme "
                     "only); add a method that does, such as cpu or events");
     }
+    // Its timing waits for the gas to leave the lattice, which a gas at rest never does.
+    const bool events = std::any_of(variants.begin(), variants.end(),
+                                    [](const Variant& v) { return v.method.eventDriven; });
+    if (events && !(o.speed > 0)) {
+        std::string speed;
+        appendNumber(speed, o.speed);
+        throw Error("--speed " + speed +
+                    ": the events method times collisions, and disks at rest never collide; give --speed > 0 "
+                    "(or leave events out of --methods)");
+    }
     return variants;
 }
 

@@ -10,7 +10,8 @@
 // gravity), and the winner of a tie is the lower particle id whatever order the
 // events were scheduled in, so a calendar rebuilt from a checkpoint is the
 // calendar the run had. At 10^6 disks the walk is 20 levels of 16-byte
-// nodes, the upper ones in cache; bench/events.sh measures what it costs.
+// nodes, the upper ones in cache (at 10^5 the walks took 31 % of the time:
+// README, "Event-driven speed").
 #pragma once
 
 #include <cmath>
@@ -33,7 +34,7 @@ public:
         for (std::size_t k = leaves_ - 1; k >= 1; --k) nodes_[k] = earlierChild(k);
     }
     // Sets leaf `leaf`'s time and walks up towards the root, as far as the
-    // winners change (most updates stop within a few levels).
+    // winners change.
     void set(std::uint32_t leaf, double time) {
         std::size_t k = leaves_ + std::size_t(leaf);
         nodes_[k].time = time;

@@ -20,8 +20,12 @@ constexpr double kOverlapTolerance = 1e-9;
 // side: rounding at a crossing leaves it a few ulps past the edge.
 constexpr double kCellSlack = 1e-9;
 // Events between re-sorts of the storage order, per disk: disks move a few
-// diameters in that time, and a sort costs about what N / 3 events do.
+// diameters in that time (the re-sorts took 0.3 % of the time at N = 10^5).
 constexpr std::uint64_t kSortInterval = 8;
+// Events at one unchanging time, per disk, beyond which the engine stops
+// (a chain of simultaneous collisions is a few per disk; more means double
+// precision can no longer tell the times apart).
+constexpr std::uint64_t kMaxEventsAtOneTime = 1000;
 
 // The time s >= 0 at which h(s) = h0 + u s + a s^2 / 2 first reaches 0
 // while decreasing: a disk at height h0 above a boundary (a wall, a cell
@@ -89,6 +93,10 @@ struct Candidate {
 };
 
 }  // namespace
+
+EventDrivenBackend::Flight EventDrivenBackend::flight(double x, double y, double vx, double vy, double s) const {
+    return Flight{x + (vx + 0.5 * gx_ * s) * s, y + (vy + 0.5 * gy_ * s) * s, vx + gx_ * s, vy + gy_ * s};
+}
 
 EventDrivenBackend::EventDrivenBackend(const WorldDef& world) : Backend(world) {}
 
@@ -194,34 +202,34 @@ void EventDrivenBackend::restore(const EventEngineState& state) {
     if (state.disks.size() != disks_.size())
         throw Error("the event-driven state holds " + std::to_string(state.disks.size()) + " disks, the particles " +
                     std::to_string(disks_.size()));
-    if (!(std::isfinite(state.time) && state.time >= 0))
-        throw Error("the event-driven state's time " + std::to_string(state.time) + " must be finite and >= 0");
+    if (const std::string problem = eventStateProblem(state, world_.boundary); !problem.empty()) throw Error(problem);
     const std::uint64_t cells = std::uint64_t(columns_) * rows_;
     for (std::size_t i = 0; i < state.disks.size(); ++i) {
         const EventDiskState& d = state.disks[i];
-        const std::string which = "the event-driven state's disk " + std::to_string(i);
+        const std::string which = "events state: disk " + std::to_string(i);
         if (d.cell >= cells)
             throw Error(which + " is in cell " + std::to_string(d.cell) + "; this box has " + std::to_string(cells) +
                         " cells (" + std::to_string(columns_) + " x " + std::to_string(rows_) + ")");
-        if (!(std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.vx) && std::isfinite(d.vy) &&
-              std::isfinite(d.time) && d.time <= state.time))
-            throw Error(which + " has a position, velocity or time that is not finite, or a time after the state's");
-        // Its centre within rounding of its cell (a crossing leaves it on the edge).
-        const double column = d.cell % columns_, row = d.cell / columns_;
+        const std::uint32_t column = d.cell % columns_, row = d.cell / columns_;
+        // No crossing out of the box through a wall.
+        if (!periodic_ && ((d.event == kEventCrossLeft && column == 0) ||
+                           (d.event == kEventCrossRight && column + 1 == columns_) ||
+                           (d.event == kEventCrossDown && row == 0) || (d.event == kEventCrossUp && row + 1 == rows_)))
+            throw Error(which + " has event code " + std::to_string(d.event) + ", a crossing out of cell " +
+                        std::to_string(d.cell) + " through the box's wall");
+        // Its centre within rounding of its cell, at its own time and at the
+        // state's (its next event, a crossing at the soonest, comes later).
         const double slackX = kCellSlack * width_, slackY = kCellSlack * height_;
-        if (!(d.x >= column * cellWidth_ - slackX && d.x <= (column + 1) * cellWidth_ + slackX &&
-              d.y >= row * cellHeight_ - slackY && d.y <= (row + 1) * cellHeight_ + slackY))
-            throw Error(which + " at (" + std::to_string(d.x) + ", " + std::to_string(d.y) + ") is not in its cell " +
-                        std::to_string(d.cell) + " (column " + std::to_string(d.cell % columns_) + ", row " +
-                        std::to_string(d.cell / columns_) + " of cells " + std::to_string(cellWidth_) + " x " +
-                        std::to_string(cellHeight_) + ")");
-        if (d.event < kEventLowestCode || d.event >= std::int32_t(disks_.size()) || d.event == std::int32_t(i))
-            throw Error(which + " has event code " + std::to_string(d.event) + "; allowed: " +
-                        std::to_string(kEventLowestCode) + " to -1, or another disk's id below " +
-                        std::to_string(disks_.size()));
-        if (!(d.eventTime >= state.time) || (d.event != kEventNone && !std::isfinite(d.eventTime)))
-            throw Error(which + " has its event at time " + std::to_string(d.eventTime) +
-                        ", before the state's time " + std::to_string(state.time) + " or not finite");
+        const auto inCell = [&](double x, double y) {
+            return x >= column * cellWidth_ - slackX && x <= (column + 1) * cellWidth_ + slackX &&
+                   y >= row * cellHeight_ - slackY && y <= (row + 1) * cellHeight_ + slackY;
+        };
+        const Flight now = flight(d.x, d.y, d.vx, d.vy, state.time - d.time);
+        if (!inCell(d.x, d.y) || !inCell(now.x, now.y))
+            throw Error(which + " at (" + std::to_string(d.x) + ", " + std::to_string(d.y) + "), (" +
+                        std::to_string(now.x) + ", " + std::to_string(now.y) + ") at the state's time, is not in its cell " +
+                        std::to_string(d.cell) + " (column " + std::to_string(column) + ", row " + std::to_string(row) +
+                        " of cells " + std::to_string(cellWidth_) + " x " + std::to_string(cellHeight_) + ")");
     }
     // In id order (the partners' storage indices are their ids), then sorted.
     std::vector<double> mass(disks_.size());
@@ -268,12 +276,12 @@ void EventDrivenBackend::unlink(std::uint32_t i) {
 
 void EventDrivenBackend::moveTo(std::uint32_t i, double time) {
     Disk& d = disks_[i];
-    const double s = time - d.time;
-    if (s == 0) return;
-    d.x += (d.vx + 0.5 * gx_ * s) * s;
-    d.y += (d.vy + 0.5 * gy_ * s) * s;
-    d.vx += gx_ * s;
-    d.vy += gy_ * s;
+    if (time == d.time) return;
+    const Flight f = flight(d.x, d.y, d.vx, d.vy, time - d.time);
+    d.x = f.x;
+    d.y = f.y;
+    d.vx = f.vx;
+    d.vy = f.vy;
     d.time = time;
 }
 
@@ -309,22 +317,29 @@ void EventDrivenBackend::schedule(std::uint32_t i) {
     // The first disk of each of the 3 x 3 cells, loaded (and prefetched)
     // before any list is walked, so that their cache misses overlap.
     std::int32_t first[9];
+    double shiftX[9], shiftY[9];  // the partner image's offset: 0 or -+ the box side in a periodic box
     int cells = 0;
     for (int dr = -1; dr <= 1; ++dr) {
         std::int64_t nr = std::int64_t(row) + dr;
+        double dy = 0;
         if (nr < 0 || nr >= rows_) {
             if (!periodic_) continue;
+            dy = nr < 0 ? -height_ : height_;
             nr = nr < 0 ? nr + rows_ : nr - rows_;
         }
         for (int dc = -1; dc <= 1; ++dc) {
             std::int64_t nc = std::int64_t(column) + dc;
+            double dx = 0;
             if (nc < 0 || nc >= columns_) {
                 if (!periodic_) continue;
+                dx = nc < 0 ? -width_ : width_;
                 nc = nc < 0 ? nc + columns_ : nc - columns_;
             }
             const std::int32_t j = head_[std::size_t(nr) * columns_ + std::size_t(nc)];
             if (j < 0) continue;
             prefetch(&disks_[j]);
+            shiftX[cells] = dx;
+            shiftY[cells] = dy;
             first[cells++] = j;
         }
     }
@@ -332,19 +347,17 @@ void EventDrivenBackend::schedule(std::uint32_t i) {
         for (std::int32_t j = first[c]; j >= 0;) {
             const Disk& o = disks_[j];
             if (j != std::int32_t(i)) {
-                const double s = now_ - o.time;  // the partner projected to now_
-                double dx = d.x - (o.x + (o.vx + 0.5 * gx_ * s) * s);
-                double dy = d.y - (o.y + (o.vy + 0.5 * gy_ * s) * s);
-                if (periodic_) {
-                    dx = nearestImage(dx, width_);
-                    dy = nearestImage(dy, height_);
-                }
-                const double t = contactTime(dx, dy, d.vx - (o.vx + gx_ * s), d.vy - (o.vy + gy_ * s), r + o.radius);
+                const Flight p = flight(o.x, o.y, o.vx, o.vy, now_ - o.time);  // the partner at now_
+                // The image across the edge the cell was reached through: in a
+                // box 3 cells wide the nearest image can be another one.
+                const double t = contactTime(d.x - (p.x + shiftX[c]), d.y - (p.y + shiftY[c]), d.vx - p.vx,
+                                             d.vy - p.vy, r + o.radius);
                 if (t < kNever) next.offer(now_ + t, j, o.id);
             }
             j = o.next;
         }
     }
+    if (next.time == kNever) next.code = kEventNone;  // nothing ahead (at rest, or flying parallel)
     scheduled_[i] = Scheduled{next.time, next.code, next.code >= 0 ? disks_[next.code].collisions : 0u};
     calendar_.set(i, next.time);
 }
@@ -354,7 +367,14 @@ void EventDrivenBackend::runUntil(double time) {
         if (++eventsSinceSort_ > kSortInterval * disks_.size()) sortByCell();
         const std::uint32_t i = calendar_.next();
         const Scheduled e = scheduled_[i];
-        now_ = std::max(now_, e.time);
+        if (e.time > now_) {
+            now_ = e.time;
+            eventsAtNow_ = 0;
+        } else if (++eventsAtNow_ > kMaxEventsAtOneTime * disks_.size()) {
+            throw Error("the event-driven engine took " + std::to_string(eventsAtNow_) + " events at time " +
+                        std::to_string(now_) + " without time advancing: times this large (or these disks) are "
+                        "beyond what double precision resolves");
+        }
         const std::int32_t event = e.event;
         if (event >= 0) {
             if (disks_[event].collisions == e.partnerCollisions) {
@@ -481,16 +501,15 @@ std::vector<ExactDisk> EventDrivenBackend::exactState() const {
     std::vector<ExactDisk> state(disks_.size());
     for (std::size_t i = 0; i < disks_.size(); ++i) {
         const Disk& d = disks_[i];
-        const double s = now_ - d.time;
-        double x = d.x + (d.vx + 0.5 * gx_ * s) * s;
-        double y = d.y + (d.vy + 0.5 * gy_ * s) * s;
+        const Flight f = flight(d.x, d.y, d.vx, d.vy, now_ - d.time);
+        double x = f.x, y = f.y;
         if (periodic_) {
             if (x < 0) x += width_;
             else if (x >= width_) x -= width_;
             if (y < 0) y += height_;
             else if (y >= height_) y -= height_;
         }
-        state[d.id] = ExactDisk{x, y, d.vx + gx_ * s, d.vy + gy_ * s, mass_[i], d.radius};
+        state[d.id] = ExactDisk{x, y, f.vx, f.vy, mass_[i], d.radius};
     }
     return state;
 }

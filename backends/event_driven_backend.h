@@ -110,6 +110,11 @@ private:
     void cross(std::uint32_t i, std::int32_t direction);
     // Free flight of disk i to `time`.
     void moveTo(std::uint32_t i, double time);
+    // Where free flight takes a disk at (x, y) with velocity (vx, vy) in `s`.
+    struct Flight {
+        double x, y, vx, vy;
+    };
+    Flight flight(double x, double y, double vx, double vy, double s) const;
     void link(std::uint32_t i);
     void unlink(std::uint32_t i);
 
@@ -138,6 +143,7 @@ private:
     std::vector<std::int32_t> head_;      // each cell's first disk, -1 for none
     EventCalendar calendar_;              // leaves in storage order, ties by particle id
     std::uint64_t eventsSinceSort_ = 0;
+    std::uint64_t eventsAtNow_ = 0;  // events taken since the time last advanced
     double now_ = 0.0;
     // Step `step_` ends at timeOrigin_ + (step_ - stepOrigin_) dt: the origin
     // moves only when setMotion changes dt.

@@ -6,7 +6,10 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
+
+#include "engine/carom.h"
 
 namespace carom {
 
@@ -40,5 +43,12 @@ struct EventEngineState {
     double time = 0;                    // the current time [time, since the state's origin]
     std::vector<EventDiskState> disks;  // in particle id order
 };
+
+// What is wrong with a state whatever the grid: values not finite, times
+// out of order (0 <= a disk's time <= the state's <= its event's; no event
+// exactly at +infinity), event codes that name no kind of event and no other
+// disk, walls in a periodic box. Empty when nothing is. The engine's
+// restore() adds what needs the grid (cells, crossings at the box's edge).
+std::string eventStateProblem(const EventEngineState& state, Boundary boundary);
 
 }  // namespace carom

@@ -15,6 +15,8 @@ carom_cli_test(bench_schemes pass
 carom_cli_test(bench_events_quick pass
                "event-driven, periodic box.*method +N +collisions/s +particle-time/s +events/s.*events +1000 +[0-9.e+]+ +[0-9.e+]+ +[0-9.e+]+ .*events +4000 +[0-9.e+]+ "
                "bench|--methods|events,cpu|--collisions|events|--quick")
+carom_cli_test(bench_events_at_rest fail "--speed 0: the events method times collisions, and disks at rest never collide"
+               "bench|--methods|events|--sizes|1000|--speed|0")
 carom_cli_test(bench_events_cpu_only fail "--collisions events: none of the methods chosen runs the events scheme"
                "${bench}|--methods|cpu,naive-cpu|--collisions|events")
 carom_cli_test(bench_events_stepped_only fail "--collisions simultaneous,pairwise: none of the methods chosen runs"

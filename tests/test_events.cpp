@@ -549,6 +549,55 @@ TEST_CASE("events: a state restored at another step than its own continues from 
     CHECK(restored.eventCounts().collisions > 100);
 }
 
+TEST_CASE("events: a periodic box 3 cells wide collides with the image the cells say, directly or across the edge") {
+    // 3.5 x 3.5, radius 0.5: 3 cells a side, so a disk two cells away along
+    // the row is also one cell away across the edge.
+    const WorldDef world = eventWorld(3.5f, 3.5f, 0.125f, Boundary::Periodic);
+    struct Case {
+        float xa, va, xb, vb;  // head-on along y = 1.75, radius 0.5, |v| = 1
+        int steps;             // of 0.125, after the contact and before the next one
+        bool acrossEdge;
+    };
+    // Directly: xb - xa = 2.25 apart, contact at (2.25 - 1) / 2 = 0.625, the
+    // next across the edge at 1.375; checked at t = 1.
+    // Across the edge: xa + 3.5 - xb = 1.4 apart, contact at 0.2, the next
+    // directly at 0.95; checked at t = 0.5.
+    for (const Case c : {Case{0.05f, 1, 2.3f, -1, 8, false}, Case{0.1f, -1, 2.2f, 1, 4, true}}) {
+        CAPTURE(c.xa);
+        const double separation = c.acrossEdge ? double(c.xa) + 3.5 - c.xb : double(c.xb) - c.xa;
+        const double contact = (separation - 1) / 2, t = c.steps * 0.125;
+        // Each runs to the contact and back: x + v (2 contact - t) ... as seen from its start.
+        double xa1 = c.xa + c.va * (2 * contact - t), xb1 = c.xb + c.vb * (2 * contact - t);
+        if (xa1 < 0) xa1 += 3.5;
+        auto events =
+            startEvents(world, {disk(c.xa, 1.75f, c.va, 0, 1.0f, 0.5f), disk(c.xb, 1.75f, c.vb, 0, 1.0f, 0.5f)});
+        REQUIRE(events->columns() == 3);
+        events->step(c.steps);
+        CHECK(events->eventCounts().collisions == 1);
+        CHECK(events->eventCounts().overlapping == 0);
+        const std::vector<ExactDisk> state = events->exactState();
+        CHECK(state[0].x == doctest::Approx(xa1).epsilon(1e-12));
+        CHECK(state[1].x == doctest::Approx(xb1).epsilon(1e-12));
+        CHECK(state[0].vx == doctest::Approx(-c.va).epsilon(1e-12));
+    }
+}
+
+TEST_CASE("events: disks with nothing ahead (at rest) save and restore") {
+    const WorldDef world = eventWorld(20, 20, 0.1f);
+    auto events = startEvents(world, {disk(5, 5, 0, 0, 1.0f), disk(15, 15, 0, 0, 1.0f)});
+    events->step(3);
+    const EventEngineState saved = events->saveState();
+    CHECK(saved.disks[0].event == kEventNone);
+    CHECK(eventStateProblem(saved, world.boundary).empty());
+    std::vector<Particle> particles;
+    events->readParticles(particles);
+    EventDrivenBackend resumed(world);
+    resumed.setParticles(particles, 3);
+    resumed.restore(saved);
+    resumed.step(3);
+    CHECK(resumed.time() == doctest::Approx(6 * double(0.1f)).epsilon(1e-12));
+}
+
 TEST_CASE("events: restore refuses a state that does not fit, naming the value") {
     std::vector<Particle> seven;
     for (int i = 0; i < 7; ++i) seven.push_back(disk(3 + 5 * i, 5, i % 2 ? 1.0f : -1.0f, 0.5f));
@@ -573,7 +622,7 @@ TEST_CASE("events: restore refuses a state that does not fit, naming the value")
 
     EventEngineState negative = saved;
     negative.time = -1;
-    refusal(negative, std::to_string(-1.0));
+    refusal(negative, "time -1 must be");
 
     EventEngineState infinite = saved;
     infinite.disks[2].vy = HUGE_VAL;
@@ -590,6 +639,23 @@ TEST_CASE("events: restore refuses a state that does not fit, naming the value")
     EventEngineState past = saved;
     past.disks[5].eventTime = saved.time - 0.25;
     refusal(past, std::to_string(saved.time - 0.25));
+
+    EventEngineState none = saved;  // no event, yet a time for it
+    none.disks[0].event = kEventNone;
+    none.disks[0].eventTime = saved.time + 1;
+    refusal(none, "must be +infinity for event code -1");
+
+    EventEngineState throughWall = saved;  // a crossing out of the leftmost column of the walled box
+    const std::uint32_t leftmost = saved.disks[0].cell - saved.disks[0].cell % events->columns();
+    throughWall.disks[0].cell = leftmost;
+    throughWall.disks[0].event = kEventCrossLeft;
+    refusal(throughWall, "a crossing out of cell " + std::to_string(leftmost) + " through the box's wall");
+
+    EventEngineState wandered = saved;  // in its cell at its own time, far away at the state's
+    wandered.disks[0].time = 0;
+    wandered.disks[0].vx = 1e6;
+    wandered.disks[0].eventTime = saved.time + 1;
+    refusal(wandered, "at the state's time, is not in its cell");
 
     EventEngineState misplaced = saved;  // a cell that is not the one its centre lies in
     misplaced.disks[6].cell = misplaced.disks[0].cell;
