@@ -69,6 +69,16 @@ inline void prefetch(const void* address) {
 #endif
 }
 
+// Cell `index` of `count` along one axis of length `extent`, where index
+// may be one past either end: wrapped in a periodic box, with the offset of
+// the image it stands for in `shift`; -1 beyond a wall.
+std::int64_t neighbourCell(std::int64_t index, std::uint32_t count, double extent, bool periodic, double& shift) {
+    if (index >= 0 && index < count) return index;
+    if (!periodic) return -1;
+    shift = index < 0 ? -extent : extent;
+    return index < 0 ? index + count : index - count;
+}
+
 double nearestImage(double d, double extent) {
     if (d > 0.5 * extent) return d - extent;
     if (d < -0.5 * extent) return d + extent;
@@ -320,21 +330,13 @@ void EventDrivenBackend::schedule(std::uint32_t i) {
     double shiftX[9], shiftY[9];  // the partner image's offset: 0 or -+ the box side in a periodic box
     int cells = 0;
     for (int dr = -1; dr <= 1; ++dr) {
-        std::int64_t nr = std::int64_t(row) + dr;
         double dy = 0;
-        if (nr < 0 || nr >= rows_) {
-            if (!periodic_) continue;
-            dy = nr < 0 ? -height_ : height_;
-            nr = nr < 0 ? nr + rows_ : nr - rows_;
-        }
+        const std::int64_t nr = neighbourCell(std::int64_t(row) + dr, rows_, height_, periodic_, dy);
+        if (nr < 0) continue;
         for (int dc = -1; dc <= 1; ++dc) {
-            std::int64_t nc = std::int64_t(column) + dc;
             double dx = 0;
-            if (nc < 0 || nc >= columns_) {
-                if (!periodic_) continue;
-                dx = nc < 0 ? -width_ : width_;
-                nc = nc < 0 ? nc + columns_ : nc - columns_;
-            }
+            const std::int64_t nc = neighbourCell(std::int64_t(column) + dc, columns_, width_, periodic_, dx);
+            if (nc < 0) continue;
             const std::int32_t j = head_[std::size_t(nr) * columns_ + std::size_t(nc)];
             if (j < 0) continue;
             prefetch(&disks_[j]);
