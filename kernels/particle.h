@@ -12,12 +12,11 @@
 #else
 #define CAROM_ALIGNED(n) alignas(n)
 #include <cstddef>
+
+#include <carom/types.h>
 namespace carom {
-/* OpenCL's float2: two floats, 8-byte aligned. */
-struct alignas(8) float2 {
-    float x;
-    float y;
-};
+/* OpenCL's float2 is the public Vec2: two floats, 8-byte aligned. */
+using float2 = Vec2;
 #endif
 
 /* One disk. 32 bytes, 32-byte aligned, so a particle never straddles two

@@ -3,7 +3,7 @@
 
 # Every shipped scene runs from the command line (a few steps; the doctest
 # suite runs them whole on each backend).
-file(GLOB scenes ${CMAKE_SOURCE_DIR}/scenes/*.toml)
+file(GLOB scenes ${PROJECT_SOURCE_DIR}/scenes/*.toml)
 foreach(scene IN LISTS scenes)
     get_filename_component(name ${scene} NAME_WE)
     carom_cli_test(scene_${name} pass "\"escaped\": 0" "run|--backend|cpu|--scene|${scene}|--steps|20|--json")

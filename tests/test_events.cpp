@@ -498,7 +498,7 @@ TEST_CASE("events: a disk crossing the periodic boundary many times stays on its
 
 TEST_CASE("events: a checkpoint resumes bit for bit") {
     const InitialState s = polydisperse(600, 0.4f);
-    for (const WorldDef world : {eventWorld(s.width, s.height, 0.05f, Boundary::Walls, float2{0.1f, -0.5f}),
+    for (const WorldDef& world : {eventWorld(s.width, s.height, 0.05f, Boundary::Walls, float2{0.1f, -0.5f}),
                                  eventWorld(s.width, s.height, 0.05f, Boundary::Periodic)}) {
         const std::string boundary = boundaryName(world.boundary);
         CAPTURE(boundary);

@@ -5,8 +5,8 @@ if(NOT CAROM_HAVE_VIEWER)
 endif()
 find_path(STB_IMAGE_DIR stb/stb_image.h REQUIRED)
 
-add_executable(carom_view_check view_check.cpp ${CMAKE_SOURCE_DIR}/app/viewer/renderer.cpp)
-target_include_directories(carom_view_check PRIVATE ${CMAKE_SOURCE_DIR} ${STB_IMAGE_DIR})
+add_executable(carom_view_check view_check.cpp ${PROJECT_SOURCE_DIR}/app/viewer/renderer.cpp)
+target_include_directories(carom_view_check PRIVATE ${PROJECT_SOURCE_DIR} ${PROJECT_SOURCE_DIR}/include ${STB_IMAGE_DIR})
 target_link_libraries(carom_view_check PRIVATE doctest::doctest OpenGL::GL ${STB_LIBRARY})
 
 set(view_out ${CMAKE_CURRENT_BINARY_DIR}/view)

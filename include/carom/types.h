@@ -1,0 +1,162 @@
+// carom's public types: the definitions a world is made from, and a disk.
+//
+// Every field states its unit, its range and its default. Units are whatever
+// the caller picks for length, mass and time; the defaults describe disks of
+// radius 1 and mass 1 moving at speed 1. Definition structs are plain values:
+// start from the defaults and set what differs, as in
+//
+//     carom::WorldDef def;
+//     def.width = def.height = 100.0f;
+//     def.gravity = {0.0f, -9.81f};
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+namespace carom {
+
+// Every refusal of bad input, from any function of the library: the message
+// names the value and what is allowed.
+class Error : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+// A vector in the plane. Laid out as OpenCL's float2 (two floats, 8-byte
+// aligned), so arrays of disks need no conversion on their way to a device.
+struct alignas(8) Vec2 {
+    float x;
+    float y;
+};
+
+// One disk, as the caller sets and reads it. Ids are positions in the array
+// given to World::setDisks and never change.
+struct Disk {
+    Vec2 position{0.0f, 0.0f};  // centre [length], inside the box [0, width] x [0, height]
+    Vec2 velocity{0.0f, 0.0f};  // [length/time], |v| <= kMaxSpeed
+    float mass = 1.0f;          // [mass], in [kMinMass, kMaxMass]
+    float radius = 1.0f;        // [length], in [kMinLength, kMaxLength]; the disk must fit in the box
+};
+
+// The most disks a world may hold: disk ids and grid cell offsets are
+// 32-bit, and the grid's up to 4 cells per disk must stay countable in an int.
+constexpr std::uint64_t kMaxParticles = 500'000'000;
+
+// What happens at the edges of the box.
+enum class Boundary {
+    Walls,     // reflective walls on all four sides (the default)
+    Periodic,  // the box repeats: a disk leaving one side enters the opposite
+               //   one, and disks interact with the nearest image of each other
+};
+
+// How the collisions of a step are resolved (README, "Collision schemes").
+enum class CollisionScheme {
+    // The seed's scheme: every overlapping, approaching pair gets the elastic
+    // impulse computed from the state before the step, all summed, plus a
+    // positional push. Energy drifts (heats) in dense gases: a disk in two
+    // contacts at once sums two impulses computed from the same velocities.
+    Simultaneous,
+    // Binary elastic collisions at their exact contact times, resolved in
+    // rounds of mutually earliest events: energy is conserved to rounding at
+    // any density, also under gravity. The default.
+    Pairwise,
+    // Exact event-driven dynamics: free flight between instantaneous binary
+    // collisions, event by event, in double on one CPU thread. The ground
+    // truth the stepped schemes are measured against; dt only sets when the
+    // state is sampled. ComputeEngine::Cpu only.
+    Events,
+};
+
+// Where the steps run.
+enum class ComputeEngine {
+    // The host's cores (OpenMP; one thread without it). Always available.
+    Cpu,
+    // OpenCL, the host building the grid each step and the device resolving
+    // collisions; the state is read back every step. Best on CPU OpenCL
+    // devices (PoCL).
+    OpenClHostGrid,
+    // OpenCL with the state and the grid kept on the device between steps:
+    // the fast choice on GPUs. The state is read back only when asked.
+    OpenClResident,
+};
+
+// Names as the command line and scene files spell them ("walls", "periodic";
+// "simultaneous", "pairwise", "events"; "cpu", "opencl-host-grid",
+// "opencl-resident"); the parsers throw Error naming the value otherwise.
+Boundary parseBoundary(const std::string& name);
+const char* boundaryName(Boundary boundary);
+CollisionScheme parseCollisionScheme(const std::string& name);
+const char* collisionSchemeName(CollisionScheme scheme);
+const char* computeEngineName(ComputeEngine engine);
+
+// The ranges in which carom's float32 arithmetic gives valid results
+// (README, "Limits"): squares, sums and tallies that stay normal floats
+// (FLT_MIN 1.2e-38, FLT_MAX 3.4e38). Lengths and dt square to at most 1e36;
+// masses keep m_i + m_j, the mass shares (>= 1e-30) and the wall-momentum
+// and virial tallies (m v and m r v summed over up to 1024 substeps) finite.
+constexpr float kMinLength = 1e-18f;  // box sides and radii [length]
+constexpr float kMaxLength = 1e18f;
+constexpr float kMinMass = 1e-15f;    // [mass]
+constexpr float kMaxMass = 1e15f;
+constexpr float kMinDt = 1e-18f;      // [time]
+constexpr float kMaxDt = 1e18f;
+constexpr float kMaxAcceleration = 1e18f;  // |gravity| [length/time^2]
+constexpr float kMaxSpeed = 1e18f;         // [length/time]: (v_i - v_j)^2 stays finite
+// The box diagonal times the largest speed a disk can reach [length^2/time]:
+// the collision times square (x_i - x_j).(v_i - v_j), up to 4 x this squared.
+constexpr double kMaxLengthTimesSpeed = 1e18;
+// A step must move a typical disk by at least this many float spacings of
+// the positions near the far side of the box (a smaller step is lost or
+// wrong by more than 50 %; the rounding error of a step of d spacings is up
+// to 1 / (2 d)), and gets a warning below kWarnStepSpacings (error > 5 %).
+constexpr double kMinStepSpacings = 1.0;
+constexpr double kWarnStepSpacings = 10.0;
+
+// The box, the rules of motion and where they run. The box is [0, width] x
+// [0, height].
+struct WorldDef {
+    float width = 0.0f;    // box width [length], in [kMinLength, kMaxLength]; no default: set it
+    float height = 0.0f;   // box height [length], in [kMinLength, kMaxLength]; no default: set it
+    float dt = 0.01f;      // time step [time], in [kMinDt, kMaxDt]; with the disks' speeds it must
+                           //   move a typical disk by >= kMinStepSpacings float spacings, and the
+                           //   fastest by at most the smaller box side (unless maxTravel > 0)
+    Vec2 gravity{0, 0};    // constant acceleration [length/time^2], |g| <= kMaxAcceleration; off by default
+    Boundary boundary = Boundary::Walls;
+    // Adaptive substeps against tunnelling: when > 0, each step of dt is split
+    // into the fewest equal substeps in which no disk moves more than
+    // maxTravel x the smallest radius, judged from the fastest disk at the
+    // start of the step (plus what gravity adds over the step). 0 = off
+    // (every step is one substep) [fraction of the smallest radius], >= 0.
+    // Not with CollisionScheme::Events, which has no steps to split.
+    float maxTravel = 0.0f;
+    CollisionScheme collisions = CollisionScheme::Pairwise;
+    ComputeEngine engine = ComputeEngine::Cpu;
+    // OpenCL engines only: which device, as an index in the order
+    // `carom devices` lists them or a part of the device's name; empty = the
+    // first GPU, else the first device.
+    std::string device;
+};
+
+// The fraction `--dt auto` uses when no --max-travel is given.
+constexpr float kDefaultMaxTravel = 0.2f;
+// The most substeps one step may take before the run is refused as runaway.
+constexpr std::uint64_t kMaxSubsteps = 1'000'000;
+
+// A gas to start from (makeScene, carom/world.h): N disks placed without
+// overlap on a jittered hexagonal lattice, radii and masses fixed or uniform
+// in a range, velocities of one speed in uniformly random directions.
+struct SceneDef {
+    std::uint32_t particles = 1000;  // N, in [1, kMaxParticles]
+    float packing = 0.3f;    // area fraction sum(pi r^2) / (W H), in (0, 0.7]; sizes a square box (<= kMaxLength)
+    float width = 0.0f;      // box [length]; when width and height are > 0 they
+    float height = 0.0f;     //   are used instead of packing
+    float radiusMin = 1.0f;  // radius drawn uniformly in [radiusMin, radiusMax] [length], in [kMinLength, kMaxLength]
+    float radiusMax = 1.0f;
+    float massMin = 1.0f;    // mass drawn uniformly in [massMin, massMax] [mass], in [kMinMass, kMaxMass]
+    float massMax = 1.0f;
+    float speed = 1.0f;      // initial speed of every disk [length/time], in [0, kMaxSpeed]
+    std::uint64_t seed = 1;  // random seed; the same seed gives the same disks on every platform
+};
+
+}  // namespace carom

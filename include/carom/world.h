@@ -1,0 +1,111 @@
+// carom::World: a box of disks that steps forward in time.
+//
+//     carom::WorldDef def;                       // carom/types.h: every field documented
+//     def.width = def.height = 100.0f;
+//     carom::World world(def);                   // throws carom::Error for a bad definition
+//     world.setDisks(carom::makeScene(scene).disks);
+//     world.step(1000);
+//     double e = world.kineticEnergy();
+//
+// A World is not thread-safe: call it from one thread at a time. Every
+// refusal is a carom::Error whose message names the value and what is allowed.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <carom/types.h>
+
+namespace carom {
+
+// A gas made by makeScene: the box it fills and its disks, in id order.
+struct Scene {
+    float width = 0.0f;   // [length]
+    float height = 0.0f;  // [length]
+    std::vector<Disk> disks;
+};
+
+// Places the disks of `def` (carom/types.h SceneDef); deterministic in
+// def.seed on every platform. Throws Error when the ranges are invalid or the
+// packing cannot be reached.
+Scene makeScene(const SceneDef& def);
+
+// What the collisions and the walls did over an interval of simulated time:
+// since World::setDisks, or since the last World::resetMeasurements.
+struct Measurements {
+    double time = 0.0;              // simulated time covered [time]
+    std::uint64_t steps = 0;        // steps taken
+    std::uint64_t collisions = 0;   // pairs that received an impulse, each pair once
+    double collisionRate = 0.0;     // collisions per disk per unit time (a disk's own rate is twice this)
+    double temperature = 0.0;       // kT (k = 1), the mean of the interval's first and last
+                                    //   [mass length^2/time^2]
+    // Pressure [mass/time^2] and Z = P A / (N kT). In a periodic box from the
+    // collision virial (exact); with walls from the momentum the walls
+    // received over the perimeter.
+    double pressure = 0.0;
+    double compressibility = 0.0;
+    std::array<double, 4> wallPressure{};  // walls only: left, right, bottom, top [mass/time^2]
+};
+
+class World {
+public:
+    // Checks every field of `def` (finite, in range, an engine this build
+    // has, a device that exists) and starts the engine; throws Error otherwise.
+    explicit World(const WorldDef& def);
+    ~World();
+    World(World&&) noexcept;
+    World& operator=(World&&) noexcept;
+
+    // Replaces every disk. Disk i gets id i. Throws Error, and keeps the
+    // disks it had, when a disk is out of range or outside the box, two
+    // centres coincide, or the step is out of range for their speeds.
+    // Resets the step count, the time and the measurements.
+    void setDisks(const Disk* disks, std::size_t count);
+    void setDisks(const std::vector<Disk>& disks) { setDisks(disks.data(), disks.size()); }
+    // What the last setDisks found less accurate than usual, though allowed:
+    // a step of few float spacings, disks overlapping deeper than a step closes.
+    const std::vector<std::string>& warnings() const;
+
+    // Copies the disks, in id order, into `out` (diskCount() of them).
+    void getDisks(Disk* out) const;
+    std::vector<Disk> disks() const;
+    std::size_t diskCount() const;
+
+    // Advances by `steps` steps of dt. Throws Error when a step would need
+    // more than kMaxSubsteps substeps or leaves a disk non-finite (the
+    // message names the step and the disk); the world then stays at that
+    // step and refuses to step further until setDisks.
+    void step(std::uint64_t steps = 1);
+
+    std::uint64_t stepCount() const;  // steps taken since setDisks
+    double time() const;              // stepCount() x dt [time]
+    const WorldDef& def() const;
+
+    // Observables of the current state, summed in double in id order.
+    double kineticEnergy() const;                 // sum of m v^2 / 2 [mass length^2/time^2]
+    double potentialEnergy() const;               // -sum of m g.x in the world's gravity (0 without)
+    std::array<double, 2> momentum() const;       // sum of m v [mass length/time]
+    // kT (k = 1): E_kin / N with walls; in a periodic box the centre of mass
+    // carries no heat, so (E_kin - P^2/2M) / (N - 1).
+    double temperature() const;
+    // Collisions, pressure and Z over the interval since setDisks or resetMeasurements.
+    Measurements measurements() const;
+    void resetMeasurements();
+
+    // True when this engine's results are bitwise the CPU engine's: always on
+    // the CPU, and on OpenCL devices that round divide and sqrt correctly.
+    // Results are always bitwise reproducible on the same engine and device.
+    bool bitwiseReproducible() const;
+    // The device the steps run on, in words.
+    std::string deviceName() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace carom

@@ -1,0 +1,30 @@
+# Builds examples/ as a project of its own against this carom and runs
+# gas_in_a_box: the two ways another project uses carom.
+#   -DMODE=installed     `cmake --install` this build into WORK, then find_package(carom)
+#   -DMODE=subdirectory  add_subdirectory(SOURCE)
+#   -DSOURCE=<carom source> -DCAROM_BUILD=<this build> -DWORK=<scratch folder> -DCXX=<compiler> [-DLAUNCHER=ccache]
+file(REMOVE_RECURSE "${WORK}")
+function(run)
+    execute_process(COMMAND ${ARGN} RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT status EQUAL 0)
+        message(FATAL_ERROR "failed (${status}): ${ARGN}\n${out}${err}")
+    endif()
+    set(output "${out}${err}" PARENT_SCOPE)
+endfunction()
+if(MODE STREQUAL "installed")
+    run(${CMAKE_COMMAND} --install "${CAROM_BUILD}" --prefix "${WORK}/prefix")
+    set(use_carom "-DCMAKE_PREFIX_PATH=${WORK}/prefix")
+elseif(MODE STREQUAL "subdirectory")
+    set(use_carom "-DCAROM_SOURCE_DIR=${SOURCE}")
+else()
+    message(FATAL_ERROR "MODE must be installed or subdirectory, got '${MODE}'")
+endif()
+run(${CMAKE_COMMAND} -S "${SOURCE}/examples" -B "${WORK}/build" -DCMAKE_BUILD_TYPE=Release
+    "-DCMAKE_CXX_COMPILER=${CXX}" "-DCMAKE_CXX_COMPILER_LAUNCHER=${LAUNCHER}" ${use_carom})
+run(${CMAKE_COMMAND} --build "${WORK}/build" -j2)
+run("${WORK}/build/gas_in_a_box")
+message("${output}")
+# The pairwise scheme keeps the energy to float rounding over the 1000 steps.
+if(NOT output MATCHES "relative energy change [+-][0-9.]+e-(0[5-9]|[1-9][0-9])")
+    message(FATAL_ERROR "the energy changed by more than 1e-5")
+endif()

@@ -1,0 +1,199 @@
+// The public API (include/carom/): World and carom::io, each engine this
+// build has registered as its own case. A World must step exactly as the
+// engine's backend does, report the observables the command line reports,
+// and refuse bad input in library terms.
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+
+#include <carom/carom.h>
+#include <carom/io.h>
+
+#include "engine/diagnostics.h"
+#include "engine/observables.h"
+#include "engine/scene_file.h"
+#include "support.h"
+
+using namespace carom;
+using namespace carom::test;
+
+namespace {
+
+// A polydisperse gas under gravity, in a box with the given boundary.
+Scene gas(std::uint32_t count, float packing) {
+    SceneDef def;
+    def.particles = count;
+    def.packing = packing;
+    def.radiusMin = 0.5f;
+    def.radiusMax = 1.0f;
+    def.massMin = 1.0f;
+    def.massMax = 3.0f;
+    def.seed = 7;
+    return makeScene(def);
+}
+
+WorldDef worldFor(const Scene& scene, ComputeEngine engine, Boundary boundary) {
+    WorldDef def;
+    def.width = scene.width;
+    def.height = scene.height;
+    def.boundary = boundary;
+    def.gravity = boundary == Boundary::Walls ? Vec2{0.0f, -0.05f} : Vec2{0.0f, 0.0f};
+    def.engine = engine;
+    if (const char* device = std::getenv("CAROM_TEST_DEVICE")) def.device = device;
+    return def;
+}
+
+std::vector<Particle> particlesOf(const std::vector<Disk>& disks) {
+    std::vector<Particle> particles;
+    for (const Disk& d : disks)
+        particles.push_back(disk(d.position.x, d.position.y, d.velocity.x, d.velocity.y, d.mass, d.radius));
+    return particles;
+}
+
+BackendDef backendDefOf(ComputeEngine engine) {
+    if (engine == ComputeEngine::Cpu) return testBackendDef("cpu");
+    return testBackendDef("opencl", engine == ComputeEngine::OpenClResident ? "resident" : "seed");
+}
+
+bool sameBits(const Disk& a, const Particle& b) {
+    return std::memcmp(&a.position, &b.position, 8) == 0 && std::memcmp(&a.velocity, &b.velocity, 8) == 0 &&
+           a.mass == b.mass && a.radius == b.radius;
+}
+
+// Both schemes that step, both boundaries: the World's disks, collisions and
+// observables equal a backend's run of the same particles, bit for bit.
+void stepsAsItsBackend(ComputeEngine engine) {
+    const Scene scene = gas(2000, 0.45f);
+    for (CollisionScheme scheme : {CollisionScheme::Pairwise, CollisionScheme::Simultaneous}) {
+        for (Boundary boundary : {Boundary::Walls, Boundary::Periodic}) {
+            WorldDef def = worldFor(scene, engine, boundary);
+            def.collisions = scheme;
+            CAPTURE(collisionSchemeName(scheme));
+            CAPTURE(boundaryName(boundary));
+            World world(def);
+            world.setDisks(scene.disks);
+            world.step(60);
+            const Run expected = run(backendDefOf(engine), def, particlesOf(scene.disks), 60);
+
+            const std::vector<Disk> disks = world.disks();
+            REQUIRE(disks.size() == expected.particles.size());
+            std::size_t differing = 0;
+            for (std::size_t i = 0; i < disks.size(); ++i) differing += !sameBits(disks[i], expected.particles[i]);
+            CHECK(differing == 0);
+            CHECK(world.stepCount() == 60);
+            CHECK(world.time() == 60 * double(def.dt));
+
+            const Measurements m = world.measurements();
+            CHECK(m.collisions == expected.contacts.collisions);
+            CHECK(m.collisions > 0);
+            CHECK(m.steps == 60);
+            const Diagnostics d = measure(expected.particles, def);
+            CHECK(world.kineticEnergy() == d.kineticEnergy);
+            CHECK(world.potentialEnergy() == d.potentialEnergy);
+            CHECK(world.momentum() == d.momentum);
+            const double startT = temperature(particlesOf(scene.disks), boundary);
+            const double endT = temperature(expected.particles, boundary);
+            CHECK(world.temperature() == endT);
+            const Thermodynamics t = thermodynamics(expected.contacts, 0.5 * (startT + endT), disks.size(), def);
+            CHECK(m.temperature == 0.5 * (startT + endT));
+            CHECK(m.collisionRate == t.collisionRate);
+            CHECK(m.pressure == (boundary == Boundary::Periodic ? t.virialPressure : t.wallPressureMean));
+            CHECK(m.compressibility == (boundary == Boundary::Periodic ? t.virialZ : t.wallZ));
+            CHECK(m.pressure > 0.0);
+        }
+    }
+}
+
+}  // namespace
+
+TEST_CASE("world: steps bit for bit as its backend, with the same observables [cpu]") {
+    stepsAsItsBackend(ComputeEngine::Cpu);
+}
+#ifdef CAROM_HAVE_OPENCL
+TEST_CASE("world: steps bit for bit as its backend, with the same observables [opencl host-grid]") {
+    stepsAsItsBackend(ComputeEngine::OpenClHostGrid);
+}
+TEST_CASE("world: steps bit for bit as its backend, with the same observables [opencl resident]") {
+    stepsAsItsBackend(ComputeEngine::OpenClResident);
+}
+#endif
+
+TEST_CASE("world: the events scheme runs exactly and reports its collisions [cpu]") {
+    const Scene scene = gas(500, 0.4f);
+    WorldDef def = worldFor(scene, ComputeEngine::Cpu, Boundary::Periodic);
+    def.collisions = CollisionScheme::Events;
+    World world(def);
+    world.setDisks(scene.disks);
+    const double before = world.kineticEnergy();
+    world.step(20);
+    CHECK(world.measurements().collisions > 0);
+    CHECK(world.time() == 20 * double(def.dt));
+    // The float32 samples of an exact double state: rounding only.
+    CHECK(std::fabs(world.kineticEnergy() - before) < 1e-5 * before);
+    CHECK(world.bitwiseReproducible());
+}
+
+TEST_CASE("world: disks go in and come out in id order") {
+    const Scene scene = gas(300, 0.3f);
+    World world(worldFor(scene, ComputeEngine::Cpu, Boundary::Walls));
+    CHECK(world.diskCount() == 0);
+    world.setDisks(scene.disks.data(), scene.disks.size());
+    REQUIRE(world.diskCount() == scene.disks.size());
+    std::vector<Disk> out(world.diskCount());
+    world.getDisks(out.data());
+    CHECK(std::memcmp(out.data(), scene.disks.data(), out.size() * sizeof(Disk)) == 0);
+    CHECK(std::memcmp(world.disks().data(), scene.disks.data(), out.size() * sizeof(Disk)) == 0);
+    CHECK(world.warnings().empty());
+
+    World moved = std::move(world);
+    CHECK(moved.diskCount() == scene.disks.size());
+}
+
+TEST_CASE("world: bad input is refused in library terms, naming the value") {
+    WorldDef def;
+    CHECK_THROWS_WITH_AS(World{def}, "box width must be a finite number > 0, got 0", Error);
+    def.width = def.height = 20.0f;
+    def.dt = -1.0f;
+    CHECK_THROWS_WITH_AS(World{def}, "dt must be a finite number > 0, got -1", Error);
+    def.dt = 0.01f;
+    def.engine = ComputeEngine::OpenClResident;
+    def.collisions = CollisionScheme::Events;
+    CHECK_THROWS_WITH_AS(World{def},
+                         "CollisionScheme::Events runs on ComputeEngine::Cpu only (one thread, double precision); "
+                         "got ComputeEngine opencl-resident",
+                         Error);
+    def.engine = ComputeEngine::Cpu;
+    World world(def);
+    CHECK_THROWS_WITH_AS(world.step(1), "step: the world has no disks yet; call setDisks first", Error);
+    CHECK_THROWS_WITH_AS(world.setDisks(nullptr, 0), "setDisks: a world needs at least 1 disk, got 0", Error);
+    Disk outside;
+    outside.position = {25.0f, 5.0f};
+    CHECK_THROWS_AS(world.setDisks(&outside, 1), Error);
+    CHECK(world.diskCount() == 0);
+}
+
+TEST_CASE("io: a scene file loads as the command line places it") {
+    const std::string path = std::string(CAROM_SCENES_DIR) + "/mixture.toml";
+    const io::SceneFile loaded = io::loadScene(path);
+    const carom::SceneFile scene = readSceneFile(path);
+    const InitialState placed = makeInitialState(scene);
+    CHECK(loaded.world.width == placed.width);
+    CHECK(loaded.world.height == placed.height);
+    CHECK(loaded.world.collisions == scene.world.collisions);
+    CHECK(loaded.steps == scene.steps);
+    REQUIRE(loaded.disks.size() == placed.particles.size());
+    for (std::size_t i = 0; i < placed.particles.size(); ++i) REQUIRE(sameBits(loaded.disks[i], placed.particles[i]));
+    CHECK_THROWS_AS(io::loadScene(std::string(CAROM_SCENES_DIR) + "/no_such_scene.toml"), Error);
+}
+
+TEST_CASE("io: a state written and read back is bit for bit the same") {
+    const Scene scene = gas(200, 0.3f);
+    const std::string path = (std::filesystem::temp_directory_path() / "carom_world_state.csv").string();
+    io::writeState(path, scene.disks);
+    const std::vector<Disk> back = io::readState(path);
+    std::remove(path.c_str());
+    REQUIRE(back.size() == scene.disks.size());
+    CHECK(std::memcmp(back.data(), scene.disks.data(), back.size() * sizeof(Disk)) == 0);
+}
