@@ -3,10 +3,10 @@
 
 #include <utility>
 
-#include "backends/backend.h"
 #include "engine/diagnostics.h"
 #include "engine/disk_conversion.h"
 #include "engine/observables.h"
+#include "engine/world_impl.h"
 
 namespace carom {
 
@@ -44,29 +44,23 @@ const char* computeEngineName(ComputeEngine engine) {
     return "unknown";
 }
 
-struct World::Impl {
-    WorldDef def;
-    std::unique_ptr<Backend> backend;
-    std::uint64_t steps = 0;              // since setDisks
-    std::vector<std::string> warnings;    // setDisks' (validateStart)
-    double intervalStartTemperature = 0;  // kT when the measurements were last reset
-    // The state as last read from the backend, while it is current.
-    std::vector<Particle> state;
-    bool stateCurrent = false;
-
-    const std::vector<Particle>& current() {
-        if (!stateCurrent) {
-            backend->readParticles(state);
-            stateCurrent = true;
-        }
-        return state;
-    }
-};
+void World::Impl::start(std::vector<Particle> particles, std::uint64_t startStep, std::uint64_t collisions) {
+    warnings = validateStart(particles, def, "disks");
+    backend->setParticles(particles, startStep);
+    step = startStep;
+    collisionsBefore = collisions;
+    state = std::move(particles);
+    stateCurrent = true;
+    intervalStartTemperature = carom::temperature(state, def.boundary);
+}
 
 World::World(const WorldDef& def) : impl_(std::make_unique<Impl>()) {
     if (def.engine != ComputeEngine::Cpu && def.collisions == CollisionScheme::Events)
         throw Error(std::string("CollisionScheme::Events runs on ComputeEngine::Cpu only (one thread, double "
                                 "precision); got ComputeEngine ") + computeEngineName(def.engine));
+    if (def.collisions == CollisionScheme::Events && def.maxTravel != 0.0f)
+        throw Error("WorldDef::maxTravel must be 0 with CollisionScheme::Events, which has no steps to split; got " +
+                    std::to_string(def.maxTravel));
     impl_->def = def;
     impl_->backend = makeBackend(backendFor(def), def);
 }
@@ -77,13 +71,7 @@ World& World::operator=(World&&) noexcept = default;
 
 void World::setDisks(const Disk* disks, std::size_t count) {
     if (count == 0) throw Error("setDisks: a world needs at least 1 disk, got 0");
-    std::vector<Particle> particles = particlesOf(disks, count);
-    impl_->warnings = validateStart(particles, impl_->def, "disks");
-    impl_->backend->setParticles(particles);
-    impl_->steps = 0;
-    impl_->state = std::move(particles);
-    impl_->stateCurrent = true;
-    impl_->intervalStartTemperature = temperature();
+    impl_->start(particlesOf(disks, count), 0, 0);
 }
 
 void World::getDisks(Disk* out) const {
@@ -101,15 +89,21 @@ void World::step(std::uint64_t steps) {
     try {
         impl_->backend->step(steps);
     } catch (const Error&) {
-        if (const auto& where = impl_->backend->nonFinite()) impl_->steps = where->step;
+        if (const auto& where = impl_->backend->nonFinite()) impl_->step = where->step;
         throw;
     }
-    impl_->steps += steps;
+    impl_->step += steps;
 }
 
-std::uint64_t World::stepCount() const { return impl_->steps; }
+std::uint64_t World::stepCount() const { return impl_->step; }
 
-double World::time() const { return double(impl_->steps) * impl_->def.dt; }
+double World::time() const { return double(impl_->step) * impl_->def.dt; }
+
+void World::setMotion(float dt, Vec2 gravity) {
+    impl_->backend->setMotion(dt, gravity);
+    impl_->def.dt = dt;
+    impl_->def.gravity = gravity;
+}
 
 const WorldDef& World::def() const { return impl_->def; }
 
@@ -137,10 +131,18 @@ Measurements World::measurements() const {
     m.pressure = periodic ? t.virialPressure : t.wallPressureMean;
     m.compressibility = periodic ? t.virialZ : t.wallZ;
     m.wallPressure = t.wallPressure;
+    m.substeps = contacts.substeps;
+    m.lateContacts = contacts.lateContacts;
+    m.maxRounds = contacts.maxRounds;
     return m;
 }
 
+std::uint64_t World::collisionCount() const {
+    return impl_->collisionsBefore + impl_->backend->contacts().collisions;
+}
+
 void World::resetMeasurements() {
+    impl_->collisionsBefore = collisionCount();
     impl_->backend->resetContacts();
     impl_->intervalStartTemperature = temperature();
 }

@@ -197,3 +197,58 @@ TEST_CASE("io: a state written and read back is bit for bit the same") {
     REQUIRE(back.size() == scene.disks.size());
     CHECK(std::memcmp(back.data(), scene.disks.data(), back.size() * sizeof(Disk)) == 0);
 }
+
+TEST_CASE("io: a world resumed from its checkpoint continues bit for bit, events included") {
+    const Scene scene = gas(400, 0.4f);
+    const std::string path = (std::filesystem::temp_directory_path() / "carom_world.ckpt").string();
+    for (CollisionScheme scheme : {CollisionScheme::Pairwise, CollisionScheme::Events}) {
+        CAPTURE(collisionSchemeName(scheme));
+        WorldDef def = worldFor(scene, ComputeEngine::Cpu, Boundary::Walls);
+        def.collisions = scheme;
+        World straight(def);
+        straight.setDisks(scene.disks);
+        straight.step(30);
+        io::saveCheckpoint(path, straight);
+        straight.step(30);
+
+        World resumed = io::loadCheckpoint(path);
+        CHECK(resumed.stepCount() == 30);
+        CHECK(resumed.def().collisions == scheme);
+        CHECK(resumed.def().gravity.y == def.gravity.y);
+        resumed.step(30);
+        CHECK(resumed.stepCount() == straight.stepCount());
+        CHECK(resumed.collisionCount() == straight.collisionCount());
+        CHECK(resumed.collisionCount() > 0);
+        const std::vector<Disk> a = straight.disks(), b = resumed.disks();
+        REQUIRE(a.size() == b.size());
+        CHECK(std::memcmp(a.data(), b.data(), a.size() * sizeof(Disk)) == 0);
+    }
+    std::remove(path.c_str());
+    CHECK_THROWS_AS(io::loadCheckpoint(path), Error);
+}
+
+TEST_CASE("world: dt and gravity change between steps; the collision count outlives a reset") {
+    const Scene scene = gas(300, 0.3f);
+    World world(worldFor(scene, ComputeEngine::Cpu, Boundary::Walls));
+    world.setDisks(scene.disks);
+    world.step(20);
+    const std::uint64_t before = world.collisionCount();
+    CHECK(before == world.measurements().collisions);
+    world.resetMeasurements();
+    CHECK(world.measurements().collisions == 0);
+    CHECK(world.collisionCount() == before);
+    world.setMotion(0.005f, Vec2{0.0f, -1.0f});
+    CHECK(world.def().dt == 0.005f);
+    world.step(20);
+    CHECK(world.collisionCount() == before + world.measurements().collisions);
+    CHECK(world.potentialEnergy() != 0.0);
+    CHECK_THROWS_AS(world.setMotion(-1.0f, Vec2{0.0f, 0.0f}), Error);
+    CHECK(world.def().dt == 0.005f);
+    WorldDef events = worldFor(scene, ComputeEngine::Cpu, Boundary::Walls);
+    events.collisions = CollisionScheme::Events;
+    events.maxTravel = 0.2f;
+    CHECK_THROWS_WITH_AS(World{events},
+                         "WorldDef::maxTravel must be 0 with CollisionScheme::Events, which has no steps to split; "
+                         "got 0.200000",
+                         Error);
+}

@@ -1,7 +1,7 @@
 // carom::io (link carom::io): reading and writing carom's files with the
 // public types. The formats are the README's: scene files ("Scene files"),
 // state CSV (`id,x,y,vx,vy,mass,radius`, floats as the shortest text that
-// reads back bit for bit).
+// reads back bit for bit), checkpoints (engine/checkpoint.h has the layout).
 //
 // Files are written whole or not at all: through a temporary file renamed
 // into place, so a failure leaves the old file as it was. Every refusal is a
@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <carom/types.h>
+#include <carom/world.h>
 
 namespace carom::io {
 
@@ -29,5 +30,15 @@ SceneFile loadScene(const std::string& path);
 // 0..N-1, in any row order; the box is not checked here (World::setDisks does).
 std::vector<Disk> readState(const std::string& path);
 void writeState(const std::string& path, const std::vector<Disk>& disks);
+
+// Checkpoints: everything a world needs to continue bit for bit (the box,
+// dt, gravity, boundary, scheme, step, collision count, the disks, and with
+// CollisionScheme::Events the engine's exact double state), in a versioned
+// binary file with a checksum. loadCheckpoint takes the engine, the device
+// and maxTravel from `def` (a checkpoint does not hold them) and everything
+// else from the file; it refuses a file that is damaged, of another format
+// or out of range, naming what is wrong.
+void saveCheckpoint(const std::string& path, const World& world);
+World loadCheckpoint(const std::string& path, const WorldDef& def = WorldDef{});
 
 }  // namespace carom::io

@@ -49,6 +49,13 @@ struct Measurements {
     double pressure = 0.0;
     double compressibility = 0.0;
     std::array<double, 4> wallPressure{};  // walls only: left, right, bottom, top [mass/time^2]
+    std::uint64_t substeps = 0;     // substeps taken: more than steps with maxTravel > 0, or where the
+                                    //   pairwise scheme splits a step to keep its grid valid
+    // Pairwise scheme only: pairs resolved while overlapping beyond rounding and
+    // disks found past a wall (contacts the rounds could not order in time),
+    // and the most collision rounds one substep used.
+    std::uint64_t lateContacts = 0;
+    std::uint32_t maxRounds = 0;
 };
 
 class World {
@@ -81,9 +88,14 @@ public:
     // step and refuses to step further until setDisks.
     void step(std::uint64_t steps = 1);
 
-    std::uint64_t stepCount() const;  // steps taken since setDisks
-    double time() const;              // stepCount() x dt [time]
+    // The step the state holds: steps taken since setDisks, or since the
+    // scene a checkpoint continues (carom/io.h loadCheckpoint).
+    std::uint64_t stepCount() const;
+    double time() const;  // stepCount() x dt [time]
     const WorldDef& def() const;
+    // Changes dt and gravity between steps (the box, the boundary and the
+    // scheme stay); throws Error for values out of range and keeps the old ones.
+    void setMotion(float dt, Vec2 gravity);
 
     // Observables of the current state, summed in double in id order.
     double kineticEnergy() const;                 // sum of m v^2 / 2 [mass length^2/time^2]
@@ -92,6 +104,9 @@ public:
     // kT (k = 1): E_kin / N with walls; in a periodic box the centre of mass
     // carries no heat, so (E_kin - P^2/2M) / (N - 1).
     double temperature() const;
+    // Pairs that received an impulse since the scene began (setDisks, or the
+    // scene a checkpoint continues), each pair once.
+    std::uint64_t collisionCount() const;
     // Collisions, pressure and Z over the interval since setDisks or resetMeasurements.
     Measurements measurements() const;
     void resetMeasurements();
@@ -105,6 +120,7 @@ public:
 
 private:
     struct Impl;
+    friend struct WorldAccess;  // carom::io's checkpoints reach the engine's state
     std::unique_ptr<Impl> impl_;
 };
 
