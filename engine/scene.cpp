@@ -2,17 +2,15 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <random>
 #include <sstream>
 
 #include "engine/carom.h"
+#include "engine/constants.h"
 #include "engine/diagnostics.h"
+#include "engine/random.h"
 
 namespace carom {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr float kMaxPacking = 0.7f;
 
 template <class... Parts>
 [[noreturn]] void fail(const Parts&... parts) {
@@ -115,21 +113,6 @@ void requireValidMotion(const std::vector<Particle>& particles, const WorldDef& 
              " box, so its motion would be lost or wrong by more than 50 %; for these speeds and dt the largest box is ",
              largestBoxFor(m.move() / kMinStepSpacings), " (README, Limits)");
 }
-
-// Random numbers specified bit for bit by the C++ standard (std::mt19937_64
-// is; the std distributions are not), so a seed gives the same scene with
-// every standard library.
-class Random {
-public:
-    explicit Random(std::uint64_t seed) : engine_(seed) {}
-    double unit() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }  // [0, 1)
-    float uniform(float lo, float hi) {
-        return lo == hi ? lo : static_cast<float>(lo + (double(hi) - lo) * unit());
-    }
-
-private:
-    std::mt19937_64 engine_;
-};
 
 // A hexagonal lattice of cols x rows sites spread over the part of the box
 // where a disk of the largest radius fits; odd rows are shifted by half a
@@ -254,8 +237,8 @@ InitialState makeInitialState(const SceneDef& scene) {
     double diskArea = 0.0;
     for (Particle& p : state.particles) {
         p = Particle{};
-        p.radius = random.uniform(scene.radiusMin, scene.radiusMax);
-        p.mass = random.uniform(scene.massMin, scene.massMax);
+        p.radius = random.uniformFloat(scene.radiusMin, scene.radiusMax);
+        p.mass = random.uniformFloat(scene.massMin, scene.massMax);
         diskArea += kPi * double(p.radius) * p.radius;
     }
     const bool boxGiven = scene.width > 0.0f;

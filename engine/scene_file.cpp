@@ -8,19 +8,18 @@
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
-#include <random>
 #include <sstream>
 
 #include <toml++/toml.h>
 
+#include "engine/constants.h"
 #include "engine/grid.h"
+#include "engine/random.h"
 #include "engine/text_format.h"
 
 namespace carom {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr float kMaxPacking = 0.7f;
 constexpr std::uintmax_t kMaxSceneFileBytes = 64u << 20;
 constexpr std::size_t kMaxGroups = 10000;  // regions are compared pairwise
 
@@ -362,25 +361,6 @@ void validateRegions(const SceneFile& scene) {
 // ---------------------------------------------------------------------------
 // Placement.
 
-// The random numbers of scene.cpp's placement: std::mt19937_64 is specified
-// bit for bit by the C++ standard, the std distributions are not.
-class Random {
-public:
-    explicit Random(std::uint64_t seed) : engine_(seed) {}
-    double unit() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }  // [0, 1)
-    float uniform(float lo, float hi) { return lo == hi ? lo : static_cast<float>(lo + (double(hi) - lo) * unit()); }
-    std::size_t below(std::size_t n) { return std::min(n - 1, static_cast<std::size_t>(unit() * double(n))); }
-    // Two independent standard normal numbers (Box-Muller).
-    std::pair<double, double> normalPair() {
-        const double radius = std::sqrt(-2.0 * std::log(1.0 - unit()));
-        const double angle = 2 * kPi * unit();
-        return {radius * std::cos(angle), radius * std::sin(angle)};
-    }
-
-private:
-    std::mt19937_64 engine_;
-};
-
 // Each region gets its own stream of random numbers; the first uses the
 // scene's seed itself, so a one-group scene matches makeInitialState(SceneDef).
 std::uint64_t regionSeed(std::uint64_t seed, std::size_t region) { return seed + region * 0x9E3779B97F4A7C15ull; }
@@ -452,8 +432,8 @@ Placed placeMixed(const std::vector<const GroupDef*>& groups, float width, float
     for (const GroupDef* g : groups) {
         for (std::uint32_t k = 0; k < g->count; ++k) {
             Particle p{};
-            p.radius = random.uniform(g->radiusMin, g->radiusMax);
-            p.mass = random.uniform(g->massMin, g->massMax);
+            p.radius = random.uniformFloat(g->radiusMin, g->radiusMax);
+            p.mass = random.uniformFloat(g->massMin, g->massMax);
             setVelocity(p, *g, random);
             maxRadius = std::max(maxRadius, p.radius);
             diskArea += kPi * double(p.radius) * p.radius;
