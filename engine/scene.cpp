@@ -7,25 +7,14 @@
 #include "engine/carom.h"
 #include "engine/constants.h"
 #include "engine/diagnostics.h"
+#include "engine/error_message.h"
 #include "engine/random.h"
 
 namespace carom {
 namespace {
 
-template <class... Parts>
-[[noreturn]] void fail(const Parts&... parts) {
-    std::ostringstream message;
-    (message << ... << parts);
-    throw Error(message.str());
-}
-
-void requirePositive(const char* name, float value) {
-    if (!(std::isfinite(value) && value > 0.0f))
-        fail(name, " must be a finite number > 0, got ", value);
-}
-
 // A finite value > 0 inside the range where float32 results are valid.
-void requireWithin(const char* name, float value, float least, float most, const char* reason) {
+void requireWithin(std::string_view name, float value, float least, float most, const char* reason) {
     requirePositive(name, value);
     if (value < least || value > most)
         fail(name, " ", value, " is outside [", least, ", ", most, "], the range where results are valid: ", reason,
@@ -221,8 +210,7 @@ void validate(const SceneDef& scene) {
     requireRange("radius", "radius-min", scene.radiusMin, "radius-max", scene.radiusMax, kMinLength, kMaxLength,
                  kLengthReason);
     requireRange("mass", "mass-min", scene.massMin, "mass-max", scene.massMax, kMinMass, kMaxMass, kMassReason);
-    if (!(std::isfinite(scene.speed) && scene.speed >= 0.0f))
-        fail("speed must be a finite number >= 0, got ", scene.speed);
+    requireNonNegative("speed", scene.speed);
     if (scene.speed > kMaxSpeed)
         fail("speed ", scene.speed, " is outside [0, ", kMaxSpeed,
              "], the range where results are valid: speeds must square to finite float32 numbers (README, Limits)");
@@ -300,16 +288,13 @@ void validateParticles(const std::vector<Particle>& particles, const WorldDef& w
     for (std::size_t i = 0; i < particles.size(); ++i) {
         const Particle& p = particles[i];
         const float r = p.radius;
-        if (!(std::isfinite(r) && r > 0.0f))
-            fail(what, ": particle ", i, ": radius must be a finite number > 0, got ", r);
-        if (!(std::isfinite(p.mass) && p.mass > 0.0f))
-            fail(what, ": particle ", i, ": mass must be a finite number > 0, got ", p.mass);
-        if (!std::isfinite(p.velocity.x) || !std::isfinite(p.velocity.y))
-            fail(what, ": particle ", i, ": velocity must be finite, got (", p.velocity.x, ", ",
-                 p.velocity.y, ")");
         const std::string particle = what + ": particle " + std::to_string(i) + ": ";
-        requireWithin((particle + "radius").c_str(), r, kMinLength, kMaxLength, kLengthReason);
-        requireWithin((particle + "mass").c_str(), p.mass, kMinMass, kMaxMass, kMassReason);
+        requirePositive(particle + "radius", r);
+        requirePositive(particle + "mass", p.mass);
+        if (!std::isfinite(p.velocity.x) || !std::isfinite(p.velocity.y))
+            fail(particle, "velocity must be finite, got (", p.velocity.x, ", ", p.velocity.y, ")");
+        requireWithin(particle + "radius", r, kMinLength, kMaxLength, kLengthReason);
+        requireWithin(particle + "mass", p.mass, kMinMass, kMaxMass, kMassReason);
         if (2.0f * r > world.width || 2.0f * r > world.height)
             fail(what, ": particle ", i, ": radius ", r, " does not fit in the ", world.width,
                  " x ", world.height, " box");

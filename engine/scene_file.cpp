@@ -13,6 +13,7 @@
 #include <toml++/toml.h>
 
 #include "engine/constants.h"
+#include "engine/error_message.h"
 #include "engine/grid.h"
 #include "engine/random.h"
 #include "engine/text_format.h"
@@ -285,15 +286,11 @@ private:
 // ---------------------------------------------------------------------------
 // Validation of the whole scene, after command-line overrides.
 
-std::ostream& operator<<(std::ostream& out, const Region& r) {
-    return out << '[' << r.xMin << ", " << r.yMin << ", " << r.xMax << ", " << r.yMax << ']';
-}
-
-template <class... Parts>
-[[noreturn]] void fail(const Parts&... parts) {
-    std::ostringstream message;
-    (message << ... << parts);
-    throw Error(message.str());
+// "[x_min, y_min, x_max, y_max]", for messages.
+std::string regionText(const Region& r) {
+    std::ostringstream text;
+    text << '[' << r.xMin << ", " << r.yMin << ", " << r.xMax << ", " << r.yMax << ']';
+    return text.str();
 }
 
 Region wholeBox(const SceneFile& scene) { return Region{0, 0, scene.world.width, scene.world.height}; }
@@ -318,7 +315,7 @@ void validateGroup(const SceneFile& scene, const GroupDef& g) {
     if (g.count < 1) fail(where, ": count must be >= 1");
     requireRange(where, "radius", g.radiusMin, g.radiusMax);
     requireRange(where, "mass", g.massMin, g.massMax);
-    if (!(std::isfinite(g.speed) && g.speed >= 0.0f)) fail(where, ": speed must be a finite number >= 0, got ", g.speed);
+    requireNonNegative(where + ": speed", g.speed);
     if (!(std::isfinite(g.temperature) && g.temperature >= 0.0f))
         fail(where, ": temperature must be a finite number > 0, got ", g.temperature);
     if (!g.region) return;
@@ -326,7 +323,7 @@ void validateGroup(const SceneFile& scene, const GroupDef& g) {
         fail(where, ": a region needs a known box: give box = [W, H] instead of packing");
     const Region& r = *g.region;
     if (r.xMax > scene.world.width || r.yMax > scene.world.height)
-        fail(where, ": region ", r, " extends past the ", scene.world.width, " x ", scene.world.height, " box");
+        fail(where, ": region ", regionText(r), " extends past the ", scene.world.width, " x ", scene.world.height, " box");
 }
 
 void validateDisk(const SceneFile& scene, const DiskDef& d, std::size_t index) {
@@ -352,7 +349,7 @@ void validateRegions(const SceneFile& scene) {
             const Region ra = ga.region.value_or(wholeBox(scene));
             const Region rb = gb.region.value_or(wholeBox(scene));
             if (!sameRegion(ra, rb) && regionsOverlap(ra, rb))
-                fail(scene.path, ':', gb.line, ": ", gb.name, ": region ", rb, " overlaps region ", ra, " of ", ga.name,
+                fail(scene.path, ':', gb.line, ": ", gb.name, ": region ", regionText(rb), " overlaps region ", regionText(ra), " of ", ga.name,
                      " (line ", ga.line, "); give groups the same region to mix them, or disjoint regions");
         }
     }
