@@ -1,14 +1,13 @@
-// Validation of worlds and scenes, and the initial conditions of a scene.
+// Names of the boundaries and collision schemes, and the validation of worlds,
+// scenes and particles (the initial conditions are placed in scene_placement.cpp).
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <sstream>
 
 #include "engine/carom.h"
 #include "engine/constants.h"
 #include "engine/diagnostics.h"
 #include "engine/error_message.h"
-#include "engine/random.h"
 
 namespace carom {
 namespace {
@@ -103,54 +102,6 @@ void requireValidMotion(const std::vector<Particle>& particles, const WorldDef& 
              largestBoxFor(m.move() / kMinStepSpacings), " (README, Limits)");
 }
 
-// A hexagonal lattice of cols x rows sites spread over the part of the box
-// where a disk of the largest radius fits; odd rows are shifted by half a
-// spacing.
-struct Lattice {
-    int cols = 1;
-    int rows = 1;
-    double spacingX = 0.0;  // 0 when there is a single column
-    double spacingY = 0.0;  // 0 when there is a single row
-    double minDistance = 0.0;
-
-    static Lattice make(int cols, int rows, double innerWidth, double innerHeight) {
-        constexpr double inf = std::numeric_limits<double>::infinity();
-        Lattice l;
-        l.cols = cols;
-        l.rows = rows;
-        const bool shifted = cols > 1 && rows > 1;
-        if (cols > 1) l.spacingX = innerWidth / (shifted ? cols - 0.5 : cols - 1);
-        if (rows > 1) l.spacingY = innerHeight / (rows - 1);
-        const double dx = cols > 1 ? l.spacingX : inf;
-        const double dy = rows > 1 ? l.spacingY : inf;
-        // Shifted rows: the nearest sites are in the same row, the next row
-        // (half a spacing across) or two rows away (straight above).
-        l.minDistance = shifted ? std::min({dx, std::hypot(dx / 2, dy), 2 * dy}) : std::min(dx, dy);
-        return l;
-    }
-
-    // The densest lattice for n sites: the one whose closest sites are farthest apart.
-    static Lattice best(std::uint32_t n, double innerWidth, double innerHeight) {
-        const double ideal = std::sqrt(n * (innerWidth + 1e-12) / ((innerHeight + 1e-12) * 0.866));
-        const int lastCols = static_cast<int>(std::min<double>(n, 2 * ideal + 2));
-        Lattice best = make(1, static_cast<int>(n), innerWidth, innerHeight);
-        for (int cols = 2; cols <= lastCols; ++cols) {
-            const int rows = static_cast<int>((n + cols - 1) / cols);
-            const Lattice l = make(cols, rows, innerWidth, innerHeight);
-            if (l.minDistance > best.minDistance) best = l;
-        }
-        return best;
-    }
-
-    double siteX(int col, int row, double width, double margin) const {
-        if (cols == 1) return width / 2;
-        return margin + (col + (rows > 1 && row % 2 ? 0.5 : 0.0)) * spacingX;
-    }
-    double siteY(int row, double height, double margin) const {
-        return rows == 1 ? height / 2 : margin + row * spacingY;
-    }
-};
-
 }  // namespace
 
 Boundary parseBoundary(const std::string& name) {
@@ -214,71 +165,6 @@ void validate(const SceneDef& scene) {
     if (scene.speed > kMaxSpeed)
         fail("speed ", scene.speed, " is outside [0, ", kMaxSpeed,
              "], the range where results are valid: speeds must square to finite float32 numbers (README, Limits)");
-}
-
-InitialState makeInitialState(const SceneDef& scene) {
-    validate(scene);
-    Random random(scene.seed);
-    InitialState state;
-    state.particles.resize(scene.particles);
-
-    double diskArea = 0.0;
-    for (Particle& p : state.particles) {
-        p = Particle{};
-        p.radius = random.uniformFloat(scene.radiusMin, scene.radiusMax);
-        p.mass = random.uniformFloat(scene.massMin, scene.massMax);
-        diskArea += kPi * double(p.radius) * p.radius;
-    }
-    const bool boxGiven = scene.width > 0.0f;
-    state.width = boxGiven ? scene.width : static_cast<float>(std::sqrt(diskArea / scene.packing));
-    state.height = boxGiven ? scene.height : state.width;
-    if (!boxGiven && !(state.width <= kMaxLength))
-        fail("packing ", scene.packing, " makes a ", state.width, " x ", state.height, " box; boxes up to ",
-             kMaxLength, " are valid (README, Limits): raise the packing");
-    const double packing = diskArea / (double(state.width) * state.height);
-
-    const double rmax = scene.radiusMax;
-    const double innerWidth = state.width - 2 * rmax;
-    const double innerHeight = state.height - 2 * rmax;
-    if (innerWidth < 0 || innerHeight < 0)
-        fail("a disk of radius ", scene.radiusMax, " does not fit in the ", state.width, " x ",
-             state.height, " box");
-
-    // Keep a gap of a few float ulps between neighbours so that rounding the
-    // positions to float cannot create an overlap.
-    const double gap = 1e-6 * std::max(state.width, state.height);
-    const Lattice lattice = Lattice::best(scene.particles, innerWidth, innerHeight);
-    const double freeSpace = lattice.minDistance - 2 * rmax - gap;
-    if (freeSpace < 0) {
-        const double reachable = packing * std::pow(std::min(1.0, lattice.minDistance / (2 * rmax + gap)), 2);
-        fail("cannot place ", scene.particles, " disks of radius up to ", scene.radiusMax,
-             " without overlap in a ", state.width, " x ", state.height, " box (packing ", packing,
-             "); with these radii the lattice placement reaches packing ", reachable,
-             " at most: lower the packing or the number of disks, or enlarge the box");
-    }
-
-    // Spread the N disks evenly over the lattice sites and jitter each inside
-    // the free space around its site (a lone site has infinite free space).
-    const double jitter = std::min(freeSpace, std::min(innerWidth, innerHeight)) / 2;
-    const std::uint64_t sites = std::uint64_t(lattice.cols) * lattice.rows;
-    for (std::uint32_t k = 0; k < scene.particles; ++k) {
-        Particle& p = state.particles[k];
-        const std::uint64_t site = std::uint64_t(k) * sites / scene.particles;
-        const int col = static_cast<int>(site % lattice.cols);
-        const int row = static_cast<int>(site / lattice.cols);
-        const double angle = 2 * kPi * random.unit();
-        const double distance = jitter * std::sqrt(random.unit());
-        const double x = lattice.siteX(col, row, state.width, rmax) + distance * std::cos(angle);
-        const double y = lattice.siteY(row, state.height, rmax) + distance * std::sin(angle);
-        p.position.x = static_cast<float>(std::clamp(x, double(p.radius), state.width - double(p.radius)));
-        p.position.y = static_cast<float>(std::clamp(y, double(p.radius), state.height - double(p.radius)));
-    }
-    for (Particle& p : state.particles) {
-        const double angle = 2 * kPi * random.unit();
-        p.velocity.x = static_cast<float>(scene.speed * std::cos(angle));
-        p.velocity.y = static_cast<float>(scene.speed * std::sin(angle));
-    }
-    return state;
 }
 
 void validateParticles(const std::vector<Particle>& particles, const WorldDef& world,
