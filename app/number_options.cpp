@@ -4,12 +4,16 @@
 #include "engine/number_text.h"
 
 namespace carom::app {
+namespace {
 
-CLI::Validator wholeNumber(std::uint64_t min, std::uint64_t max) {
+// A CLI11 validator that runs `check` on the option's text (which it may
+// rewrite) and refuses the value with the message of the Error it throws.
+template <class Check>
+CLI::Validator refusingErrors(Check check) {
     return CLI::Validator(
-        [min, max](std::string& text) {
+        [check](std::string& text) {
             try {
-                text = std::to_string(parseWholeNumber(text, min, max));  // no leading 0 for CLI11 to read as octal
+                check(text);
                 return std::string();
             } catch (const Error& e) {
                 return std::string(e.what());
@@ -18,17 +22,16 @@ CLI::Validator wholeNumber(std::uint64_t min, std::uint64_t max) {
         "");
 }
 
+}  // namespace
+
+CLI::Validator wholeNumber(std::uint64_t min, std::uint64_t max) {
+    return refusingErrors([min, max](std::string& text) {
+        text = std::to_string(parseWholeNumber(text, min, max));  // no leading 0 for CLI11 to read as octal
+    });
+}
+
 CLI::Validator realNumber() {
-    return CLI::Validator(
-        [](std::string& text) {
-            try {
-                parseRealNumber(text);
-                return std::string();
-            } catch (const Error& e) {
-                return std::string(e.what());
-            }
-        },
-        "");
+    return refusingErrors([](std::string& text) { parseRealNumber(text); });
 }
 
 }  // namespace carom::app

@@ -1,33 +1,19 @@
-// Validation of worlds and scenes, and the initial conditions of a scene.
+// Names of the boundaries and collision schemes, and the validation of worlds,
+// scenes and particles (the initial conditions are placed in scene_placement.cpp).
 #include <algorithm>
 #include <cmath>
-#include <limits>
-#include <random>
 #include <sstream>
 
 #include "engine/carom.h"
+#include "engine/constants.h"
 #include "engine/diagnostics.h"
+#include "engine/error_message.h"
 
 namespace carom {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr float kMaxPacking = 0.7f;
-
-template <class... Parts>
-[[noreturn]] void fail(const Parts&... parts) {
-    std::ostringstream message;
-    (message << ... << parts);
-    throw Error(message.str());
-}
-
-void requirePositive(const char* name, float value) {
-    if (!(std::isfinite(value) && value > 0.0f))
-        fail(name, " must be a finite number > 0, got ", value);
-}
-
 // A finite value > 0 inside the range where float32 results are valid.
-void requireWithin(const char* name, float value, float least, float most, const char* reason) {
+void requireWithin(std::string_view name, float value, float least, float most, const char* reason) {
     requirePositive(name, value);
     if (value < least || value > most)
         fail(name, " ", value, " is outside [", least, ", ", most, "], the range where results are valid: ", reason,
@@ -116,69 +102,6 @@ void requireValidMotion(const std::vector<Particle>& particles, const WorldDef& 
              largestBoxFor(m.move() / kMinStepSpacings), " (README, Limits)");
 }
 
-// Random numbers specified bit for bit by the C++ standard (std::mt19937_64
-// is; the std distributions are not), so a seed gives the same scene with
-// every standard library.
-class Random {
-public:
-    explicit Random(std::uint64_t seed) : engine_(seed) {}
-    double unit() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }  // [0, 1)
-    float uniform(float lo, float hi) {
-        return lo == hi ? lo : static_cast<float>(lo + (double(hi) - lo) * unit());
-    }
-
-private:
-    std::mt19937_64 engine_;
-};
-
-// A hexagonal lattice of cols x rows sites spread over the part of the box
-// where a disk of the largest radius fits; odd rows are shifted by half a
-// spacing.
-struct Lattice {
-    int cols = 1;
-    int rows = 1;
-    double spacingX = 0.0;  // 0 when there is a single column
-    double spacingY = 0.0;  // 0 when there is a single row
-    double minDistance = 0.0;
-
-    static Lattice make(int cols, int rows, double innerWidth, double innerHeight) {
-        constexpr double inf = std::numeric_limits<double>::infinity();
-        Lattice l;
-        l.cols = cols;
-        l.rows = rows;
-        const bool shifted = cols > 1 && rows > 1;
-        if (cols > 1) l.spacingX = innerWidth / (shifted ? cols - 0.5 : cols - 1);
-        if (rows > 1) l.spacingY = innerHeight / (rows - 1);
-        const double dx = cols > 1 ? l.spacingX : inf;
-        const double dy = rows > 1 ? l.spacingY : inf;
-        // Shifted rows: the nearest sites are in the same row, the next row
-        // (half a spacing across) or two rows away (straight above).
-        l.minDistance = shifted ? std::min({dx, std::hypot(dx / 2, dy), 2 * dy}) : std::min(dx, dy);
-        return l;
-    }
-
-    // The densest lattice for n sites: the one whose closest sites are farthest apart.
-    static Lattice best(std::uint32_t n, double innerWidth, double innerHeight) {
-        const double ideal = std::sqrt(n * (innerWidth + 1e-12) / ((innerHeight + 1e-12) * 0.866));
-        const int lastCols = static_cast<int>(std::min<double>(n, 2 * ideal + 2));
-        Lattice best = make(1, static_cast<int>(n), innerWidth, innerHeight);
-        for (int cols = 2; cols <= lastCols; ++cols) {
-            const int rows = static_cast<int>((n + cols - 1) / cols);
-            const Lattice l = make(cols, rows, innerWidth, innerHeight);
-            if (l.minDistance > best.minDistance) best = l;
-        }
-        return best;
-    }
-
-    double siteX(int col, int row, double width, double margin) const {
-        if (cols == 1) return width / 2;
-        return margin + (col + (rows > 1 && row % 2 ? 0.5 : 0.0)) * spacingX;
-    }
-    double siteY(int row, double height, double margin) const {
-        return rows == 1 ? height / 2 : margin + row * spacingY;
-    }
-};
-
 }  // namespace
 
 Boundary parseBoundary(const std::string& name) {
@@ -238,76 +161,10 @@ void validate(const SceneDef& scene) {
     requireRange("radius", "radius-min", scene.radiusMin, "radius-max", scene.radiusMax, kMinLength, kMaxLength,
                  kLengthReason);
     requireRange("mass", "mass-min", scene.massMin, "mass-max", scene.massMax, kMinMass, kMaxMass, kMassReason);
-    if (!(std::isfinite(scene.speed) && scene.speed >= 0.0f))
-        fail("speed must be a finite number >= 0, got ", scene.speed);
+    requireNonNegative("speed", scene.speed);
     if (scene.speed > kMaxSpeed)
         fail("speed ", scene.speed, " is outside [0, ", kMaxSpeed,
              "], the range where results are valid: speeds must square to finite float32 numbers (README, Limits)");
-}
-
-InitialState makeInitialState(const SceneDef& scene) {
-    validate(scene);
-    Random random(scene.seed);
-    InitialState state;
-    state.particles.resize(scene.particles);
-
-    double diskArea = 0.0;
-    for (Particle& p : state.particles) {
-        p = Particle{};
-        p.radius = random.uniform(scene.radiusMin, scene.radiusMax);
-        p.mass = random.uniform(scene.massMin, scene.massMax);
-        diskArea += kPi * double(p.radius) * p.radius;
-    }
-    const bool boxGiven = scene.width > 0.0f;
-    state.width = boxGiven ? scene.width : static_cast<float>(std::sqrt(diskArea / scene.packing));
-    state.height = boxGiven ? scene.height : state.width;
-    if (!boxGiven && !(state.width <= kMaxLength))
-        fail("packing ", scene.packing, " makes a ", state.width, " x ", state.height, " box; boxes up to ",
-             kMaxLength, " are valid (README, Limits): raise the packing");
-    const double packing = diskArea / (double(state.width) * state.height);
-
-    const double rmax = scene.radiusMax;
-    const double innerWidth = state.width - 2 * rmax;
-    const double innerHeight = state.height - 2 * rmax;
-    if (innerWidth < 0 || innerHeight < 0)
-        fail("a disk of radius ", scene.radiusMax, " does not fit in the ", state.width, " x ",
-             state.height, " box");
-
-    // Keep a gap of a few float ulps between neighbours so that rounding the
-    // positions to float cannot create an overlap.
-    const double gap = 1e-6 * std::max(state.width, state.height);
-    const Lattice lattice = Lattice::best(scene.particles, innerWidth, innerHeight);
-    const double freeSpace = lattice.minDistance - 2 * rmax - gap;
-    if (freeSpace < 0) {
-        const double reachable = packing * std::pow(std::min(1.0, lattice.minDistance / (2 * rmax + gap)), 2);
-        fail("cannot place ", scene.particles, " disks of radius up to ", scene.radiusMax,
-             " without overlap in a ", state.width, " x ", state.height, " box (packing ", packing,
-             "); with these radii the lattice placement reaches packing ", reachable,
-             " at most: lower the packing or the number of disks, or enlarge the box");
-    }
-
-    // Spread the N disks evenly over the lattice sites and jitter each inside
-    // the free space around its site (a lone site has infinite free space).
-    const double jitter = std::min(freeSpace, std::min(innerWidth, innerHeight)) / 2;
-    const std::uint64_t sites = std::uint64_t(lattice.cols) * lattice.rows;
-    for (std::uint32_t k = 0; k < scene.particles; ++k) {
-        Particle& p = state.particles[k];
-        const std::uint64_t site = std::uint64_t(k) * sites / scene.particles;
-        const int col = static_cast<int>(site % lattice.cols);
-        const int row = static_cast<int>(site / lattice.cols);
-        const double angle = 2 * kPi * random.unit();
-        const double distance = jitter * std::sqrt(random.unit());
-        const double x = lattice.siteX(col, row, state.width, rmax) + distance * std::cos(angle);
-        const double y = lattice.siteY(row, state.height, rmax) + distance * std::sin(angle);
-        p.position.x = static_cast<float>(std::clamp(x, double(p.radius), state.width - double(p.radius)));
-        p.position.y = static_cast<float>(std::clamp(y, double(p.radius), state.height - double(p.radius)));
-    }
-    for (Particle& p : state.particles) {
-        const double angle = 2 * kPi * random.unit();
-        p.velocity.x = static_cast<float>(scene.speed * std::cos(angle));
-        p.velocity.y = static_cast<float>(scene.speed * std::sin(angle));
-    }
-    return state;
 }
 
 void validateParticles(const std::vector<Particle>& particles, const WorldDef& world,
@@ -317,16 +174,13 @@ void validateParticles(const std::vector<Particle>& particles, const WorldDef& w
     for (std::size_t i = 0; i < particles.size(); ++i) {
         const Particle& p = particles[i];
         const float r = p.radius;
-        if (!(std::isfinite(r) && r > 0.0f))
-            fail(what, ": particle ", i, ": radius must be a finite number > 0, got ", r);
-        if (!(std::isfinite(p.mass) && p.mass > 0.0f))
-            fail(what, ": particle ", i, ": mass must be a finite number > 0, got ", p.mass);
-        if (!std::isfinite(p.velocity.x) || !std::isfinite(p.velocity.y))
-            fail(what, ": particle ", i, ": velocity must be finite, got (", p.velocity.x, ", ",
-                 p.velocity.y, ")");
         const std::string particle = what + ": particle " + std::to_string(i) + ": ";
-        requireWithin((particle + "radius").c_str(), r, kMinLength, kMaxLength, kLengthReason);
-        requireWithin((particle + "mass").c_str(), p.mass, kMinMass, kMaxMass, kMassReason);
+        requirePositive(particle + "radius", r);
+        requirePositive(particle + "mass", p.mass);
+        if (!std::isfinite(p.velocity.x) || !std::isfinite(p.velocity.y))
+            fail(particle, "velocity must be finite, got (", p.velocity.x, ", ", p.velocity.y, ")");
+        requireWithin(particle + "radius", r, kMinLength, kMaxLength, kLengthReason);
+        requireWithin(particle + "mass", p.mass, kMinMass, kMaxMass, kMassReason);
         if (2.0f * r > world.width || 2.0f * r > world.height)
             fail(what, ": particle ", i, ": radius ", r, " does not fit in the ", world.width,
                  " x ", world.height, " box");

@@ -1,3 +1,7 @@
+// Scene files, read: TOML parsed into a SceneFile, every value checked where
+// it is read, with its line. The only file that sees toml++; the checks of
+// the whole scene are in scene_file_validate.cpp, its placement in
+// scene_placement.cpp.
 #include "engine/scene_file.h"
 
 #include <algorithm>
@@ -8,24 +12,18 @@
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
-#include <random>
 #include <sstream>
 
 #include <toml++/toml.h>
 
-#include "engine/grid.h"
+#include "engine/constants.h"
 #include "engine/text_format.h"
 
 namespace carom {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr float kMaxPacking = 0.7f;
 constexpr std::uintmax_t kMaxSceneFileBytes = 64u << 20;
 constexpr std::size_t kMaxGroups = 10000;  // regions are compared pairwise
-
-// ---------------------------------------------------------------------------
-// Parsing: every value checked where it is read, with its line.
 
 enum class Bound { Any, NonNegative, Positive };
 
@@ -283,224 +281,6 @@ private:
     std::string path_;
 };
 
-// ---------------------------------------------------------------------------
-// Validation of the whole scene, after command-line overrides.
-
-std::ostream& operator<<(std::ostream& out, const Region& r) {
-    return out << '[' << r.xMin << ", " << r.yMin << ", " << r.xMax << ", " << r.yMax << ']';
-}
-
-template <class... Parts>
-[[noreturn]] void fail(const Parts&... parts) {
-    std::ostringstream message;
-    (message << ... << parts);
-    throw Error(message.str());
-}
-
-Region wholeBox(const SceneFile& scene) { return Region{0, 0, scene.world.width, scene.world.height}; }
-
-bool sameRegion(const Region& a, const Region& b) {
-    return a.xMin == b.xMin && a.yMin == b.yMin && a.xMax == b.xMax && a.yMax == b.yMax;
-}
-
-bool regionsOverlap(const Region& a, const Region& b) {
-    return a.xMin < b.xMax && b.xMin < a.xMax && a.yMin < b.yMax && b.yMin < a.yMax;
-}
-
-void requireRange(const std::string& where, const char* name, float min, float max) {
-    if (!(std::isfinite(min) && min > 0.0f && std::isfinite(max) && max >= min))
-        fail(where, ": ", name, " must be > 0 and finite, a range with min <= max; got [", min, ", ", max, "]");
-}
-
-void validateGroup(const SceneFile& scene, const GroupDef& g) {
-    std::ostringstream whereText;
-    whereText << scene.path << ':' << g.line << ": " << g.name;
-    const std::string where = whereText.str();
-    if (g.count < 1) fail(where, ": count must be >= 1");
-    requireRange(where, "radius", g.radiusMin, g.radiusMax);
-    requireRange(where, "mass", g.massMin, g.massMax);
-    if (!(std::isfinite(g.speed) && g.speed >= 0.0f)) fail(where, ": speed must be a finite number >= 0, got ", g.speed);
-    if (!(std::isfinite(g.temperature) && g.temperature >= 0.0f))
-        fail(where, ": temperature must be a finite number > 0, got ", g.temperature);
-    if (!g.region) return;
-    if (scene.packing > 0)
-        fail(where, ": a region needs a known box: give box = [W, H] instead of packing");
-    const Region& r = *g.region;
-    if (r.xMax > scene.world.width || r.yMax > scene.world.height)
-        fail(where, ": region ", r, " extends past the ", scene.world.width, " x ", scene.world.height, " box");
-}
-
-void validateDisk(const SceneFile& scene, const DiskDef& d, std::size_t index) {
-    std::ostringstream whereText;
-    whereText << scene.path << ':' << d.line << ": disk[" << index + 1 << ']';
-    const std::string where = whereText.str();
-    if (scene.packing > 0) fail(where, ": a disk needs a known box: give box = [W, H] instead of packing");
-    const float r = d.radius, w = scene.world.width, h = scene.world.height;
-    const float2 x = d.position;
-    // The same bounds as validateParticles, so a placed disk is accepted there.
-    if (!(x.x >= r && x.x <= w - r && x.y >= r && x.y <= h - r))
-        fail(where, ": position (", x.x, ", ", x.y, ") with radius ", r, " puts the disk outside the ", w, " x ", h,
-             " box; the centre must lie in [", r, ", ", w - r, "] x [", r, ", ", h - r, "]");
-}
-
-// Regions shared by several groups hold one mixed lattice; regions of
-// different groups must not cut into each other, or their disks could overlap.
-void validateRegions(const SceneFile& scene) {
-    for (std::size_t a = 0; a < scene.groups.size(); ++a) {
-        for (std::size_t b = a + 1; b < scene.groups.size(); ++b) {
-            const GroupDef& ga = scene.groups[a];
-            const GroupDef& gb = scene.groups[b];
-            const Region ra = ga.region.value_or(wholeBox(scene));
-            const Region rb = gb.region.value_or(wholeBox(scene));
-            if (!sameRegion(ra, rb) && regionsOverlap(ra, rb))
-                fail(scene.path, ':', gb.line, ": ", gb.name, ": region ", rb, " overlaps region ", ra, " of ", ga.name,
-                     " (line ", ga.line, "); give groups the same region to mix them, or disjoint regions");
-        }
-    }
-}
-
-// ---------------------------------------------------------------------------
-// Placement.
-
-// The random numbers of scene.cpp's placement: std::mt19937_64 is specified
-// bit for bit by the C++ standard, the std distributions are not.
-class Random {
-public:
-    explicit Random(std::uint64_t seed) : engine_(seed) {}
-    double unit() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }  // [0, 1)
-    float uniform(float lo, float hi) { return lo == hi ? lo : static_cast<float>(lo + (double(hi) - lo) * unit()); }
-    std::size_t below(std::size_t n) { return std::min(n - 1, static_cast<std::size_t>(unit() * double(n))); }
-    // Two independent standard normal numbers (Box-Muller).
-    std::pair<double, double> normalPair() {
-        const double radius = std::sqrt(-2.0 * std::log(1.0 - unit()));
-        const double angle = 2 * kPi * unit();
-        return {radius * std::cos(angle), radius * std::sin(angle)};
-    }
-
-private:
-    std::mt19937_64 engine_;
-};
-
-// Each region gets its own stream of random numbers; the first uses the
-// scene's seed itself, so a one-group scene matches makeInitialState(SceneDef).
-std::uint64_t regionSeed(std::uint64_t seed, std::size_t region) { return seed + region * 0x9E3779B97F4A7C15ull; }
-
-void setVelocity(Particle& p, const GroupDef& g, Random& random) {
-    if (g.temperature > 0.0f) {
-        // Maxwell-Boltzmann in 2D: each component normal with variance k_B T / m.
-        const double sigma = std::sqrt(double(g.temperature) / p.mass);
-        const auto [a, b] = random.normalPair();
-        p.velocity = float2{static_cast<float>(sigma * a), static_cast<float>(sigma * b)};
-    } else {
-        const double angle = 2 * kPi * random.unit();
-        p.velocity = float2{static_cast<float>(g.speed * std::cos(angle)), static_cast<float>(g.speed * std::sin(angle))};
-    }
-}
-
-struct Placed {
-    float width = 0.0f;  // the region's size: the box's when sized by packing
-    float height = 0.0f;
-    std::vector<Particle> particles;  // in group order, positions relative to the region
-};
-
-// Rethrows a placement error with the file and the group it concerns.
-template <class Place>
-Placed placing(const SceneFile& scene, const GroupDef& g, Place&& place) {
-    try {
-        return place();
-    } catch (const Error& e) {
-        fail(scene.path, ':', g.line, ": ", g.name, ": ", e.what());
-    }
-}
-
-SceneDef latticeDef(std::uint32_t count, float radiusMin, float radiusMax, float width, float height, float packing,
-                    std::uint64_t seed) {
-    SceneDef def;
-    def.particles = count;
-    def.radiusMin = radiusMin;
-    def.radiusMax = radiusMax;
-    def.width = width;
-    def.height = height;
-    if (packing > 0) def.packing = packing;
-    def.seed = seed;
-    return def;
-}
-
-// One group alone in its region: makeInitialState(SceneDef) places it.
-Placed placeAlone(const GroupDef& g, float width, float height, float packing, std::uint64_t seed) {
-    SceneDef def = latticeDef(g.count, g.radiusMin, g.radiusMax, width, height, packing, seed);
-    def.massMin = g.massMin;
-    def.massMax = g.massMax;
-    def.speed = g.speed;
-    InitialState s = makeInitialState(def);
-    if (g.temperature > 0.0f) {
-        Random random(seed ^ 0x5DEECE66Dull);  // the lattice's stream is used up
-        for (Particle& p : s.particles) setVelocity(p, g, random);
-    }
-    return Placed{s.width, s.height, std::move(s.particles)};
-}
-
-// Several groups sharing a region: draw every disk's radius and mass, lay one
-// lattice spaced for the largest radius, and shuffle the disks over its
-// sites so the species start mixed.
-Placed placeMixed(const std::vector<const GroupDef*>& groups, float width, float height, float packing,
-                  std::uint64_t seed) {
-    Random random(seed);
-    Placed placed;
-    float maxRadius = 0.0f;
-    double diskArea = 0.0;
-    for (const GroupDef* g : groups) {
-        for (std::uint32_t k = 0; k < g->count; ++k) {
-            Particle p{};
-            p.radius = random.uniform(g->radiusMin, g->radiusMax);
-            p.mass = random.uniform(g->massMin, g->massMax);
-            setVelocity(p, *g, random);
-            maxRadius = std::max(maxRadius, p.radius);
-            diskArea += kPi * double(p.radius) * p.radius;
-            placed.particles.push_back(p);
-        }
-    }
-    if (packing > 0) width = height = static_cast<float>(std::sqrt(diskArea / packing));
-    const auto count = static_cast<std::uint32_t>(placed.particles.size());
-    const InitialState sites = makeInitialState(latticeDef(count, maxRadius, maxRadius, width, height, 0, seed));
-    std::vector<std::size_t> site(count);
-    for (std::size_t i = 0; i < count; ++i) site[i] = i;
-    for (std::size_t i = count - 1; i > 0; --i) std::swap(site[i], site[random.below(i + 1)]);  // Fisher-Yates
-    for (std::size_t i = 0; i < count; ++i) placed.particles[i].position = sites.particles[site[i]].position;
-    placed.width = sites.width;
-    placed.height = sites.height;
-    return placed;
-}
-
-// Throws if a [[disk]] overlaps any other disk (the groups' lattices never
-// overlap by construction).
-void requireNoOverlap(const SceneFile& scene, const std::vector<Particle>& particles, std::size_t firstDisk,
-                      float width, float height) {
-    float maxRadius = 0.0f;
-    for (const Particle& p : particles) maxRadius = std::max(maxRadius, p.radius);
-    Grid grid;
-    grid.geometry = gridGeometryFor(width, height, maxRadius, particles.size());
-    buildGrid(particles.data(), particles.size(), grid);
-    auto name = [&](std::uint32_t id) {
-        std::ostringstream text;
-        if (id >= firstDisk) {
-            text << "disk[" << id - firstDisk + 1 << "] (line " << scene.disks[id - firstDisk].line << ")";
-        } else {
-            text << "particle " << id << " of the groups";
-        }
-        return text.str();
-    };
-    // Disks are placed inside the box, so an overlap across a periodic edge is
-    // not possible: the walled search finds every one.
-    forEachOverlappingPair(particles.data(), particles.size(), grid, carom_box(width, height, 0),
-                           [&](std::uint32_t i, std::uint32_t j) {
-        const DiskDef& d = scene.disks[j - firstDisk];  // j > i, so j is a [[disk]]
-        fail(scene.path, ':', d.line, ": ", name(j), " at (", d.position.x, ", ", d.position.y, ") overlaps ",
-             name(i), " at (", particles[i].position.x, ", ", particles[i].position.y,
-             "); disks may touch but not overlap");
-    });
-}
-
 }  // namespace
 
 SceneFile parseSceneFile(std::string_view text, const std::string& path) {
@@ -529,110 +309,6 @@ SceneFile readSceneFile(const std::string& path) {
     std::string text(static_cast<std::size_t>(size), '\0');
     if (!in.read(text.data(), size)) throw Error("reading scene file '" + path + "' failed");
     return parseSceneFile(text, path);
-}
-
-void validate(const SceneFile& scene) {
-    const std::string& where = scene.path;
-    if (scene.packing > 0) {
-        if (!(std::isfinite(scene.packing) && scene.packing <= kMaxPacking))
-            fail(where, ": packing must be in (0, ", kMaxPacking, "], got ", scene.packing);
-    } else if (!(std::isfinite(scene.world.width) && scene.world.width > 0 && std::isfinite(scene.world.height) &&
-                 scene.world.height > 0)) {
-        fail(where, ": the box must be two finite numbers > 0, got ", scene.world.width, " x ", scene.world.height);
-    }
-    WorldDef motion = scene.world;
-    motion.width = motion.height = 1.0f;  // the box was checked above, or comes from packing
-    try {
-        validate(motion);
-    } catch (const Error& e) {
-        fail(where, ": ", e.what());
-    }
-    if (scene.groups.empty() && scene.disks.empty())
-        fail(where, ": the scene has no particles: add a [[group]] (count = N) or a [[disk]]");
-    std::uint64_t total = scene.disks.size();
-    for (const GroupDef& g : scene.groups) {
-        validateGroup(scene, g);
-        total += g.count;
-    }
-    if (total > kMaxParticles) fail(where, ": ", total, " particles; allowed: at most ", kMaxParticles);
-    validateRegions(scene);
-    for (std::size_t i = 0; i < scene.disks.size(); ++i) validateDisk(scene, scene.disks[i], i);
-    if (scene.output.every < 1) fail(where, ": output every must be >= 1");
-}
-
-InitialState makeInitialState(const SceneFile& scene) {
-    validate(scene);
-    InitialState state;
-    state.width = scene.world.width;
-    state.height = scene.world.height;
-
-    // Group the groups by region, in the order regions first appear.
-    std::vector<Region> regions;
-    std::vector<std::vector<std::size_t>> members;
-    for (std::size_t g = 0; g < scene.groups.size(); ++g) {
-        const Region r = scene.groups[g].region.value_or(wholeBox(scene));
-        auto found = std::find_if(regions.begin(), regions.end(), [&](const Region& x) { return sameRegion(x, r); });
-        if (found == regions.end()) {
-            regions.push_back(r);
-            members.emplace_back();
-            found = regions.end() - 1;
-        }
-        members[std::size_t(found - regions.begin())].push_back(g);
-    }
-
-    std::vector<std::size_t> firstId(scene.groups.size() + 1, 0);
-    for (std::size_t g = 0; g < scene.groups.size(); ++g) firstId[g + 1] = firstId[g] + scene.groups[g].count;
-    state.particles.resize(firstId.back() + scene.disks.size());
-
-    for (std::size_t r = 0; r < regions.size(); ++r) {
-        const Region& region = regions[r];
-        const std::vector<std::size_t>& in = members[r];
-        const float width = region.xMax - region.xMin, height = region.yMax - region.yMin;
-        const std::uint64_t seed = regionSeed(scene.seed, r);
-        const GroupDef& first = scene.groups[in.front()];
-        const Placed placed = placing(scene, first, [&] {
-            if (in.size() == 1) return placeAlone(first, width, height, scene.packing, seed);
-            std::vector<const GroupDef*> groups;
-            for (std::size_t g : in) groups.push_back(&scene.groups[g]);
-            return placeMixed(groups, width, height, scene.packing, seed);
-        });
-        if (scene.packing > 0) {  // a single region: the whole box, sized now
-            state.width = placed.width;
-            state.height = placed.height;
-        }
-        std::size_t next = 0;
-        for (std::size_t g : in) {
-            for (std::size_t id = firstId[g]; id < firstId[g + 1]; ++id) {
-                Particle p = placed.particles[next++];
-                // Clamped as validateParticles checks, in case the shift rounds up.
-                p.position.x = std::min(p.position.x + region.xMin, state.width - p.radius);
-                p.position.y = std::min(p.position.y + region.yMin, state.height - p.radius);
-                state.particles[id] = p;
-            }
-        }
-    }
-
-    const std::size_t firstDisk = firstId.back();
-    for (std::size_t i = 0; i < scene.disks.size(); ++i) {
-        const DiskDef& d = scene.disks[i];
-        Particle& p = state.particles[firstDisk + i];
-        p = Particle{};
-        p.position = d.position;
-        p.velocity = d.velocity;
-        p.mass = d.mass;
-        p.radius = d.radius;
-    }
-    if (!scene.disks.empty()) requireNoOverlap(scene, state.particles, firstDisk, state.width, state.height);
-    // A box sized by packing can overflow a float for absurd radii: never hand out such a state.
-    WorldDef world = scene.world;
-    world.width = state.width;
-    world.height = state.height;
-    try {
-        validateParticles(state.particles, world, "particles");
-    } catch (const Error& e) {
-        fail(scene.path, ": ", e.what());
-    }
-    return state;
 }
 
 }  // namespace carom

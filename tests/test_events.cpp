@@ -78,8 +78,10 @@ std::uint64_t bouncesBy(double start, double v, double t, double lo, double hi) 
     return static_cast<std::uint64_t>(std::floor(unfolded / width));
 }
 
-// Splitmix64: the same numbers on every platform.
-struct Random {
+// Splitmix64: the same numbers on every platform. Not carom::Random
+// (engine/random.h, a Mersenne Twister): the dense packing below was drawn
+// from this stream, and stays as it was.
+struct SplitMix64 {
     std::uint64_t state;
     double uniform() {  // in [0, 1)
         std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
@@ -393,7 +395,7 @@ TEST_CASE("events: a dense packing (eta = 0.72) runs without stalling and keeps 
     const double a = std::sqrt(2 * M_PI / (std::sqrt(3.0) * 0.72));
     const double rowHeight = a * std::sqrt(3.0) / 2;
     const float width = static_cast<float>(columns * a), height = static_cast<float>(rows * rowHeight);
-    Random random{12};
+    SplitMix64 random{12};
     std::vector<Particle> lattice;
     for (int row = 0; row < rows; ++row)
         for (int column = 0; column < columns; ++column) {

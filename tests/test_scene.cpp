@@ -4,6 +4,7 @@
 #include <cstring>
 #include <fstream>
 
+#include "engine/constants.h"
 #include "engine/diagnostics.h"
 #include "engine/state_csv.h"
 #include "support.h"
@@ -15,7 +16,7 @@ namespace {
 
 double packingOf(const InitialState& s) {
     double area = 0;
-    for (const Particle& p : s.particles) area += M_PI * p.radius * p.radius;
+    for (const Particle& p : s.particles) area += kPi * p.radius * p.radius;
     return area / (double(s.width) * s.height);
 }
 

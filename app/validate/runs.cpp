@@ -25,8 +25,6 @@ constexpr std::size_t kMinMergedBlocks = 8;
 
 }  // namespace
 
-double Random::normal() { return std::sqrt(-2.0 * std::log1p(-unit())) * std::cos(2.0 * kPi * unit()); }
-
 std::string format(const char* pattern, double value) {
     char text[64];
     std::snprintf(text, sizeof text, pattern, value);

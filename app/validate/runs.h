@@ -1,33 +1,18 @@
 // What the sections of `carom validate` share (app/validate/checks.cpp and
-// events.cpp): reproducible random numbers, the periodic box of equal disks
+// events.cpp): reproducible random numbers (engine/random.h), the periodic box of equal disks
 // they start from, measurement in blocks, and the making of checks.
 #pragma once
 
 #include <cstdint>
 #include <memory>
-#include <random>
 #include <string>
 #include <vector>
 
 #include "app/validate/checks.h"
 #include "backends/backend.h"
+#include "engine/random.h"
 
 namespace carom::validation {
-
-// Random numbers specified bit for bit by the C++ standard (std::mt19937_64
-// is, the std distributions are not), so a seed gives the same velocities
-// with every standard library.
-class Random {
-public:
-    explicit Random(std::uint64_t seed) : engine_(seed) {}
-    double unit() { return double(engine_() >> 11) * 0x1.0p-53; }  // [0, 1)
-    double uniform(double lo, double hi) { return lo + (hi - lo) * unit(); }
-    // Box-Muller: one standard normal number per call (the second is dropped).
-    double normal();
-
-private:
-    std::mt19937_64 engine_;
-};
 
 // printf of one number, for messages and criteria.
 std::string format(const char* pattern, double value);

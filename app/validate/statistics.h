@@ -8,9 +8,9 @@
 #include <cstddef>
 #include <vector>
 
-namespace carom::validation {
+#include "engine/constants.h"
 
-constexpr double kPi = 3.14159265358979323846;
+namespace carom::validation {
 
 struct MeanAndError {
     double mean = 0.0;

@@ -1,0 +1,330 @@
+// Initial conditions: the disks of a SceneDef on a jittered hexagonal
+// lattice, and a scene file's groups (one lattice per region, groups sharing
+// a region shuffled over it) and [[disk]]s.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "engine/carom.h"
+#include "engine/constants.h"
+#include "engine/error_message.h"
+#include "engine/grid.h"
+#include "engine/random.h"
+#include "engine/scene_file.h"
+#include "engine/scene_region.h"
+
+namespace carom {
+namespace {
+
+// A hexagonal lattice of cols x rows sites spread over the part of the box
+// where a disk of the largest radius fits; odd rows are shifted by half a
+// spacing.
+struct Lattice {
+    int cols = 1;
+    int rows = 1;
+    double spacingX = 0.0;  // 0 when there is a single column
+    double spacingY = 0.0;  // 0 when there is a single row
+    double minDistance = 0.0;
+
+    static Lattice make(int cols, int rows, double innerWidth, double innerHeight) {
+        constexpr double inf = std::numeric_limits<double>::infinity();
+        Lattice l;
+        l.cols = cols;
+        l.rows = rows;
+        const bool shifted = cols > 1 && rows > 1;
+        if (cols > 1) l.spacingX = innerWidth / (shifted ? cols - 0.5 : cols - 1);
+        if (rows > 1) l.spacingY = innerHeight / (rows - 1);
+        const double dx = cols > 1 ? l.spacingX : inf;
+        const double dy = rows > 1 ? l.spacingY : inf;
+        // Shifted rows: the nearest sites are in the same row, the next row
+        // (half a spacing across) or two rows away (straight above).
+        l.minDistance = shifted ? std::min({dx, std::hypot(dx / 2, dy), 2 * dy}) : std::min(dx, dy);
+        return l;
+    }
+
+    // The densest lattice for n sites: the one whose closest sites are farthest apart.
+    static Lattice best(std::uint32_t n, double innerWidth, double innerHeight) {
+        const double ideal = std::sqrt(n * (innerWidth + 1e-12) / ((innerHeight + 1e-12) * 0.866));
+        const int lastCols = static_cast<int>(std::min<double>(n, 2 * ideal + 2));
+        Lattice best = make(1, static_cast<int>(n), innerWidth, innerHeight);
+        for (int cols = 2; cols <= lastCols; ++cols) {
+            const int rows = static_cast<int>((n + cols - 1) / cols);
+            const Lattice l = make(cols, rows, innerWidth, innerHeight);
+            if (l.minDistance > best.minDistance) best = l;
+        }
+        return best;
+    }
+
+    double siteX(int col, int row, double width, double margin) const {
+        if (cols == 1) return width / 2;
+        return margin + (col + (rows > 1 && row % 2 ? 0.5 : 0.0)) * spacingX;
+    }
+    double siteY(int row, double height, double margin) const {
+        return rows == 1 ? height / 2 : margin + row * spacingY;
+    }
+};
+
+// Each region gets its own stream of random numbers; the first uses the
+// scene's seed itself, so a one-group scene matches makeInitialState(SceneDef).
+std::uint64_t regionSeed(std::uint64_t seed, std::size_t region) { return seed + region * 0x9E3779B97F4A7C15ull; }
+
+void setVelocity(Particle& p, const GroupDef& g, Random& random) {
+    if (g.temperature > 0.0f) {
+        // Maxwell-Boltzmann in 2D: each component normal with variance k_B T / m.
+        const double sigma = std::sqrt(double(g.temperature) / p.mass);
+        const auto [a, b] = random.normalPair();
+        p.velocity = float2{static_cast<float>(sigma * a), static_cast<float>(sigma * b)};
+    } else {
+        const double angle = 2 * kPi * random.unit();
+        p.velocity = float2{static_cast<float>(g.speed * std::cos(angle)), static_cast<float>(g.speed * std::sin(angle))};
+    }
+}
+
+struct Placed {
+    float width = 0.0f;  // the region's size: the box's when sized by packing
+    float height = 0.0f;
+    std::vector<Particle> particles;  // in group order, positions relative to the region
+};
+
+// Rethrows a placement error with the file and the group it concerns.
+template <class Place>
+Placed placing(const SceneFile& scene, const GroupDef& g, Place&& place) {
+    try {
+        return place();
+    } catch (const Error& e) {
+        fail(scene.path, ':', g.line, ": ", g.name, ": ", e.what());
+    }
+}
+
+SceneDef latticeDef(std::uint32_t count, float radiusMin, float radiusMax, float width, float height, float packing,
+                    std::uint64_t seed) {
+    SceneDef def;
+    def.particles = count;
+    def.radiusMin = radiusMin;
+    def.radiusMax = radiusMax;
+    def.width = width;
+    def.height = height;
+    if (packing > 0) def.packing = packing;
+    def.seed = seed;
+    return def;
+}
+
+// One group alone in its region: makeInitialState(SceneDef) places it.
+Placed placeAlone(const GroupDef& g, float width, float height, float packing, std::uint64_t seed) {
+    SceneDef def = latticeDef(g.count, g.radiusMin, g.radiusMax, width, height, packing, seed);
+    def.massMin = g.massMin;
+    def.massMax = g.massMax;
+    def.speed = g.speed;
+    InitialState s = makeInitialState(def);
+    if (g.temperature > 0.0f) {
+        Random random(seed ^ 0x5DEECE66Dull);  // the lattice's stream is used up
+        for (Particle& p : s.particles) setVelocity(p, g, random);
+    }
+    return Placed{s.width, s.height, std::move(s.particles)};
+}
+
+// Several groups sharing a region: draw every disk's radius and mass, lay one
+// lattice spaced for the largest radius, and shuffle the disks over its
+// sites so the species start mixed.
+Placed placeMixed(const std::vector<const GroupDef*>& groups, float width, float height, float packing,
+                  std::uint64_t seed) {
+    Random random(seed);
+    Placed placed;
+    float maxRadius = 0.0f;
+    double diskArea = 0.0;
+    for (const GroupDef* g : groups) {
+        for (std::uint32_t k = 0; k < g->count; ++k) {
+            Particle p{};
+            p.radius = random.uniformFloat(g->radiusMin, g->radiusMax);
+            p.mass = random.uniformFloat(g->massMin, g->massMax);
+            setVelocity(p, *g, random);
+            maxRadius = std::max(maxRadius, p.radius);
+            diskArea += kPi * double(p.radius) * p.radius;
+            placed.particles.push_back(p);
+        }
+    }
+    if (packing > 0) width = height = static_cast<float>(std::sqrt(diskArea / packing));
+    const auto count = static_cast<std::uint32_t>(placed.particles.size());
+    const InitialState sites = makeInitialState(latticeDef(count, maxRadius, maxRadius, width, height, 0, seed));
+    std::vector<std::size_t> site(count);
+    for (std::size_t i = 0; i < count; ++i) site[i] = i;
+    for (std::size_t i = count - 1; i > 0; --i) std::swap(site[i], site[random.below(i + 1)]);  // Fisher-Yates
+    for (std::size_t i = 0; i < count; ++i) placed.particles[i].position = sites.particles[site[i]].position;
+    placed.width = sites.width;
+    placed.height = sites.height;
+    return placed;
+}
+
+// Throws if a [[disk]] overlaps any other disk (the groups' lattices never
+// overlap by construction).
+void requireNoOverlap(const SceneFile& scene, const std::vector<Particle>& particles, std::size_t firstDisk,
+                      float width, float height) {
+    float maxRadius = 0.0f;
+    for (const Particle& p : particles) maxRadius = std::max(maxRadius, p.radius);
+    Grid grid;
+    grid.geometry = gridGeometryFor(width, height, maxRadius, particles.size());
+    buildGrid(particles.data(), particles.size(), grid);
+    auto name = [&](std::uint32_t id) {
+        std::ostringstream text;
+        if (id >= firstDisk) {
+            text << "disk[" << id - firstDisk + 1 << "] (line " << scene.disks[id - firstDisk].line << ")";
+        } else {
+            text << "particle " << id << " of the groups";
+        }
+        return text.str();
+    };
+    // Disks are placed inside the box, so an overlap across a periodic edge is
+    // not possible: the walled search finds every one.
+    forEachOverlappingPair(particles.data(), particles.size(), grid, carom_box(width, height, 0),
+                           [&](std::uint32_t i, std::uint32_t j) {
+        const DiskDef& d = scene.disks[j - firstDisk];  // j > i, so j is a [[disk]]
+        fail(scene.path, ':', d.line, ": ", name(j), " at (", d.position.x, ", ", d.position.y, ") overlaps ",
+             name(i), " at (", particles[i].position.x, ", ", particles[i].position.y,
+             "); disks may touch but not overlap");
+    });
+}
+
+}  // namespace
+
+InitialState makeInitialState(const SceneDef& scene) {
+    validate(scene);
+    Random random(scene.seed);
+    InitialState state;
+    state.particles.resize(scene.particles);
+
+    double diskArea = 0.0;
+    for (Particle& p : state.particles) {
+        p = Particle{};
+        p.radius = random.uniformFloat(scene.radiusMin, scene.radiusMax);
+        p.mass = random.uniformFloat(scene.massMin, scene.massMax);
+        diskArea += kPi * double(p.radius) * p.radius;
+    }
+    const bool boxGiven = scene.width > 0.0f;
+    state.width = boxGiven ? scene.width : static_cast<float>(std::sqrt(diskArea / scene.packing));
+    state.height = boxGiven ? scene.height : state.width;
+    if (!boxGiven && !(state.width <= kMaxLength))
+        fail("packing ", scene.packing, " makes a ", state.width, " x ", state.height, " box; boxes up to ",
+             kMaxLength, " are valid (README, Limits): raise the packing");
+    const double packing = diskArea / (double(state.width) * state.height);
+
+    const double rmax = scene.radiusMax;
+    const double innerWidth = state.width - 2 * rmax;
+    const double innerHeight = state.height - 2 * rmax;
+    if (innerWidth < 0 || innerHeight < 0)
+        fail("a disk of radius ", scene.radiusMax, " does not fit in the ", state.width, " x ",
+             state.height, " box");
+
+    // Keep a gap of a few float ulps between neighbours so that rounding the
+    // positions to float cannot create an overlap.
+    const double gap = 1e-6 * std::max(state.width, state.height);
+    const Lattice lattice = Lattice::best(scene.particles, innerWidth, innerHeight);
+    const double freeSpace = lattice.minDistance - 2 * rmax - gap;
+    if (freeSpace < 0) {
+        const double reachable = packing * std::pow(std::min(1.0, lattice.minDistance / (2 * rmax + gap)), 2);
+        fail("cannot place ", scene.particles, " disks of radius up to ", scene.radiusMax,
+             " without overlap in a ", state.width, " x ", state.height, " box (packing ", packing,
+             "); with these radii the lattice placement reaches packing ", reachable,
+             " at most: lower the packing or the number of disks, or enlarge the box");
+    }
+
+    // Spread the N disks evenly over the lattice sites and jitter each inside
+    // the free space around its site (a lone site has infinite free space).
+    const double jitter = std::min(freeSpace, std::min(innerWidth, innerHeight)) / 2;
+    const std::uint64_t sites = std::uint64_t(lattice.cols) * lattice.rows;
+    for (std::uint32_t k = 0; k < scene.particles; ++k) {
+        Particle& p = state.particles[k];
+        const std::uint64_t site = std::uint64_t(k) * sites / scene.particles;
+        const int col = static_cast<int>(site % lattice.cols);
+        const int row = static_cast<int>(site / lattice.cols);
+        const double angle = 2 * kPi * random.unit();
+        const double distance = jitter * std::sqrt(random.unit());
+        const double x = lattice.siteX(col, row, state.width, rmax) + distance * std::cos(angle);
+        const double y = lattice.siteY(row, state.height, rmax) + distance * std::sin(angle);
+        p.position.x = static_cast<float>(std::clamp(x, double(p.radius), state.width - double(p.radius)));
+        p.position.y = static_cast<float>(std::clamp(y, double(p.radius), state.height - double(p.radius)));
+    }
+    for (Particle& p : state.particles) {
+        const double angle = 2 * kPi * random.unit();
+        p.velocity.x = static_cast<float>(scene.speed * std::cos(angle));
+        p.velocity.y = static_cast<float>(scene.speed * std::sin(angle));
+    }
+    return state;
+}
+
+InitialState makeInitialState(const SceneFile& scene) {
+    validate(scene);
+    InitialState state;
+    state.width = scene.world.width;
+    state.height = scene.world.height;
+
+    // Group the groups by region, in the order regions first appear.
+    std::vector<Region> regions;
+    std::vector<std::vector<std::size_t>> members;
+    for (std::size_t g = 0; g < scene.groups.size(); ++g) {
+        const Region r = scene.groups[g].region.value_or(wholeBox(scene));
+        auto found = std::find_if(regions.begin(), regions.end(), [&](const Region& x) { return sameRegion(x, r); });
+        if (found == regions.end()) {
+            regions.push_back(r);
+            members.emplace_back();
+            found = regions.end() - 1;
+        }
+        members[std::size_t(found - regions.begin())].push_back(g);
+    }
+
+    std::vector<std::size_t> firstId(scene.groups.size() + 1, 0);
+    for (std::size_t g = 0; g < scene.groups.size(); ++g) firstId[g + 1] = firstId[g] + scene.groups[g].count;
+    state.particles.resize(firstId.back() + scene.disks.size());
+
+    for (std::size_t r = 0; r < regions.size(); ++r) {
+        const Region& region = regions[r];
+        const std::vector<std::size_t>& in = members[r];
+        const float width = region.xMax - region.xMin, height = region.yMax - region.yMin;
+        const std::uint64_t seed = regionSeed(scene.seed, r);
+        const GroupDef& first = scene.groups[in.front()];
+        const Placed placed = placing(scene, first, [&] {
+            if (in.size() == 1) return placeAlone(first, width, height, scene.packing, seed);
+            std::vector<const GroupDef*> groups;
+            for (std::size_t g : in) groups.push_back(&scene.groups[g]);
+            return placeMixed(groups, width, height, scene.packing, seed);
+        });
+        if (scene.packing > 0) {  // a single region: the whole box, sized now
+            state.width = placed.width;
+            state.height = placed.height;
+        }
+        std::size_t next = 0;
+        for (std::size_t g : in) {
+            for (std::size_t id = firstId[g]; id < firstId[g + 1]; ++id) {
+                Particle p = placed.particles[next++];
+                // Clamped as validateParticles checks, in case the shift rounds up.
+                p.position.x = std::min(p.position.x + region.xMin, state.width - p.radius);
+                p.position.y = std::min(p.position.y + region.yMin, state.height - p.radius);
+                state.particles[id] = p;
+            }
+        }
+    }
+
+    const std::size_t firstDisk = firstId.back();
+    for (std::size_t i = 0; i < scene.disks.size(); ++i) {
+        const DiskDef& d = scene.disks[i];
+        Particle& p = state.particles[firstDisk + i];
+        p = Particle{};
+        p.position = d.position;
+        p.velocity = d.velocity;
+        p.mass = d.mass;
+        p.radius = d.radius;
+    }
+    if (!scene.disks.empty()) requireNoOverlap(scene, state.particles, firstDisk, state.width, state.height);
+    // A box sized by packing can overflow a float for absurd radii: never hand out such a state.
+    WorldDef world = scene.world;
+    world.width = state.width;
+    world.height = state.height;
+    try {
+        validateParticles(state.particles, world, "particles");
+    } catch (const Error& e) {
+        fail(scene.path, ": ", e.what());
+    }
+    return state;
+}
+
+}  // namespace carom
