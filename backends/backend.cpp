@@ -94,7 +94,7 @@ void Backend::step(std::uint64_t steps) {
                                    std::to_string(minRadius_)
                              : "the pairwise grid's allowance " + std::to_string(allowed)) +
                         "; at most " + std::to_string(kMaxSubsteps) +
-                        " are allowed (the state may have blown up, or use a smaller --dt)");
+                        " are allowed (the state may have blown up, or use a smaller dt)");
         const auto substeps = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(needed));
         const float substepDt = substeps == 1 ? dt : static_cast<float>(double(dt) / double(substeps));
         for (std::uint64_t done = 0; done < substeps;) {
@@ -123,9 +123,9 @@ void Backend::requireFinite() const {
             << " (the lowest id of those) has a position or velocity that is not finite";
     if (world_.collisions == CollisionScheme::Simultaneous)
         message << "; the simultaneous scheme is unstable at dt " << world_.dt
-                << ": try a smaller --dt or --collisions pairwise";
+                << ": try a smaller dt or the pairwise scheme";
     else
-        message << " at dt " << world_.dt << ": try a smaller --dt";
+        message << " at dt " << world_.dt << ": try a smaller dt";
     throw Error(message.str());
 }
 

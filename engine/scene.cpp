@@ -94,7 +94,8 @@ void requireValidMotion(const std::vector<Particle>& particles, const WorldDef& 
     if (world.maxTravel == 0.0f && m.fastest * world.dt > side)
         fail(what, ": a step of dt ", world.dt, " moves the fastest disk (speed up to ", m.fastest, ") by ",
              m.fastest * world.dt, ", more than the box side ", side, "; the largest dt is ", side / m.fastest,
-             " (or use --dt auto / --max-travel to split the step)");
+             " (or split each step into substeps: WorldDef::maxTravel > 0, on the command line --max-travel or "
+             "--dt auto)");
     if (m.typical > 0.0 && m.spacings() < kMinStepSpacings)
         fail(what, ": a step moves a typical disk (speed ", m.typical, ", step ", m.step, ") by ", m.move(),
              ", less than the float32 spacing ", m.spacing, " of positions in the ", world.width, " x ", world.height,

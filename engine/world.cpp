@@ -1,6 +1,7 @@
 // carom::World (include/carom/world.h): the public API over a Backend.
 #include <carom/world.h>
 
+#include <algorithm>
 #include <utility>
 
 #include "engine/diagnostics.h"
@@ -58,6 +59,10 @@ World::World(const WorldDef& def) : impl_(std::make_unique<Impl>()) {
     if (def.engine != ComputeEngine::Cpu && def.collisions == CollisionScheme::Events)
         throw Error(std::string("CollisionScheme::Events runs on ComputeEngine::Cpu only (one thread, double "
                                 "precision); got ComputeEngine ") + computeEngineName(def.engine));
+    const std::vector<std::string> built = availableBackends();
+    if (def.engine != ComputeEngine::Cpu && std::find(built.begin(), built.end(), "opencl") == built.end())
+        throw Error(std::string("ComputeEngine ") + computeEngineName(def.engine) +
+                    " needs OpenCL, which this carom was built without; allowed: ComputeEngine::Cpu");
     if (def.collisions == CollisionScheme::Events && def.maxTravel != 0.0f)
         throw Error("WorldDef::maxTravel must be 0 with CollisionScheme::Events, which has no steps to split; got " +
                     std::to_string(def.maxTravel));

@@ -259,7 +259,7 @@ def test_blow_up_stops_cleanly():
                  "--output-state", paths["state"]]
     done = subprocess.run([ARGS.carom, *map(str, arguments)], capture_output=True, text=True, timeout=600)
     assert done.returncode == 1, (done.returncode, done.stderr)
-    match = re.search(r"the state went non-finite at step (\d+): particle \d+ .*smaller --dt", done.stderr)
+    match = re.search(r"the state went non-finite at step (\d+): particle \d+ .*smaller dt", done.stderr)
     assert match, done.stderr
     bad = int(match.group(1))
     finite = (bad - 1) // 50 * 50  # the last sample before it

@@ -227,7 +227,7 @@ TEST_CASE("io: a world resumed from its checkpoint continues bit for bit, events
     CHECK_THROWS_AS(io::loadCheckpoint(path), Error);
 }
 
-TEST_CASE("world: dt and gravity change between steps; the collision count outlives a reset") {
+TEST_CASE("world: dt and gravity change between steps, and the collision count outlives a reset") {
     const Scene scene = gas(300, 0.3f);
     World world(worldFor(scene, ComputeEngine::Cpu, Boundary::Walls));
     world.setDisks(scene.disks);
