@@ -89,6 +89,10 @@ public:
     void setMotion(float dt, float2 gravity);
 
     const WorldDef& world() const { return world_; }
+    // The step the state holds: setParticles' `step` plus the steps completed
+    // since. After step() threw on a non-finite state, nonFinite() says
+    // which step the state stopped at.
+    std::uint64_t stepNumber() const { return stepNumber_; }
     std::size_t particleCount() const { return particleCount_; }
     // The grid's cells, as setParticles sized them for the particles and the scheme.
     const GridGeometry& gridGeometry() const { return grid_.geometry; }
@@ -115,8 +119,6 @@ protected:
     void recordNonFinite(std::uint64_t substep, std::uint32_t particle);
     // Substeps taken by the advance() calls before the current one, since setParticles.
     std::uint64_t substepsTaken() const { return substepsTaken_; }
-    // The step the state held when step() was last called (setParticles' `step` before).
-    std::uint64_t stepNumber() const { return stepNumber_; }
     // For implementations: a pairwise (sub)step used this many rounds.
     void recordRounds(unsigned int rounds);
     // What every pass of a pairwise (sub)step of duration dt reads.

@@ -32,20 +32,13 @@
 #include <cstdint>
 #include <vector>
 
+#include <carom/world.h>
+
 #include "backends/backend.h"
 #include "backends/event_calendar.h"
 #include "engine/event_state.h"
 
 namespace carom {
-
-// How often each kind of event happened since setParticles or restore.
-struct EventCounts {
-    std::uint64_t collisions = 0;     // disk-disk collisions
-    std::uint64_t wallBounces = 0;    // bounces off a wall
-    std::uint64_t cellCrossings = 0;  // moves from one cell to the next
-    std::uint64_t stale = 0;          // events found stale (a partner changed) and recomputed
-    std::uint64_t overlapping = 0;    // collisions of pairs found overlapping by rounding
-};
 
 // A disk's exact state at the current time, in double.
 struct ExactDisk {

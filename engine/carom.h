@@ -46,6 +46,10 @@ InitialState makeInitialState(const SceneDef& scene);
 void validateParticles(const std::vector<Particle>& particles, const WorldDef& world,
                        const std::string& what);
 
+// The motion checks of validateStart alone (the world's dt and gravity with
+// the particles' speeds), for a change of dt or gravity on a running world.
+void requireValidMotion(const std::vector<Particle>& particles, const WorldDef& world, const std::string& what);
+
 // The checks of a run's start, beyond validateParticles (which it calls):
 // throws Error where the motion leaves the ranges in which float32 results
 // are valid (box diagonal x the largest reachable speed within

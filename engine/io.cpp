@@ -49,7 +49,7 @@ World loadCheckpoint(const std::string& path, const WorldDef& def) {
     resumed.maxTravel = def.maxTravel;
     World world(resumed);
     auto& impl = WorldAccess::of(world);
-    impl.start(std::move(c.particles), c.step, c.collisions);
+    impl.start(std::move(c.particles), c.step, c.time, c.collisions);
     if (c.events) {
         try {
             dynamic_cast<EventDrivenBackend&>(*impl.backend).restore(*c.events);

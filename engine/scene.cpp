@@ -79,7 +79,8 @@ MotionScale motionScale(const std::vector<Particle>& particles, const WorldDef& 
     return m;
 }
 
-// Refuses motion outside the ranges where float32 results are valid.
+}  // namespace
+
 void requireValidMotion(const std::vector<Particle>& particles, const WorldDef& world, const std::string& what) {
     const MotionScale m = motionScale(particles, world);
     if (m.fastest > kMaxSpeed || m.fastest * m.diagonal > kMaxLengthTimesSpeed)
@@ -103,7 +104,6 @@ void requireValidMotion(const std::vector<Particle>& particles, const WorldDef& 
              largestBoxFor(m.move() / kMinStepSpacings), " (README, Limits)");
 }
 
-}  // namespace
 
 Boundary parseBoundary(const std::string& name) {
     if (name == "walls") return Boundary::Walls;

@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <utility>
 
+#include "backends/event_driven_backend.h"
 #include "engine/diagnostics.h"
+#include "engine/grid.h"
 #include "engine/disk_conversion.h"
 #include "engine/observables.h"
 #include "engine/world_impl.h"
@@ -29,8 +31,22 @@ BackendDef backendFor(const WorldDef& def) {
 }  // namespace
 
 Scene makeScene(const SceneDef& def) {
+    if (def.particles > kMaxParticles)
+        throw Error("SceneDef::particles " + std::to_string(def.particles) + " is more than kMaxParticles (" +
+                    std::to_string(kMaxParticles) + ")");
     InitialState state = makeInitialState(def);
     return Scene{state.width, state.height, disksOf(state.particles)};
+}
+
+ComputeEngine parseComputeEngine(const std::string& name) {
+    for (ComputeEngine engine : {ComputeEngine::Cpu, ComputeEngine::OpenClHostGrid, ComputeEngine::OpenClResident})
+        if (name == computeEngineName(engine)) return engine;
+    throw Error("unknown compute engine '" + name + "'; allowed: cpu, opencl-host-grid, opencl-resident");
+}
+
+bool engineAvailable(ComputeEngine engine) {
+    const std::vector<std::string> built = availableBackends();
+    return engine == ComputeEngine::Cpu || std::find(built.begin(), built.end(), "opencl") != built.end();
 }
 
 const char* computeEngineName(ComputeEngine engine) {
@@ -45,10 +61,22 @@ const char* computeEngineName(ComputeEngine engine) {
     return "unknown";
 }
 
-void World::Impl::start(std::vector<Particle> particles, std::uint64_t startStep, std::uint64_t collisions) {
+void World::Impl::start(std::vector<Particle> particles, std::uint64_t startStep, double startTime,
+                        std::uint64_t collisions) {
     warnings = validateStart(particles, def, "disks");
+    if (std::string slow = gridCostWarning(particles, def); !slow.empty()) warnings.push_back(std::move(slow));
     backend->setParticles(particles, startStep);
-    step = startStep;
+    step = motionStep = startStep;
+    motionTime = startTime;
+    collisionsBefore = collisions;
+    state = std::move(particles);
+    stateCurrent = true;
+    intervalStartTemperature = carom::temperature(state, def.boundary);
+}
+
+void World::Impl::edit(std::vector<Particle> particles) {
+    const std::uint64_t collisions = collisionsBefore + backend->contacts().collisions;
+    backend->setParticles(particles, step);
     collisionsBefore = collisions;
     state = std::move(particles);
     stateCurrent = true;
@@ -59,8 +87,7 @@ World::World(const WorldDef& def) : impl_(std::make_unique<Impl>()) {
     if (def.engine != ComputeEngine::Cpu && def.collisions == CollisionScheme::Events)
         throw Error(std::string("CollisionScheme::Events runs on ComputeEngine::Cpu only (one thread, double "
                                 "precision); got ComputeEngine ") + computeEngineName(def.engine));
-    const std::vector<std::string> built = availableBackends();
-    if (def.engine != ComputeEngine::Cpu && std::find(built.begin(), built.end(), "opencl") == built.end())
+    if (!engineAvailable(def.engine))
         throw Error(std::string("ComputeEngine ") + computeEngineName(def.engine) +
                     " needs OpenCL, which this carom was built without; allowed: ComputeEngine::Cpu");
     if (def.collisions == CollisionScheme::Events && def.maxTravel != 0.0f)
@@ -76,11 +103,36 @@ World& World::operator=(World&&) noexcept = default;
 
 void World::setDisks(const Disk* disks, std::size_t count) {
     if (count == 0) throw Error("setDisks: a world needs at least 1 disk, got 0");
-    impl_->start(particlesOf(disks, count), 0, 0);
+    if (count > kMaxParticles)
+        throw Error("setDisks: " + std::to_string(count) + " disks; allowed: at most " + std::to_string(kMaxParticles) +
+                    " (kMaxParticles)");
+    impl_->start(particlesOf(disks, count), 0, 0.0, 0);
 }
 
-void World::getDisks(Disk* out) const {
+void World::setDisk(std::size_t id, const Disk& disk) {
+    if (id >= diskCount())
+        throw Error("setDisk: id " + std::to_string(id) + " is not a disk; allowed: 0.." +
+                    (diskCount() > 0 ? std::to_string(diskCount() - 1) + " (diskCount() - 1)" : "none (no disks yet)"));
+    std::vector<Particle> edited = impl_->current();
+    edited[id] = particleOf(disk);
+    impl_->edit(std::move(edited));
+}
+
+void World::addDisks(const Disk* disks, std::size_t count) {
+    if (diskCount() == 0) return setDisks(disks, count);
+    std::vector<Particle> edited = impl_->current();
+    if (count > kMaxParticles - edited.size())
+        throw Error("addDisks: " + std::to_string(edited.size()) + " + " + std::to_string(count) +
+                    " disks; allowed: at most " + std::to_string(kMaxParticles) + " (kMaxParticles)");
+    for (std::size_t i = 0; i < count; ++i) edited.push_back(particleOf(disks[i]));
+    impl_->edit(std::move(edited));
+}
+
+void World::getDisks(Disk* out, std::size_t capacity) const {
     const std::vector<Particle>& state = impl_->current();
+    if (capacity < state.size())
+        throw Error("getDisks: room for " + std::to_string(capacity) + " disks; the world has " +
+                    std::to_string(state.size()) + " (diskCount())");
     for (std::size_t i = 0; i < state.size(); ++i) out[i] = diskOf(state[i]);
 }
 
@@ -94,17 +146,25 @@ void World::step(std::uint64_t steps) {
     try {
         impl_->backend->step(steps);
     } catch (const Error&) {
-        if (const auto& where = impl_->backend->nonFinite()) impl_->step = where->step;
+        const auto& stopped = impl_->backend->nonFinite();
+        impl_->step = stopped ? stopped->step : impl_->backend->stepNumber();
         throw;
     }
-    impl_->step += steps;
+    impl_->step = impl_->backend->stepNumber();
 }
 
 std::uint64_t World::stepCount() const { return impl_->step; }
 
-double World::time() const { return double(impl_->step) * impl_->def.dt; }
+double World::time() const { return impl_->time(); }
 
 void World::setMotion(float dt, Vec2 gravity) {
+    WorldDef changed = impl_->def;
+    changed.dt = dt;
+    changed.gravity = gravity;
+    validate(changed);
+    if (diskCount() > 0) requireValidMotion(impl_->current(), changed, "setMotion");
+    impl_->motionTime = impl_->time();
+    impl_->motionStep = impl_->step;
     impl_->backend->setMotion(dt, gravity);
     impl_->def.dt = dt;
     impl_->def.gravity = gravity;
@@ -119,6 +179,16 @@ double World::kineticEnergy() const { return measureMotion(impl_->current(), imp
 double World::potentialEnergy() const { return measureMotion(impl_->current(), impl_->def).potentialEnergy; }
 
 std::array<double, 2> World::momentum() const { return measureMotion(impl_->current(), impl_->def).momentum; }
+
+double World::totalEnergy() const {
+    if (auto* events = dynamic_cast<const EventDrivenBackend*>(impl_->backend.get())) return events->totalEnergy();
+    return measureMotion(impl_->current(), impl_->def).totalEnergy();
+}
+
+EventCounts World::eventCounts() const {
+    if (auto* events = dynamic_cast<const EventDrivenBackend*>(impl_->backend.get())) return events->eventCounts();
+    return EventCounts{};
+}
 
 double World::temperature() const { return carom::temperature(impl_->current(), impl_->def.boundary); }
 

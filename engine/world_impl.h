@@ -17,6 +17,9 @@ struct World::Impl {
     WorldDef def;
     std::unique_ptr<Backend> backend;
     std::uint64_t step = 0;              // the step the state holds
+    // time() = motionTime + (step - motionStep) x dt: dt may change (setMotion).
+    double motionTime = 0.0;
+    std::uint64_t motionStep = 0;
     std::uint64_t collisionsBefore = 0;  // since the scene began, before the measurements' interval
     std::vector<std::string> warnings;   // the last start's (validateStart)
     double intervalStartTemperature = 0.0;  // kT when the measurements' interval began
@@ -24,8 +27,9 @@ struct World::Impl {
     std::vector<Particle> state;
     bool stateCurrent = false;
 
+    double time() const { return motionTime + double(step - motionStep) * def.dt; }
     const std::vector<Particle>& current() {
-        if (!stateCurrent) {
+        if (!stateCurrent && backend->particleCount() > 0) {
             backend->readParticles(state);
             stateCurrent = true;
         }
@@ -33,7 +37,9 @@ struct World::Impl {
     }
     // Starts from `particles`, which hold step `step` of a scene in which
     // `collisions` pairs collided so far.
-    void start(std::vector<Particle> particles, std::uint64_t step, std::uint64_t collisions);
+    void start(std::vector<Particle> particles, std::uint64_t step, double time, std::uint64_t collisions);
+    // Replaces the state with an edited one, at the same step and collision count.
+    void edit(std::vector<Particle> particles);
 };
 
 struct WorldAccess {

@@ -142,7 +142,8 @@ TEST_CASE("world: disks go in and come out in id order") {
     world.setDisks(scene.disks.data(), scene.disks.size());
     REQUIRE(world.diskCount() == scene.disks.size());
     std::vector<Disk> out(world.diskCount());
-    world.getDisks(out.data());
+    world.getDisks(out.data(), out.size());
+    CHECK_THROWS_AS(world.getDisks(out.data(), out.size() - 1), Error);
     CHECK(std::memcmp(out.data(), scene.disks.data(), out.size() * sizeof(Disk)) == 0);
     CHECK(std::memcmp(world.disks().data(), scene.disks.data(), out.size() * sizeof(Disk)) == 0);
     CHECK(world.warnings().empty());
@@ -251,4 +252,83 @@ TEST_CASE("world: dt and gravity change between steps, and the collision count o
                          "WorldDef::maxTravel must be 0 with CollisionScheme::Events, which has no steps to split; "
                          "got 0.200000",
                          Error);
+}
+
+TEST_CASE("world: a disk dragged and disks dropped keep the step and collision counts") {
+    const Scene scene = gas(300, 0.3f);
+    WorldDef def = worldFor(scene, ComputeEngine::Cpu, Boundary::Walls);
+    World world(def);
+    world.setDisks(scene.disks);
+    world.step(40);
+    const std::uint64_t collisions = world.collisionCount();
+    Disk dragged = world.disks()[5];
+    dragged.velocity = {3.0f, -2.0f};
+    world.setDisk(5, dragged);
+    CHECK(world.stepCount() == 40);
+    CHECK(world.collisionCount() == collisions);
+    CHECK(world.measurements().collisions == 0);
+    CHECK(world.disks()[5].velocity.x == 3.0f);
+    Disk dropped;
+    dropped.position = {def.width / 2, def.height / 2};
+    world.addDisks(&dropped, 1);
+    CHECK(world.diskCount() == scene.disks.size() + 1);
+    world.step(10);
+    CHECK(world.stepCount() == 50);
+    CHECK(world.collisionCount() >= collisions);
+    CHECK_THROWS_WITH_AS(world.setDisk(world.diskCount(), dropped),
+                         "setDisk: id 301 is not a disk; allowed: 0..300 (diskCount() - 1)", Error);
+    dropped.mass = -1.0f;
+    CHECK_THROWS_AS(world.setDisk(0, dropped), Error);
+    CHECK(world.diskCount() == scene.disks.size() + 1);
+}
+
+TEST_CASE("world: time sums the steps' dt across a change of dt") {
+    const Scene scene = gas(200, 0.3f);
+    World world(worldFor(scene, ComputeEngine::Cpu, Boundary::Periodic));
+    world.setDisks(scene.disks);
+    world.step(10);
+    world.setMotion(0.02f, Vec2{0.0f, 0.0f});
+    world.step(10);
+    CHECK(world.time() == doctest::Approx(10 * double(0.01f) + 10 * double(0.02f)).epsilon(1e-12));
+    CHECK(world.measurements().time == doctest::Approx(world.time()).epsilon(1e-12));
+    // A dt that moves the fastest disk across the box is refused, as at the start.
+    CHECK_THROWS_AS(world.setMotion(1e6f, Vec2{0.0f, 0.0f}), Error);
+    CHECK(world.def().dt == 0.02f);
+}
+
+TEST_CASE("world: the events scheme's counts and exact total energy") {
+    const Scene scene = gas(300, 0.3f);
+    WorldDef def = worldFor(scene, ComputeEngine::Cpu, Boundary::Walls);
+    def.collisions = CollisionScheme::Events;
+    World world(def);
+    world.setDisks(scene.disks);
+    const double before = world.totalEnergy();
+    world.step(50);
+    const EventCounts counts = world.eventCounts();
+    CHECK(counts.collisions == world.collisionCount());
+    CHECK(counts.wallBounces > 0);
+    CHECK(std::fabs(world.totalEnergy() - before) <= 1e-12 * std::fabs(before));
+    def.collisions = CollisionScheme::Pairwise;
+    World pairwise(def);
+    pairwise.setDisks(scene.disks);
+    CHECK(pairwise.eventCounts().collisions == 0);
+    CHECK(pairwise.totalEnergy() == pairwise.kineticEnergy() + pairwise.potentialEnergy());
+}
+
+TEST_CASE("world: compute engines by name, and which this build has") {
+    for (ComputeEngine engine : {ComputeEngine::Cpu, ComputeEngine::OpenClHostGrid, ComputeEngine::OpenClResident})
+        CHECK(parseComputeEngine(computeEngineName(engine)) == engine);
+    CHECK_THROWS_WITH_AS(parseComputeEngine("cuda"),
+                         "unknown compute engine 'cuda'; allowed: cpu, opencl-host-grid, opencl-resident", Error);
+    CHECK(engineAvailable(ComputeEngine::Cpu));
+#ifdef CAROM_HAVE_OPENCL
+    CHECK(engineAvailable(ComputeEngine::OpenClResident));
+#else
+    CHECK_FALSE(engineAvailable(ComputeEngine::OpenClResident));
+#endif
+    WorldDef def;
+    def.width = def.height = 20.0f;
+    World empty(def);
+    CHECK(empty.disks().empty());
+    CHECK(empty.kineticEnergy() == 0.0);
 }

@@ -1,7 +1,8 @@
 // carom::io (link carom::io): reading and writing carom's files with the
 // public types. The formats are the README's: scene files ("Scene files"),
 // state CSV (`id,x,y,vx,vy,mass,radius`, floats as the shortest text that
-// reads back bit for bit), checkpoints (engine/checkpoint.h has the layout).
+// reads back bit for bit), checkpoints ("Checkpoints": a versioned binary
+// file with a checksum).
 //
 // Files are written whole or not at all: through a temporary file renamed
 // into place, so a failure leaves the old file as it was. Every refusal is a

@@ -23,8 +23,7 @@ public:
     using std::runtime_error::runtime_error;
 };
 
-// A vector in the plane. Laid out as OpenCL's float2 (two floats, 8-byte
-// aligned), so arrays of disks need no conversion on their way to a device.
+// A vector in the plane: two floats, 8-byte aligned, as OpenCL's float2.
 struct alignas(8) Vec2 {
     float x;
     float y;
@@ -33,7 +32,9 @@ struct alignas(8) Vec2 {
 // One disk, as the caller sets and reads it. Ids are positions in the array
 // given to World::setDisks and never change.
 struct Disk {
-    Vec2 position{0.0f, 0.0f};  // centre [length], inside the box [0, width] x [0, height]
+    Vec2 position{0.0f, 0.0f};  // centre [length]; with walls the whole disk lies inside the box,
+                                //   [radius, width - radius] x [radius, height - radius]; in a
+                                //   periodic box the centre lies in [0, width) x [0, height)
     Vec2 velocity{0.0f, 0.0f};  // [length/time], |v| <= kMaxSpeed
     float mass = 1.0f;          // [mass], in [kMinMass, kMaxMass]
     float radius = 1.0f;        // [length], in [kMinLength, kMaxLength]; the disk must fit in the box
@@ -88,6 +89,7 @@ Boundary parseBoundary(const std::string& name);
 const char* boundaryName(Boundary boundary);
 CollisionScheme parseCollisionScheme(const std::string& name);
 const char* collisionSchemeName(CollisionScheme scheme);
+ComputeEngine parseComputeEngine(const std::string& name);
 const char* computeEngineName(ComputeEngine engine);
 
 // The ranges in which carom's float32 arithmetic gives valid results
@@ -122,6 +124,8 @@ struct WorldDef {
                            //   move a typical disk by >= kMinStepSpacings float spacings, and the
                            //   fastest by at most the smaller box side (unless maxTravel > 0)
     Vec2 gravity{0, 0};    // constant acceleration [length/time^2], |g| <= kMaxAcceleration; off by default
+    // A periodic box is at least 3 largest disk diameters wide and high, so
+    // that a disk meets each neighbour once, at its nearest image.
     Boundary boundary = Boundary::Walls;
     // Adaptive substeps against tunnelling: when > 0, each step of dt is split
     // into the fewest equal substeps in which no disk moves more than
@@ -132,13 +136,13 @@ struct WorldDef {
     float maxTravel = 0.0f;
     CollisionScheme collisions = CollisionScheme::Pairwise;
     ComputeEngine engine = ComputeEngine::Cpu;
-    // OpenCL engines only: which device, as an index in the order
-    // `carom devices` lists them or a part of the device's name; empty = the
-    // first GPU, else the first device.
+    // OpenCL engines only: which device, as an index in the order of the
+    // platforms and their devices (as `carom devices` lists them) or a part
+    // of the device's name; empty = the first GPU, else the first device.
     std::string device;
 };
 
-// The fraction `--dt auto` uses when no --max-travel is given.
+// The maxTravel the command line's `--dt auto` uses when none is given.
 constexpr float kDefaultMaxTravel = 0.2f;
 // The most substeps one step may take before the run is refused as runaway.
 constexpr std::uint64_t kMaxSubsteps = 1'000'000;
@@ -156,7 +160,8 @@ struct SceneDef {
     float massMin = 1.0f;    // mass drawn uniformly in [massMin, massMax] [mass], in [kMinMass, kMaxMass]
     float massMax = 1.0f;
     float speed = 1.0f;      // initial speed of every disk [length/time], in [0, kMaxSpeed]
-    std::uint64_t seed = 1;  // random seed; the same seed gives the same disks on every platform
+    std::uint64_t seed = 1;  // random seed; the same seed gives the same disks wherever the C library
+                             //   rounds sin, cos and sqrt alike (the generator itself is portable)
 };
 
 }  // namespace carom

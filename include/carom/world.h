@@ -7,8 +7,10 @@
 //     world.step(1000);
 //     double e = world.kineticEnergy();
 //
-// A World is not thread-safe: call it from one thread at a time. Every
-// refusal is a carom::Error whose message names the value and what is allowed.
+// A World is not thread-safe: call it from one thread at a time (the const
+// observables too: they cache the state read from the device). A moved-from
+// World may only be assigned to or destroyed. Every refusal is a
+// carom::Error whose message names the value and what is allowed.
 #pragma once
 
 #include <array>
@@ -40,12 +42,13 @@ struct Measurements {
     double time = 0.0;              // simulated time covered [time]
     std::uint64_t steps = 0;        // steps taken
     std::uint64_t collisions = 0;   // pairs that received an impulse, each pair once
-    double collisionRate = 0.0;     // collisions per disk per unit time (a disk's own rate is twice this)
+    double collisionRate = 0.0;     // collisions per disk per unit time [1/time] (a disk's own rate
+                                    //   is twice this); 0 while no time has passed
     double temperature = 0.0;       // kT (k = 1), the mean of the interval's first and last
                                     //   [mass length^2/time^2]
     // Pressure [mass/time^2] and Z = P A / (N kT). In a periodic box from the
     // collision virial (exact); with walls from the momentum the walls
-    // received over the perimeter.
+    // received over the perimeter. 0 while no time has passed.
     double pressure = 0.0;
     double compressibility = 0.0;
     std::array<double, 4> wallPressure{};  // walls only: left, right, bottom, top [mass/time^2]
@@ -57,6 +60,20 @@ struct Measurements {
     std::uint64_t lateContacts = 0;
     std::uint32_t maxRounds = 0;
 };
+
+// CollisionScheme::Events only: how often each kind of event happened since
+// setDisks, an edit, or loadCheckpoint.
+struct EventCounts {
+    std::uint64_t collisions = 0;     // disk-disk collisions
+    std::uint64_t wallBounces = 0;    // bounces off a wall
+    std::uint64_t cellCrossings = 0;  // moves of a disk from one grid cell to the next
+    std::uint64_t stale = 0;          // events found stale (a partner changed) and recomputed
+    std::uint64_t overlapping = 0;    // collisions of pairs found overlapping by rounding
+};
+
+// Whether this build has `engine` (ComputeEngine::Cpu always; the OpenCL
+// engines when carom was built with OpenCL, whatever devices there are).
+bool engineAvailable(ComputeEngine engine);
 
 class World {
 public:
@@ -73,40 +90,60 @@ public:
     // Resets the step count, the time and the measurements.
     void setDisks(const Disk* disks, std::size_t count);
     void setDisks(const std::vector<Disk>& disks) { setDisks(disks.data(), disks.size()); }
-    // What the last setDisks found less accurate than usual, though allowed:
-    // a step of few float spacings, disks overlapping deeper than a step closes.
+    // What the last setDisks found less accurate or slower than usual, though
+    // allowed: a step of few float spacings, disks overlapping deeper than a
+    // step closes, one disk so large that the grid's cells hold far too many.
     const std::vector<std::string>& warnings() const;
 
-    // Copies the disks, in id order, into `out` (diskCount() of them).
-    void getDisks(Disk* out) const;
+    // Edits between steps, for a hand that drags, throws or drops disks:
+    // replaces disk `id`, or appends disks (ids diskCount(), ...). The step
+    // count and collisionCount() go on; the measurements' interval restarts.
+    // The disks are checked for range and for lying inside the box, not for
+    // overlaps (the next steps push overlapping disks apart). Throws Error,
+    // keeping the disks as they were, for an id out of range or a bad disk.
+    void setDisk(std::size_t id, const Disk& disk);
+    void addDisks(const Disk* disks, std::size_t count);
+
+    // Copies the disks, in id order, into `out`, which has room for
+    // `capacity`; throws Error when that is less than diskCount().
+    void getDisks(Disk* out, std::size_t capacity) const;
     std::vector<Disk> disks() const;
     std::size_t diskCount() const;
 
     // Advances by `steps` steps of dt. Throws Error when a step would need
-    // more than kMaxSubsteps substeps or leaves a disk non-finite (the
-    // message names the step and the disk); the world then stays at that
-    // step and refuses to step further until setDisks.
+    // more than kMaxSubsteps substeps, or leaves a disk non-finite (the
+    // message names the step and the disk); the world then holds the step it
+    // reached (stepCount()), and after a non-finite step refuses to step
+    // further until setDisks.
     void step(std::uint64_t steps = 1);
 
     // The step the state holds: steps taken since setDisks, or since the
     // scene a checkpoint continues (carom/io.h loadCheckpoint).
     std::uint64_t stepCount() const;
-    double time() const;  // stepCount() x dt [time]
+    double time() const;  // simulated time [time]: the sum of the steps' dt
     const WorldDef& def() const;
     // Changes dt and gravity between steps (the box, the boundary and the
     // scheme stay); throws Error for values out of range and keeps the old ones.
     void setMotion(float dt, Vec2 gravity);
 
-    // Observables of the current state, summed in double in id order.
-    double kineticEnergy() const;                 // sum of m v^2 / 2 [mass length^2/time^2]
-    double potentialEnergy() const;               // -sum of m g.x in the world's gravity (0 without)
+    // Observables of the current state, summed in double in id order
+    // (energies in [mass length^2/time^2]).
+    double kineticEnergy() const;                 // sum of m v^2 / 2
+    // -sum of m g.x in the world's gravity (0 without). In a periodic box
+    // under gravity, positions wrap and this is not a potential energy.
+    double potentialEnergy() const;
     std::array<double, 2> momentum() const;       // sum of m v [mass length/time]
-    // kT (k = 1): E_kin / N with walls; in a periodic box the centre of mass
-    // carries no heat, so (E_kin - P^2/2M) / (N - 1).
+    // kineticEnergy() + potentialEnergy(); with CollisionScheme::Events, of
+    // the engine's exact double state, whose drift the float disks would hide.
+    double totalEnergy() const;
+    // kT (k = 1) [mass length^2/time^2]: E_kin / N with walls; in a periodic
+    // box the centre of mass carries no heat, so (E_kin - P^2/2M) / (N - 1).
     double temperature() const;
     // Pairs that received an impulse since the scene began (setDisks, or the
     // scene a checkpoint continues), each pair once.
     std::uint64_t collisionCount() const;
+    // CollisionScheme::Events only (zeros otherwise).
+    EventCounts eventCounts() const;
     // Collisions, pressure and Z over the interval since setDisks or resetMeasurements.
     Measurements measurements() const;
     void resetMeasurements();
