@@ -214,7 +214,19 @@ BackendDef backendFor(const SceneOptions& o, CollisionScheme scheme) {
     BackendDef def = o.backend;
     const bool openclAsked = o.given.count("--backend") || !def.device.empty() || def.pipeline != "seed";
     if (scheme == CollisionScheme::Events && !openclAsked) def.kind = "cpu";
+    if (scheme == CollisionScheme::Events && def.kind != "cpu")
+        throw Error("--collisions events runs on the CPU only (one thread, double precision): use --backend cpu "
+                    "with it, or --collisions pairwise on --backend " + def.kind);
     return def;
+}
+
+WorldDef withEngine(WorldDef world, const SceneOptions& o) {
+    const BackendDef def = backendFor(o, world.collisions);
+    world.engine = def.kind == "cpu"                ? ComputeEngine::Cpu
+                   : def.pipeline == "resident"      ? ComputeEngine::OpenClResident
+                                                     : ComputeEngine::OpenClHostGrid;
+    world.device = def.device;
+    return world;
 }
 
 void refuseSubstepsWithEvents(const WorldDef& world, const std::string& asked) {

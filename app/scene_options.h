@@ -50,9 +50,11 @@ struct Setup {
 Setup makeSetup(const SceneOptions& options);
 
 // The backend to run `scheme` on: the options' (--backend, default OpenCL
-// where this build has it), but the CPU for the events scheme unless an
-// OpenCL --backend, --device or --pipeline was given (makeBackend refuses it).
+// where this build has it), but the CPU for the events scheme; refuses an
+// OpenCL --backend, --device or --pipeline given with it.
 BackendDef backendFor(const SceneOptions& options, CollisionScheme scheme);
+// `world` with the compute engine and device of backendFor.
+WorldDef withEngine(WorldDef world, const SceneOptions& options);
 
 // The events scheme has no steps to split: throws Error, naming `asked` (what
 // asked for the substeps: "--max-travel 0.5", "--dt auto", a scene file),

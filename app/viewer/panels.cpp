@@ -23,17 +23,17 @@ ImVec2 canvas(ImVec2 size) {
 
 // The speed histogram as a probability density, with the 2D Maxwell-Boltzmann
 // (Rayleigh) density for the current temperature drawn over it.
-void speedHistogram(const std::vector<Particle>& particles, double kineticEnergy) {
+void speedHistogram(const std::vector<Disk>& particles, double kineticEnergy) {
     constexpr int kBins = 40;
     const double n = double(std::max<std::size_t>(1, particles.size()));
     double meanMass = 0;
-    for (const Particle& p : particles) meanMass += p.mass;
+    for (const Disk& p : particles) meanMass += p.mass;
     meanMass /= n;
     const double kT = kineticEnergy / n;  // 2D: E_kin = N kT
     const double vmax = std::max(1e-12, 3.0 * std::sqrt(2.0 * kT / meanMass));
     const double binWidth = vmax / kBins;
     std::vector<double> density(kBins, 0.0);
-    for (const Particle& p : particles) {
+    for (const Disk& p : particles) {
         const int bin = int(std::hypot(p.velocity.x, p.velocity.y) / binWidth);
         if (bin >= 0 && bin < kBins) density[bin] += 1.0 / (n * binWidth);
     }
@@ -122,42 +122,40 @@ void Viewer::drawPanels() {
     }
 
     if (ImGui::CollapsingHeader("Simulation", ImGuiTreeNodeFlags_DefaultOpen)) {
-        ImGui::TextWrapped("%s on %s", backend_->name().c_str(), backend_->device().c_str());
-        ImGui::Text("collisions: %s (--collisions)", collisionSchemeName(backend_->world().collisions));
+        ImGui::TextWrapped("%s on %s", computeEngineName(world_->def().engine), world_->deviceName().c_str());
+        ImGui::Text("collisions: %s (--collisions)", collisionSchemeName(world_->def().collisions));
         float dt = dt_;
-        if (ImGui::InputFloat("dt", &dt, 0, 0, "%.5f") && dt > 0 && std::isfinite(dt)) {
-            dt_ = dt;
-            backend_->setMotion(dt_, gravityOn_ ? gravity_ : float2{0, 0});
-        }
+        if (ImGui::InputFloat("dt", &dt, 0, 0, "%.5f") && dt > 0 && std::isfinite(dt)) setMotion(dt, gravityOn_);
         ImGui::SliderInt("steps per frame", &stepsPerFrame_, 0, 200);
         bool gravity = gravityOn_;
-        if (ImGui::Checkbox("gravity (G)", &gravity)) setGravity(gravity);
+        if (ImGui::Checkbox("gravity (G)", &gravity)) setMotion(dt_, gravity);
         ImGui::SameLine();
-        if (ImGui::InputFloat2("##gravity", &gravity_.x) && gravityOn_) setGravity(true);
+        if (ImGui::InputFloat2("##gravity", &gravity_.x) && gravityOn_) setMotion(dt_, true);
         ImGui::Checkbox("paused (Space)", &paused_);
         ImGui::Text("colouring (C): %s", colouringName(colouring_));
     }
 
     if (ImGui::CollapsingHeader("Readouts", ImGuiTreeNodeFlags_DefaultOpen)) {
-        ImGui::Text("%zu disks, %.0f frames/s, %.3f ms per step", particles_.size(), ImGui::GetIO().Framerate,
+        ImGui::Text("%zu disks, %.0f frames/s, %.3f ms per step", disks_.size(), ImGui::GetIO().Framerate,
                     simMsPerStep_);
         ImGui::Text("collisions per second: %.0f", collisionsPerSecond_);
-        if (engine_) {
-            const EventCounts& counts = engine_->eventCounts();
+        const bool events = world_->def().collisions == CollisionScheme::Events;
+        if (events) {
+            const EventCounts counts = world_->eventCounts();
             ImGui::Text("events: %llu wall bounces, %llu cell crossings",
                         static_cast<unsigned long long>(counts.wallBounces),
                         static_cast<unsigned long long>(counts.cellCrossings));
         }
         energyPlot(energyHistory_, gravityOn_);
-        ImGui::Text("total energy %.6g, drift %+.2e", totalEnergy(), relativeEnergyDrift());
+        ImGui::Text("total energy %.6g, drift %+.2e", world_->totalEnergy(), relativeEnergyDrift());
         ImGui::PushTextWrapPos(0.0f);
         ImGui::TextDisabled("drift: the relative change%s over the last %.4g time units, since the scene, a grab, a "
                             "burst or gravity last changed the energy",
-                            engine_ ? " of the engine's double state" : "", driftTime_);
+                            events ? " of the engine's double state" : "", driftTime_);
         ImGui::PopTextWrapPos();
-        ImGui::Text("momentum (%.4g, %.4g)", diagnostics_.momentum[0], diagnostics_.momentum[1]);
+        ImGui::Text("momentum (%.4g, %.4g)", motion_.momentum[0], motion_.momentum[1]);
         plot("##momentum", momentumHistory_);
-        speedHistogram(particles_, diagnostics_.kineticEnergy);
+        speedHistogram(disks_, motion_.kinetic);
     }
     if (!message_.empty()) ImGui::TextColored(ImVec4(1, 0.7f, 0.3f, 1), "%s", message_.c_str());
     ImGui::End();

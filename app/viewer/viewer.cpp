@@ -15,6 +15,7 @@
 #include "app/number_options.h"
 #include "app/stop_signals.h"
 #include "app/viewer/png.h"
+#include "engine/disk_conversion.h"
 
 namespace carom::viewer {
 
@@ -149,19 +150,16 @@ void Viewer::openWindow() {
 }
 
 void Viewer::start(app::Setup setup) {
-    WorldDef world = setup.world;
-    world.dt = dt_;
-    world.gravity = gravityOn_ ? gravity_ : float2{0, 0};
-    for (const std::string& warning : validateStart(setup.particles, world, "the scene"))
-        std::cerr << "carom: warning: " << warning << '\n';
+    WorldDef def = app::withEngine(setup.world, options_.scene);
+    def.dt = dt_;
+    def.gravity = gravityOn_ ? gravity_ : carom::Vec2{0, 0};
+    World world(def);
+    world.setDisks(disksOf(setup.particles));
+    for (const std::string& warning : world.warnings()) std::cerr << "carom: warning: " << warning << '\n';
     initial_ = std::move(setup);
-    backend_ = makeBackend(app::backendFor(options_.scene, world.collisions), world);
-    engine_ = dynamic_cast<const EventDrivenBackend*>(backend_.get());
-    particles_ = initial_.particles;
-    collisionsBeforeUpload_ = collisionsAtLastReadout_ = 0;
-    backend_->setParticles(particles_);
-    if (const std::string slow = gridCostWarning(particles_, world); !slow.empty())
-        std::fprintf(stderr, "carom: warning: %s\n", slow.c_str());
+    world_.emplace(std::move(world));
+    disks_ = world_->disks();
+    collisionsBeforeReset_ = collisionsAtLastReadout_ = 0;
     energyHistory_.clear();
     momentumHistory_.clear();
     restartEnergyDrift();
@@ -169,29 +167,23 @@ void Viewer::start(app::Setup setup) {
     int windowWidth = 0, windowHeight = 0;
     SDL_GetWindowSize(window_, &windowWidth, &windowHeight);
     pixelRatio_ = windowWidth > 0 ? double(drawableWidth_) / windowWidth : 1.0;
-    camera_.fit(world.width, world.height, drawableWidth_, drawableHeight_);
-}
-
-void Viewer::upload() {
-    collisionsBeforeUpload_ += backend_->collisions();
-    backend_->setParticles(particles_);
-    restartEnergyDrift();
+    camera_.fit(def.width, def.height, drawableWidth_, drawableHeight_);
 }
 
 void Viewer::restartEnergyDrift() {
-    energyAtDriftStart_ = engine_ ? engine_->totalEnergy() : measureMotion(particles_, backend_->world()).totalEnergy();
+    energyAtDriftStart_ = world_->totalEnergy();
     driftTime_ = 0.0;
 }
 
-double Viewer::totalEnergy() const { return engine_ ? engine_->totalEnergy() : diagnostics_.totalEnergy(); }
-
 double Viewer::relativeEnergyDrift() const {
-    return (totalEnergy() - energyAtDriftStart_) / std::abs(energyAtDriftStart_);
+    return (world_->totalEnergy() - energyAtDriftStart_) / std::abs(energyAtDriftStart_);
 }
 
 void Viewer::reset() {
-    particles_ = initial_.particles;
-    upload();
+    collisionsBeforeReset_ += world_->collisionCount();
+    world_->setDisks(disksOf(initial_.particles));
+    disks_ = world_->disks();
+    restartEnergyDrift();
     grabbed_ = -1;
     message_ = "reset to the initial scene";
 }
@@ -211,10 +203,15 @@ void Viewer::applyScene(const SceneDef& scene) {
     }
 }
 
-void Viewer::setGravity(bool on) {
-    gravityOn_ = on;
-    backend_->setMotion(dt_, on ? gravity_ : float2{0, 0});
-    restartEnergyDrift();
+void Viewer::setMotion(float dt, bool gravityOn) {
+    try {
+        world_->setMotion(dt, gravityOn ? gravity_ : carom::Vec2{0, 0});
+        dt_ = dt;
+        gravityOn_ = gravityOn;
+        restartEnergyDrift();
+    } catch (const Error& e) {
+        message_ = e.what();  // out of range for these disks: keep the motion as it was
+    }
 }
 
 double Viewer::simulatedSecondsPerSecond() const {
@@ -230,9 +227,9 @@ Vec2 Viewer::cursorPixel() const {
 void Viewer::grabNearest(Vec2 world) {
     double best = 1e300;
     grabbed_ = -1;
-    for (std::size_t i = 0; i < particles_.size(); ++i) {
-        const double dx = particles_[i].position.x - world.x, dy = particles_[i].position.y - world.y;
-        const double d = std::sqrt(dx * dx + dy * dy) - particles_[i].radius;
+    for (std::size_t i = 0; i < disks_.size(); ++i) {
+        const double dx = disks_[i].position.x - world.x, dy = disks_[i].position.y - world.y;
+        const double d = std::sqrt(dx * dx + dy * dy) - disks_[i].radius;
         if (d < best) {
             best = d;
             grabbed_ = int(i);
@@ -251,15 +248,16 @@ void Viewer::applyGrab(double realSeconds) {
         cursorVelocity_ = {0.7 * cursorVelocity_.x + 0.3 * v.x, 0.7 * cursorVelocity_.y + 0.3 * v.y};
     }
     lastCursorWorld_ = cursor;
-    if (grabbed_ < 0 || grabbed_ >= int(particles_.size())) return;
-    Particle& p = particles_[grabbed_];
-    const WorldDef& w = backend_->world();
+    if (grabbed_ < 0 || grabbed_ >= int(disks_.size())) return;
+    Disk& p = disks_[grabbed_];
+    const WorldDef& w = world_->def();
     p.position.x = float(std::clamp(cursor.x, double(p.radius), double(w.width - p.radius)));
     p.position.y = float(std::clamp(cursor.y, double(p.radius), double(w.height - p.radius)));
     const double perSimSecond = simulatedSecondsPerSecond();
     p.velocity.x = perSimSecond > 0 ? float(cursorVelocity_.x / perSimSecond) : 0.0f;
     p.velocity.y = perSimSecond > 0 ? float(cursorVelocity_.y / perSimSecond) : 0.0f;
-    upload();
+    world_->setDisk(std::size_t(grabbed_), p);
+    restartEnergyDrift();
 }
 
 void Viewer::spawnBurst(Vec2 world) {
@@ -267,21 +265,23 @@ void Viewer::spawnBurst(Vec2 world) {
     const float radius = sceneEdit_.radiusMax;
     const float mass = 0.5f * (sceneEdit_.massMin + sceneEdit_.massMax);
     const float speed = std::max(1.0f, 2.0f * sceneEdit_.speed);
-    const WorldDef& w = backend_->world();
+    const WorldDef& w = world_->def();
     if (2 * radius > std::min(w.width, w.height)) return;
     // A ring whose neighbours do not touch, flying outwards.
     const double ring = 1.1 * radius / std::sin(M_PI / kCount);
+    std::vector<Disk> burst(kCount);
     for (int k = 0; k < kCount; ++k) {
         const double angle = 2 * M_PI * k / kCount;
-        Particle p{};
+        Disk& p = burst[k];
         p.radius = radius;
         p.mass = mass;
         p.position.x = float(std::clamp(world.x + ring * std::cos(angle), double(radius), double(w.width - radius)));
         p.position.y = float(std::clamp(world.y + ring * std::sin(angle), double(radius), double(w.height - radius)));
-        p.velocity = float2{float(speed * std::cos(angle)), float(speed * std::sin(angle))};
-        particles_.push_back(p);
+        p.velocity = carom::Vec2{float(speed * std::cos(angle)), float(speed * std::sin(angle))};
     }
-    upload();
+    world_->addDisks(burst.data(), burst.size());
+    disks_ = world_->disks();
+    restartEnergyDrift();
 }
 
 void Viewer::handleEvent(const SDL_Event& event) {
@@ -305,7 +305,7 @@ void Viewer::handleEvent(const SDL_Event& event) {
                 case SDLK_p: paused_ = !paused_; break;
                 case SDLK_n: if (paused_) stepOnce_ = true; break;
                 case SDLK_r: reset(); break;
-                case SDLK_g: setGravity(!gravityOn_); break;
+                case SDLK_g: setMotion(dt_, !gravityOn_); break;
                 case SDLK_c: colouring_ = Colouring((int(colouring_) + 1) % kColouringCount); break;
                 case SDLK_h: hidePanels_ = !hidePanels_; break;
                 case SDLK_s: {
@@ -353,7 +353,7 @@ void Viewer::advance(int ticks) {
     if (steps > 0) {
         const auto start = Clock::now();
         try {
-            backend_->step(steps);
+            world_->step(steps);
             simMsPerStep_ = secondsSince(start) * 1e3 / steps;
             driftTime_ += double(steps) * dt_;
         } catch (const Error& e) {
@@ -365,20 +365,20 @@ void Viewer::advance(int ticks) {
             paused_ = true;
         }
     }
-    backend_->readParticles(particles_);
+    disks_ = world_->disks();
 }
 
 void Viewer::updateReadouts(double realSeconds) {
-    diagnostics_ = measureMotion(particles_, backend_->world());
-    energyHistory_.push_back({float(diagnostics_.kineticEnergy), float(diagnostics_.potentialEnergy)});
-    momentumHistory_.push_back(float(std::hypot(diagnostics_.momentum[0], diagnostics_.momentum[1])));
+    motion_ = Motion{world_->kineticEnergy(), world_->potentialEnergy(), world_->momentum()};
+    energyHistory_.push_back({float(motion_.kinetic), float(motion_.potential)});
+    momentumHistory_.push_back(float(std::hypot(motion_.momentum[0], motion_.momentum[1])));
     if (energyHistory_.size() > kHistoryLength) energyHistory_.pop_front();
     if (momentumHistory_.size() > kHistoryLength) momentumHistory_.pop_front();
 
     // Reading the collision counters costs a device read: twice a second.
     secondsSinceReadout_ += realSeconds;
     if (secondsSinceReadout_ >= 0.5) {
-        const std::uint64_t total = collisionsBeforeUpload_ + backend_->collisions();
+        const std::uint64_t total = collisionsBeforeReset_ + world_->collisionCount();
         collisionsPerSecond_ = (total - std::min(total, collisionsAtLastReadout_)) / secondsSinceReadout_;
         collisionsAtLastReadout_ = total;
         secondsSinceReadout_ = 0;
@@ -388,7 +388,7 @@ void Viewer::updateReadouts(double realSeconds) {
 void Viewer::buildInstances() {
     float lo = 1e30f, hi = -1e30f;
     double meanSquareSpeed = 0;
-    for (const Particle& p : particles_) {
+    for (const Disk& p : disks_) {
         const float value = colouring_ == Colouring::Mass ? p.mass : p.radius;
         lo = std::min(lo, value);
         hi = std::max(hi, value);
@@ -396,10 +396,10 @@ void Viewer::buildInstances() {
     }
     // Speeds map to colour up to 2.5 times the rms speed, so the scale
     // follows the temperature.
-    const double topSpeed = std::max(1e-12, 2.5 * std::sqrt(meanSquareSpeed / std::max<std::size_t>(1, particles_.size())));
-    instances_.resize(particles_.size());
-    for (std::size_t i = 0; i < particles_.size(); ++i) {
-        const Particle& p = particles_[i];
+    const double topSpeed = std::max(1e-12, 2.5 * std::sqrt(meanSquareSpeed / std::max<std::size_t>(1, disks_.size())));
+    instances_.resize(disks_.size());
+    for (std::size_t i = 0; i < disks_.size(); ++i) {
+        const Disk& p = disks_[i];
         Rgb c;
         switch (colouring_) {
             case Colouring::Speed: c = viridis(float(std::hypot(p.velocity.x, p.velocity.y) / topSpeed)); break;
@@ -413,7 +413,7 @@ void Viewer::buildInstances() {
 
 void Viewer::render() {
     buildInstances();
-    const WorldDef& w = backend_->world();
+    const WorldDef& w = world_->def();
     renderer_->draw(camera_, w.width, w.height, instances_);
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplSDL2_NewFrame();
@@ -426,9 +426,9 @@ void Viewer::render() {
 void Viewer::saveScreenshot(const std::string& path) { writeFramePng(path, drawableWidth_, drawableHeight_); }
 
 int Viewer::run() {
-    const char* scheme = collisionSchemeName(backend_->world().collisions);
+    const char* scheme = collisionSchemeName(world_->def().collisions);
     if (!headless_)
-        std::printf("carom view: %zu disks on %s, %s collisions\n%s", particles_.size(), backend_->device().c_str(),
+        std::printf("carom view: %zu disks on %s, %s collisions\n%s", disks_.size(), world_->deviceName().c_str(),
                     scheme, kControls);
     std::vector<double> frameMs, simulationMs, drawingMs;
     auto last = Clock::now();
@@ -474,7 +474,7 @@ int Viewer::run() {
     if (headless_)
         std::printf("carom view: %llu frames of %zu disks, %s collisions, total energy drift %+.3g over %.4g time "
                     "units; median frame %.2f ms (simulation %.2f ms, drawing %.2f ms)\n",
-                    static_cast<unsigned long long>(rendered), particles_.size(), scheme, relativeEnergyDrift(),
+                    static_cast<unsigned long long>(rendered), disks_.size(), scheme, relativeEnergyDrift(),
                     driftTime_, median(frameMs), median(simulationMs), median(drawingMs));
     if (signal == 0) return 0;
     std::fprintf(stderr, "carom view: interrupted by %s", app::signalName(signal));

@@ -13,7 +13,6 @@
 #include "app/viewer/camera.h"
 #include "app/viewer/palette.h"
 #include "app/viewer/renderer.h"
-#include "backends/backend.h"
 
 struct SDL_Window;
 union SDL_Event;

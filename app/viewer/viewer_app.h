@@ -2,17 +2,25 @@
 // panels.cpp: the Dear ImGui panels).
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <deque>
+#include <optional>
+
+#include <carom/world.h>
 
 #include "app/viewer/viewer.h"
-#include "backends/event_driven_backend.h"
-#include "engine/diagnostics.h"
 
 namespace carom::viewer {
 
 struct EnergySample {
     float kinetic = 0, potential = 0;
+};
+
+// What the readouts show of the state, measured once per frame.
+struct Motion {
+    double kinetic = 0, potential = 0;
+    std::array<double, 2> momentum{};
 };
 
 class Viewer {
@@ -45,28 +53,25 @@ private:
     // Actions.
     void reset();
     void applyScene(const SceneDef& scene);
-    void setGravity(bool on);
+    // Changes dt and switches gravity (gravity_) on or off; a change the
+    // world refuses is shown in the panels and leaves both as they were.
+    void setMotion(float dt, bool gravityOn);
     void spawnBurst(Vec2 world);
     void grabNearest(Vec2 world);
-    void upload();  // sends particles_ to the backend, keeping the collision count
-    // The energy changed from outside (a new state, gravity): the total's
-    // drift is measured from particles_ as they are now.
+    // The energy changed from outside (a new state, gravity, a grab): the
+    // total's drift is measured from the state as it is now.
     void restartEnergyDrift();
     void saveScreenshot(const std::string& path);
     Vec2 cursorPixel() const;
     double simulatedSecondsPerSecond() const;
-    // The total energy now: of particles_ (float32), or with the events
-    // scheme of the engine's double state, whose drift float32 would hide.
-    double totalEnergy() const;
     // (E - E0) / |E0| of the total energy since restartEnergyDrift.
     double relativeEnergyDrift() const;
 
     ViewOptions options_;
     app::Setup initial_;  // what R resets to
     SceneDef sceneEdit_;  // the scene panel's values
-    std::unique_ptr<Backend> backend_;
-    const EventDrivenBackend* engine_ = nullptr;  // backend_, with the events scheme
-    std::vector<Particle> particles_;  // read back once per frame
+    std::optional<World> world_;
+    std::vector<Disk> disks_;  // read back once per frame
     std::vector<DiskInstance> instances_;
 
     SDL_Window* window_ = nullptr;
@@ -86,19 +91,19 @@ private:
     double accumulator_ = 0.0;
     float dt_ = 0.01f;
     bool gravityOn_ = false;
-    float2 gravity_{0.0f, -1.0f};  // used while gravity is on
+    carom::Vec2 gravity_{0.0f, -1.0f};  // used while gravity is on
 
     int grabbed_ = -1;           // id of the disk held by the mouse
     Vec2 cursorVelocity_;        // [world units per real second], smoothed
     Vec2 lastCursorWorld_;
     bool rightDown_ = false, rightDragged_ = false, middleDown_ = false;
 
-    std::uint64_t collisionsBeforeUpload_ = 0;
+    std::uint64_t collisionsBeforeReset_ = 0;  // the worlds' before the last reset or scene
     std::uint64_t collisionsAtLastReadout_ = 0;
     double secondsSinceReadout_ = 0.0;
     double collisionsPerSecond_ = 0.0;
     double simMsPerStep_ = 0.0;
-    Diagnostics diagnostics_;           // of particles_, once per frame
+    Motion motion_;                     // of disks_, once per frame
     double energyAtDriftStart_ = 0.0;   // total energy when the drift started being measured
     double driftTime_ = 0.0;            // simulated time since then
     std::deque<EnergySample> energyHistory_;
