@@ -36,11 +36,26 @@ bool inside(const Particle& p, const Region& r) {
            p.position.y - p.radius >= r.yMin && p.position.y + p.radius <= r.yMax;
 }
 
-std::vector<std::filesystem::path> shippedScenes() {
-    std::vector<std::filesystem::path> scenes;
+// A scene of scenes/, read and placed.
+struct ShippedScene {
+    SceneFile file;
+    InitialState initial;
+    WorldDef world;
+};
+
+// Every scene in scenes/, in name order.
+std::vector<ShippedScene> shippedScenes() {
+    std::vector<std::filesystem::path> paths;
     for (const auto& entry : std::filesystem::directory_iterator(CAROM_SCENES_DIR))
-        if (entry.path().extension() == ".toml") scenes.push_back(entry.path());
-    std::sort(scenes.begin(), scenes.end());
+        if (entry.path().extension() == ".toml") paths.push_back(entry.path());
+    std::sort(paths.begin(), paths.end());
+    std::vector<ShippedScene> scenes;
+    for (const auto& path : paths) {
+        ShippedScene scene{readSceneFile(path.string()), {}, {}};
+        scene.initial = makeInitialState(scene.file);
+        scene.world = worldOf(scene.file, scene.initial);
+        scenes.push_back(std::move(scene));
+    }
     return scenes;
 }
 
@@ -357,13 +372,11 @@ TEST_CASE("scene file: the seed decides, bit for bit") {
 TEST_CASE("scenes/: every shipped scene runs on the CPU and stays in its box") {
     const auto scenes = shippedScenes();
     CHECK(scenes.size() >= 6);
-    for (const auto& path : scenes) {
-        CAPTURE(path.string());
-        const SceneFile scene = readSceneFile(path.string());
-        const InitialState initial = makeInitialState(scene);
-        const WorldDef world = worldOf(scene, initial);
-        const std::vector<Particle> end = simulate(testBackendDef("cpu"), world, initial.particles, scene.steps);
-        const Diagnostics d = measure(end, world);
+    for (const ShippedScene& scene : scenes) {
+        CAPTURE(scene.file.path);
+        const std::vector<Particle> end =
+            simulate(testBackendDef("cpu"), scene.world, scene.initial.particles, scene.file.steps);
+        const Diagnostics d = measure(end, scene.world);
         CHECK(d.escaped == 0);
         CHECK(std::isfinite(d.kineticEnergy));
         CHECK(d.maxOverlap < 0.1);
@@ -373,18 +386,15 @@ TEST_CASE("scenes/: every shipped scene runs on the CPU and stays in its box") {
 CAROM_OPENCL_TEST_CASE("scenes/: every shipped scene agrees with the CPU bit for bit over its first 200 steps") {
     const auto scenes = shippedScenes();
     CHECK(scenes.size() >= 6);
-    for (const auto& path : scenes) {
-        CAPTURE(path.string());
-        const SceneFile scene = readSceneFile(path.string());
-        const InitialState initial = makeInitialState(scene);
-        const WorldDef world = worldOf(scene, initial);
-        if (!makeBackend(def, world)->exactArithmetic()) {
+    for (const ShippedScene& scene : scenes) {
+        CAPTURE(scene.file.path);
+        if (!makeBackend(def, scene.world)->exactArithmetic()) {
             MESSAGE("the OpenCL device lacks correctly rounded divide/sqrt: the backends do not agree bitwise");
             return;
         }
-        const std::uint64_t steps = std::min<std::uint64_t>(scene.steps, 200);
-        const auto a = simulate(testBackendDef("cpu"), world, initial.particles, steps);
-        const auto b = simulate(def, world, initial.particles, steps);
+        const std::uint64_t steps = std::min<std::uint64_t>(scene.file.steps, 200);
+        const auto a = simulate(testBackendDef("cpu"), scene.world, scene.initial.particles, steps);
+        const auto b = simulate(def, scene.world, scene.initial.particles, steps);
         CHECK(std::memcmp(a.data(), b.data(), a.size() * sizeof(Particle)) == 0);
     }
 }
