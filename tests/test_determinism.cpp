@@ -1,8 +1,9 @@
 // Pinned trajectories (Box2D's determinism test): a fixed scene of 300
 // polydisperse disks, stepped 500 steps with each collision scheme, in a
 // walled box under gravity and in a periodic one, hashed (the final state and
-// the collision count), and the hash compared with a constant written below. The differential tests catch a backend that drifts from the
-// CPU; these catch a change of results on all backends alike.
+// the collision count), and the hash compared with a constant written below.
+// The differential tests catch a backend that drifts from the CPU; these
+// catch a change of results on all backends alike.
 //
 // Where the OpenCL device rounds divide and sqrt correctly
 // (Backend::exactArithmetic), its hash must equal the CPU's pinned constant;
