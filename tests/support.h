@@ -1,7 +1,9 @@
 // Helpers shared by the tests: the backends under test and small scenes.
 #pragma once
 
+#include <algorithm>
 #include <cstdlib>
+#include <iterator>
 #include <memory>
 #include <string>
 #include <utility>
@@ -13,12 +15,10 @@
 
 namespace carom::test {
 
-// Every backend this build has. Each physics test runs once per backend.
-// OpenCL uses the device named by CAROM_TEST_DEVICE (as --device), else the
-// default device; PoCL stands in for a GPU on machines without one.
-inline std::vector<std::string> backendKinds() { return availableBackends(); }
-
-// Backend `kind` (and OpenCL `pipeline`) on the device under test.
+// Backend `kind` (and OpenCL `pipeline`) on the device under test. OpenCL
+// uses the device named by CAROM_TEST_DEVICE (as --device), read when the
+// test runs, else the default device; PoCL stands in for a GPU on machines
+// without one.
 inline BackendDef testBackendDef(const std::string& kind, const std::string& pipeline = "seed") {
     const char* device = std::getenv("CAROM_TEST_DEVICE");
     return BackendDef{kind, device ? device : "", pipeline};
@@ -28,23 +28,73 @@ inline std::unique_ptr<Backend> makeTestBackend(const std::string& kind, const W
     return makeBackend(testBackendDef(kind), world);
 }
 
-// Every backend and OpenCL pipeline this build has.
-inline std::vector<BackendDef> backendPipelines() {
-    std::vector<BackendDef> defs;
-    for (const std::string& kind : availableBackends()) {
-        if (kind != "opencl") {
-            defs.push_back(testBackendDef(kind));
-            continue;
-        }
-        for (const char* pipeline : {"seed", "resident"}) defs.push_back(testBackendDef(kind, pipeline));
-    }
-    return defs;
+// The backends and pipelines a test can be registered for; `label` ends the
+// name of the test case that runs on it. A build without OpenCL registers
+// the CPU only.
+struct TestPipeline {
+    const char* kind;
+    const char* pipeline;
+    const char* label;
+};
+inline constexpr TestPipeline kTestPipelines[] = {
+    {"cpu", "seed", "cpu"}, {"opencl", "seed", "opencl seed"}, {"opencl", "resident", "opencl resident"}};
+
+// Which of kTestPipelines a test case is registered for.
+enum class Registered { EveryPipeline, OpenClPipelines };
+
+namespace registration {
+
+using Body = void (*)(const BackendDef&);
+
+// doctest's test case is a function without arguments: one per body and pipeline.
+template <Body body, std::size_t slot>
+void runOn() {
+    body(testBackendDef(kTestPipelines[slot].kind, kTestPipelines[slot].pipeline));
 }
 
-// "cpu", "opencl seed", "opencl resident": for CAPTURE.
-inline std::string describe(const BackendDef& def) {
-    return def.kind == "opencl" ? def.kind + " " + def.pipeline : def.kind;
+// What doctest's TEST_CASE expands to, once for each pipeline of this build
+// that `which` selects, named "name [label]". The pipeline's index is the
+// case's template id, which orders the cases as kTestPipelines does; doctest
+// keeps a templated case's name in m_full_name.
+template <Body body, std::size_t... slots>
+int registerCases(Registered which, const char* name, const char* file, unsigned line,
+                  const doctest::detail::TestSuite& suite, std::index_sequence<slots...>) {
+    const std::vector<std::string> built = availableBackends();
+    const auto add = [&](std::size_t slot, doctest::detail::funcType test) {
+        const TestPipeline& p = kTestPipelines[slot];
+        const bool selected = which == Registered::EveryPipeline || std::string(p.kind) == "opencl";
+        if (!selected || std::find(built.begin(), built.end(), p.kind) == built.end()) return;
+        doctest::detail::TestCase testCase(test, file, line, suite, doctest::String(), static_cast<int>(slot));
+        testCase.m_full_name = (std::string(name) + " [" + p.label + "]").c_str();
+        testCase.m_name = testCase.m_full_name.c_str();
+        doctest::detail::regTest(testCase);
+    };
+    (add(slots, &runOn<body, slots>), ...);
+    return 0;
 }
+
+}  // namespace registration
+
+}  // namespace carom::test
+
+// A test case registered once per backend and pipeline ("name [cpu]", "name
+// [opencl seed]", "name [opencl resident]"), so a failure names the one that
+// failed; the body gets the pipeline's BackendDef as `def`:
+//     CAROM_BACKEND_TEST_CASE("periodic: ...") { const Run r = run(def, world, particles, 100); ... }
+#define CAROM_BACKEND_TEST_CASE(name) CAROM_REGISTERED_TEST_CASE_(EveryPipeline, name, DOCTEST_ANONYMOUS(CAROM_CASE_))
+// The same for the OpenCL pipelines only: comparisons of OpenCL against the CPU.
+#define CAROM_OPENCL_TEST_CASE(name) CAROM_REGISTERED_TEST_CASE_(OpenClPipelines, name, DOCTEST_ANONYMOUS(CAROM_CASE_))
+
+#define CAROM_REGISTERED_TEST_CASE_(which, name, body)                                                           \
+    static void body(const ::carom::BackendDef& def);                                                            \
+    DOCTEST_GLOBAL_NO_WARNINGS(DOCTEST_ANONYMOUS(CAROM_REGISTRATION_),                                          \
+                               ::carom::test::registration::registerCases<body>(                                 \
+                                   ::carom::test::Registered::which, name, __FILE__, __LINE__,                   \
+                                   doctest_detail_test_suite_ns::getCurrentTestSuite(),                          \
+                                   std::make_index_sequence<std::size(::carom::test::kTestPipelines)>()))        \
+    static void body(const ::carom::BackendDef& def)
+
+namespace carom::test {
 
 inline Particle disk(float x, float y, float vx, float vy, float mass = 1.0f, float radius = 1.0f) {
     Particle p{};
@@ -82,10 +132,10 @@ inline Run run(const BackendDef& def, const WorldDef& world, const std::vector<P
 }
 
 // Runs `steps` steps of `particles` on a fresh backend and returns the result.
-inline std::vector<Particle> simulate(const std::string& kind, const WorldDef& world,
+inline std::vector<Particle> simulate(const BackendDef& def, const WorldDef& world,
                                       const std::vector<Particle>& particles, std::uint64_t steps,
                                       std::uint64_t* collisions = nullptr, ContactTotals* contacts = nullptr) {
-    Run r = run(testBackendDef(kind), world, particles, steps);
+    Run r = run(def, world, particles, steps);
     if (collisions) *collisions = r.contacts.collisions;
     if (contacts) *contacts = r.contacts;
     return std::move(r.particles);

@@ -1,6 +1,5 @@
 // Checkpoints: a resumed run continues bit for bit, on each backend and
 // across backends; damaged files are refused with a message, never a crash.
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -27,9 +26,9 @@ bool sameBits(const std::vector<Particle>& a, const std::vector<Particle>& b) {
     return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Particle)) == 0;
 }
 
-// Runs `steps` steps of `start` on `kind` and checkpoints the result.
-Checkpoint runAndCheckpoint(const std::string& kind, const Checkpoint& start, std::uint64_t steps) {
-    auto backend = makeTestBackend(kind, start.world);
+// Runs `steps` steps of `start` on backend `def` and checkpoints the result.
+Checkpoint runAndCheckpoint(const BackendDef& def, const Checkpoint& start, std::uint64_t steps) {
+    auto backend = makeBackend(def, start.world);
     backend->setParticles(start.particles);
     backend->step(steps);
     Checkpoint end;
@@ -51,14 +50,14 @@ std::string small() {
     return encodeCheckpoint(c);
 }
 
-// 2N steps in one run equal N steps, a checkpoint and N resumed, on `kind`.
-void checkResumeBitForBit(const std::string& kind, const Scenario& scenario, std::uint64_t half) {
+// 2N steps in one run equal N steps, a checkpoint and N resumed, on backend `def`.
+void checkResumeBitForBit(const BackendDef& def, const Scenario& scenario, std::uint64_t half) {
     const Checkpoint start{scenario.world, 0, 0.0, 0, scenario.particles, std::nullopt};
-    const Checkpoint whole = runAndCheckpoint(kind, start, 2 * half);
-    writeCheckpoint("half.ckpt", runAndCheckpoint(kind, start, half));
+    const Checkpoint whole = runAndCheckpoint(def, start, 2 * half);
+    writeCheckpoint("half.ckpt", runAndCheckpoint(def, start, half));
     const Checkpoint halfway = readCheckpoint("half.ckpt");
     CHECK(halfway.world.collisions == scenario.world.collisions);
-    const Checkpoint resumed = runAndCheckpoint(kind, halfway, half);
+    const Checkpoint resumed = runAndCheckpoint(def, halfway, half);
     CHECK(resumed.step == 2 * half);
     CHECK(resumed.time == whole.time);
     CHECK(resumed.collisions == whole.collisions);
@@ -96,18 +95,14 @@ TEST_CASE("checkpoint: every field reads back bit for bit") {
     std::remove("roundtrip.ckpt");
 }
 
-TEST_CASE("checkpoint: 2000 steps in one run equal 1000, a checkpoint and 1000 resumed, on each backend") {
-    const Scenario scenario = polydisperseScenario();
-    for (const std::string& kind : backendKinds()) {
-        CAPTURE(kind);
-        checkResumeBitForBit(kind, scenario, 1000);
-    }
+CAROM_BACKEND_TEST_CASE("checkpoint: 2000 steps in one run equal 1000, a checkpoint and 1000 resumed") {
+    checkResumeBitForBit(def, polydisperseScenario(), 1000);
 }
 
 TEST_CASE("checkpoint: 400 pairwise steps equal 200, a checkpoint and 200 resumed with the same scheme (CPU)") {
     Scenario scenario = polydisperseScenario();
     scenario.world.collisions = CollisionScheme::Pairwise;
-    checkResumeBitForBit("cpu", scenario, 200);
+    checkResumeBitForBit(testBackendDef("cpu"), scenario, 200);
 }
 
 TEST_CASE("checkpoint: a version-1 file (before the collision schemes) reads as the simultaneous scheme") {
@@ -160,21 +155,17 @@ TEST_CASE("checkpoint: a version-1 file (before the collision schemes) reads as 
     CHECK(errorOf(bytes.substr(0, 70)).find("shorter than the 72-byte header") != std::string::npos);
 }
 
-TEST_CASE("checkpoint: a run resumed on another backend continues bit for bit where the backends agree") {
-    const auto kinds = backendKinds();
-    if (std::find(kinds.begin(), kinds.end(), "opencl") == kinds.end()) {
-        MESSAGE("this build has no OpenCL backend: nothing to compare");
-        return;
-    }
+CAROM_OPENCL_TEST_CASE("checkpoint: a run resumed on another backend continues bit for bit where the backends agree") {
     const Scenario scenario = polydisperseScenario();
-    if (!makeTestBackend("opencl", scenario.world)->exactArithmetic()) {
+    if (!makeBackend(def, scenario.world)->exactArithmetic()) {
         MESSAGE("the OpenCL device lacks correctly rounded divide/sqrt: the backends do not agree bitwise");
         return;
     }
+    const BackendDef cpu = testBackendDef("cpu");
     const Checkpoint start{scenario.world, 0, 0.0, 0, scenario.particles, std::nullopt};
-    const Checkpoint whole = runAndCheckpoint("cpu", start, 2000);
-    for (const auto& [first, second] : {std::pair{"cpu", "opencl"}, std::pair{"opencl", "cpu"}}) {
-        CAPTURE(first);
+    const Checkpoint whole = runAndCheckpoint(cpu, start, 2000);
+    for (const auto& [first, second] : {std::pair{cpu, def}, std::pair{def, cpu}}) {
+        CAPTURE(first.kind);
         writeCheckpoint("cross.ckpt", runAndCheckpoint(first, start, 1000));
         const Checkpoint resumed = runAndCheckpoint(second, readCheckpoint("cross.ckpt"), 1000);
         CHECK(resumed.collisions == whole.collisions);

@@ -1,14 +1,14 @@
-// CPU vs OpenCL, seed and resident pipelines, for both collision schemes:
-// bitwise identical trajectories and contact totals (collisions, virial, wall
-// impulses, substeps, late contacts, rounds) where the OpenCL device divides
-// and takes square roots correctly rounded (PoCL and NVIDIA do), with walls
-// and periodic boundaries, fixed and adaptive steps, under gravity.
+// CPU vs OpenCL, a test case for each OpenCL pipeline (seed, resident) and
+// scene, for both collision schemes: bitwise identical trajectories and
+// contact totals (collisions, virial, wall impulses, substeps, late contacts,
+// rounds) where the OpenCL device divides and takes square roots correctly
+// rounded (PoCL and NVIDIA do), with walls and periodic boundaries, fixed and
+// adaptive steps, under gravity.
 //
 // Fallback: on a device without correctly rounded divide/sqrt, rounding
 // differences grow chaotically, so the comparison drops to a tolerance of
 // 1e-3 (relative to the box) on positions over a horizon of 20 steps, and the
 // test says so.
-#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -20,13 +20,24 @@ using namespace carom::test;
 
 namespace {
 
-// One OpenCL run of the scene on the given pipeline, compared with the CPU run.
-void compareWithCpu(const std::string& pipeline, const WorldDef& world, const InitialState& s,
-                    std::uint64_t steps, const std::vector<Particle>& cpu, const ContactTotals& cpuContacts) {
-    auto opencl = makeBackend(testBackendDef("opencl", pipeline), world);
+// The scene on the CPU and on OpenCL pipeline `def`, compared. `rules` gives
+// dt, gravity, boundary and maxTravel; the box comes from the scene.
+void compareWithCpu(const BackendDef& def, const SceneDef& scene, WorldDef rules, std::uint64_t steps) {
+    const InitialState s = makeInitialState(scene);
+    WorldDef world = rules;
+    world.width = s.width;
+    world.height = s.height;
+    auto opencl = makeBackend(def, world);
     MESSAGE("OpenCL device: " << opencl->device());
-    const std::string scheme = collisionSchemeName(world.collisions);
-    CAPTURE(scheme);
+    if (!opencl->exactArithmetic()) {
+        MESSAGE("the device lacks correctly rounded divide/sqrt: comparing within 1e-3 over 20 steps, not bitwise");
+        steps = 20;
+    }
+    ContactTotals cpuContacts;
+    const std::vector<Particle> cpu =
+        simulate(testBackendDef("cpu"), world, s.particles, steps, nullptr, &cpuContacts);
+    REQUIRE_MESSAGE(measure(cpu, world).escaped == 0, "the CPU run itself went unstable: nothing meaningful to compare");
+
     opencl->setParticles(s.particles);
     opencl->step(steps);
     std::vector<Particle> gpu;
@@ -37,7 +48,7 @@ void compareWithCpu(const std::string& pipeline, const WorldDef& world, const In
         for (std::size_t i = 0; i < cpu.size(); ++i)
             if (std::memcmp(&cpu[i], &gpu[i], sizeof(Particle)) != 0) ++differing;
         CHECK_MESSAGE(differing == 0, differing << " of " << cpu.size() << " particles differ after " << steps
-                                                << " steps on the " << pipeline << " pipeline");
+                                                << " steps on the " << def.pipeline << " pipeline");
         // Each particle's float tally sums in the same order on both, and the
         // host adds them up in id order: the totals agree exactly.
         const ContactTotals& contacts = opencl->contacts();
@@ -54,29 +65,6 @@ void compareWithCpu(const std::string& pipeline, const WorldDef& world, const In
             CHECK(std::abs(cpu[i].position.y - gpu[i].position.y) < 1e-3f * world.height);
         }
     }
-}
-
-// The CPU run once, then both OpenCL pipelines against it. `rules` gives
-// dt, gravity, boundary and maxTravel; the box comes from the scene.
-void compareBackends(const SceneDef& scene, WorldDef rules, std::uint64_t steps) {
-    const auto kinds = backendKinds();
-    if (std::find(kinds.begin(), kinds.end(), "opencl") == kinds.end()) {
-        MESSAGE("this build has no OpenCL backend: nothing to compare");
-        return;
-    }
-    const InitialState s = makeInitialState(scene);
-    WorldDef world = rules;
-    world.width = s.width;
-    world.height = s.height;
-
-    if (!makeTestBackend("opencl", world)->exactArithmetic()) {
-        MESSAGE("the device lacks correctly rounded divide/sqrt: comparing within 1e-3 over 20 steps, not bitwise");
-        steps = 20;
-    }
-    ContactTotals cpuContacts;
-    const std::vector<Particle> cpu = simulate("cpu", world, s.particles, steps, nullptr, &cpuContacts);
-    REQUIRE_MESSAGE(measure(cpu, world).escaped == 0, "the CPU run itself went unstable: nothing meaningful to compare");
-    for (const char* pipeline : {"seed", "resident"}) compareWithCpu(pipeline, world, s, steps, cpu, cpuContacts);
 }
 
 WorldDef rules(CollisionScheme scheme, float dt, float2 gravity = {0, 0}, Boundary boundary = Boundary::Walls,
@@ -104,13 +92,13 @@ SceneDef gas(std::uint32_t particles, float packing, std::uint64_t seed) {
     return scene;
 }
 
-TEST_CASE("differential, simultaneous: CPU and OpenCL (seed and resident) agree bitwise, N = 10000 at packing 0.5 "
-          "over 1000 steps") {
-    compareBackends(gas(10000, 0.5f, 42), rules(kSimultaneous, 0.01f), 1000);
+CAROM_OPENCL_TEST_CASE(
+    "differential, simultaneous: CPU and OpenCL agree bitwise, N = 10000 at packing 0.5 over 1000 steps") {
+    compareWithCpu(def, gas(10000, 0.5f, 42), rules(kSimultaneous, 0.01f), 1000);
 }
 
-TEST_CASE("differential, simultaneous: a periodic box, N = 10000 at packing 0.5 over 1000 steps") {
-    compareBackends(gas(10000, 0.5f, 43), rules(kSimultaneous, 0.01f, {0, 0}, Boundary::Periodic), 1000);
+CAROM_OPENCL_TEST_CASE("differential, simultaneous: a periodic box, N = 10000 at packing 0.5 over 1000 steps") {
+    compareWithCpu(def, gas(10000, 0.5f, 43), rules(kSimultaneous, 0.01f, {0, 0}, Boundary::Periodic), 1000);
 }
 
 // Fast polydisperse disks in a periodic box, split into substeps.
@@ -127,8 +115,9 @@ SceneDef fastPolydisperse() {
     return scene;
 }
 
-TEST_CASE("differential, simultaneous: adaptive substeps (max travel 0.2), fast polydisperse disks in a periodic box") {
-    compareBackends(fastPolydisperse(), rules(kSimultaneous, 0.02f, {0, 0}, Boundary::Periodic, 0.2f), 100);
+CAROM_OPENCL_TEST_CASE(
+    "differential, simultaneous: adaptive substeps (max travel 0.2), fast polydisperse disks in a periodic box") {
+    compareWithCpu(def, fastPolydisperse(), rules(kSimultaneous, 0.02f, {0, 0}, Boundary::Periodic, 0.2f), 100);
 }
 
 // Polydisperse disks with unequal masses falling into a pile.
@@ -145,25 +134,26 @@ SceneDef polydisperseUnderGravity() {
     return scene;
 }
 
-TEST_CASE("differential, simultaneous: polydisperse disks with unequal masses under gravity") {
+CAROM_OPENCL_TEST_CASE("differential, simultaneous: polydisperse disks with unequal masses under gravity") {
     // dt small enough that the pile forming at the floor stays stable (at
     // dt = 0.01 the simultaneous scheme blows up here: ARCHITECTURE.md).
-    compareBackends(polydisperseUnderGravity(), rules(kSimultaneous, 0.002f, float2{0.5f, -3.0f}), 2000);
+    compareWithCpu(def, polydisperseUnderGravity(), rules(kSimultaneous, 0.002f, float2{0.5f, -3.0f}), 2000);
 }
 
-TEST_CASE("differential, pairwise: CPU and OpenCL (seed and resident) agree bitwise, N = 10000 at packing 0.5 over "
-          "500 steps") {
-    compareBackends(gas(10000, 0.5f, 42), rules(kPairwise, 0.01f), 500);
+CAROM_OPENCL_TEST_CASE(
+    "differential, pairwise: CPU and OpenCL agree bitwise, N = 10000 at packing 0.5 over 500 steps") {
+    compareWithCpu(def, gas(10000, 0.5f, 42), rules(kPairwise, 0.01f), 500);
 }
 
-TEST_CASE("differential, pairwise: a dense periodic box, N = 4000 at packing 0.7 over 500 steps") {
-    compareBackends(gas(4000, 0.7f, 44), rules(kPairwise, 0.01f, {0, 0}, Boundary::Periodic), 500);
+CAROM_OPENCL_TEST_CASE("differential, pairwise: a dense periodic box, N = 4000 at packing 0.7 over 500 steps") {
+    compareWithCpu(def, gas(4000, 0.7f, 44), rules(kPairwise, 0.01f, {0, 0}, Boundary::Periodic), 500);
 }
 
-TEST_CASE("differential, pairwise: fast polydisperse disks in a periodic box, with the grid's substeps") {
-    compareBackends(fastPolydisperse(), rules(kPairwise, 0.02f, {0, 0}, Boundary::Periodic), 100);
+CAROM_OPENCL_TEST_CASE("differential, pairwise: fast polydisperse disks in a periodic box, with the grid's substeps") {
+    compareWithCpu(def, fastPolydisperse(), rules(kPairwise, 0.02f, {0, 0}, Boundary::Periodic), 100);
 }
 
-TEST_CASE("differential, pairwise: polydisperse disks with unequal masses piling up under gravity at dt 0.01") {
-    compareBackends(polydisperseUnderGravity(), rules(kPairwise, 0.01f, float2{0.5f, -3.0f}), 1000);
+CAROM_OPENCL_TEST_CASE(
+    "differential, pairwise: polydisperse disks with unequal masses piling up under gravity at dt 0.01") {
+    compareWithCpu(def, polydisperseUnderGravity(), rules(kPairwise, 0.01f, float2{0.5f, -3.0f}), 1000);
 }

@@ -1,4 +1,4 @@
-// The pairwise scheme (kernels/pairwise.h) on every backend and pipeline:
+// The pairwise scheme (kernels/pairwise.h), once per backend and pipeline:
 // exact two-body collisions at their contact times, energy conserved at any
 // density and under gravity, bounded rounds on a resting pile, and the
 // rounds' bookkeeping against a naive reference.
@@ -83,110 +83,93 @@ std::vector<Particle> naivePairwise(std::vector<Particle> disks, const WorldDef&
 
 }  // namespace
 
-TEST_CASE("pairwise: head-on collisions at dt = 0.01 happen at the contact time, exactly") {
+CAROM_BACKEND_TEST_CASE("pairwise: head-on collisions at dt = 0.01 happen at the contact time, exactly") {
     struct Case {
         float m1, m2, v1, v2, x2, expected1, expected2;
     };
     // Contact at t = 0.5, mid-step; after t = 1 the positions follow from the
     // exact velocities: a time-stepped impulse would be off by up to v dt.
-    for (const BackendDef& def : backendPipelines()) {
-        for (const Case c : {Case{1, 3, 2, 0, 13.0f, -1, 1}, Case{3, 1, 1, 0, 12.5f, 0.5f, 1.5f}}) {
-            CAPTURE(describe(def));
-            CAPTURE(c.m1);
-            const std::vector<Particle> start = {disk(10, 10, c.v1, 0, c.m1), disk(c.x2, 10, c.v2, 0, c.m2)};
-            const Run r = run(def, pairwiseWorld(40, 20), start, 100);
-            const double contact = 10 + 0.5 * c.v1;  // disk 0's centre at the contact
-            CHECK(r.particles[0].velocity.x == doctest::Approx(c.expected1).epsilon(kEps));
-            CHECK(r.particles[1].velocity.x == doctest::Approx(c.expected2).epsilon(kEps));
-            CHECK(r.particles[0].position.x == doctest::Approx(contact + 0.5 * c.expected1).epsilon(kEps));
-            CHECK(r.particles[1].position.x == doctest::Approx(contact + 2 + 0.5 * c.expected2).epsilon(kEps));
-            CHECK(r.contacts.collisions == 1);
-            CHECK(r.contacts.lateContacts == 0);
-        }
+    for (const Case c : {Case{1, 3, 2, 0, 13.0f, -1, 1}, Case{3, 1, 1, 0, 12.5f, 0.5f, 1.5f}}) {
+        CAPTURE(c.m1);
+        const std::vector<Particle> start = {disk(10, 10, c.v1, 0, c.m1), disk(c.x2, 10, c.v2, 0, c.m2)};
+        const Run r = run(def, pairwiseWorld(40, 20), start, 100);
+        const double contact = 10 + 0.5 * c.v1;  // disk 0's centre at the contact
+        CHECK(r.particles[0].velocity.x == doctest::Approx(c.expected1).epsilon(kEps));
+        CHECK(r.particles[1].velocity.x == doctest::Approx(c.expected2).epsilon(kEps));
+        CHECK(r.particles[0].position.x == doctest::Approx(contact + 0.5 * c.expected1).epsilon(kEps));
+        CHECK(r.particles[1].position.x == doctest::Approx(contact + 2 + 0.5 * c.expected2).epsilon(kEps));
+        CHECK(r.contacts.collisions == 1);
+        CHECK(r.contacts.lateContacts == 0);
     }
 }
 
-TEST_CASE("pairwise: equal masses, impact parameter sigma/2, from apart at dt = 0.01") {
+CAROM_BACKEND_TEST_CASE("pairwise: equal masses, impact parameter sigma/2, from apart at dt = 0.01") {
     // The target sits 1 below the line of flight: at contact the line of
     // centres points 30 degrees down, so the target leaves at 0.866 v at -30
     // degrees and the projectile at 0.5 v at +60.
-    for (const BackendDef& def : backendPipelines()) {
-        CAPTURE(describe(def));
-        const std::vector<Particle> start = {disk(10, 10, 1, 0), disk(15, 9, 0, 0)};
-        const Run r = run(def, pairwiseWorld(40, 20), start, 500);
-        CHECK(speed(r.particles[1]) == doctest::Approx(std::sqrt(3.0) / 2).epsilon(kEps));
-        CHECK(angleDegrees(r.particles[1]) == doctest::Approx(-30.0).epsilon(kEps));
-        CHECK(speed(r.particles[0]) == doctest::Approx(0.5).epsilon(kEps));
-        CHECK(angleDegrees(r.particles[0]) == doctest::Approx(60.0).epsilon(kEps));
-        // Contact at x = 15 - sqrt(3), t = 5 - sqrt(3); the target then flies for sqrt(3).
-        const double flight = std::sqrt(3.0);
-        CHECK(r.particles[1].position.x == doctest::Approx(15 + 0.75 * flight).epsilon(kEps));
-        CHECK(r.particles[1].position.y == doctest::Approx(9 - std::sqrt(3.0) / 4 * flight).epsilon(kEps));
-    }
+    const std::vector<Particle> start = {disk(10, 10, 1, 0), disk(15, 9, 0, 0)};
+    const Run r = run(def, pairwiseWorld(40, 20), start, 500);
+    CHECK(speed(r.particles[1]) == doctest::Approx(std::sqrt(3.0) / 2).epsilon(kEps));
+    CHECK(angleDegrees(r.particles[1]) == doctest::Approx(-30.0).epsilon(kEps));
+    CHECK(speed(r.particles[0]) == doctest::Approx(0.5).epsilon(kEps));
+    CHECK(angleDegrees(r.particles[0]) == doctest::Approx(60.0).epsilon(kEps));
+    // Contact at x = 15 - sqrt(3), t = 5 - sqrt(3); the target then flies for sqrt(3).
+    const double flight = std::sqrt(3.0);
+    CHECK(r.particles[1].position.x == doctest::Approx(15 + 0.75 * flight).epsilon(kEps));
+    CHECK(r.particles[1].position.y == doctest::Approx(9 - std::sqrt(3.0) / 4 * flight).epsilon(kEps));
 }
 
-TEST_CASE("pairwise: a disk between walls bounces with period 2 (L - 2r) / |v|") {
-    for (const BackendDef& def : backendPipelines()) {
-        CAPTURE(describe(def));
-        // L = 8, r = 1, v = 3: period 4 = 400 steps, back where it started
-        // (to the rounding of 400 float steps of 0.03 each, about 1e-4).
-        const Run r = run(def, pairwiseWorld(8, 4), {disk(2, 2, 3, 0)}, 400);
-        CHECK(r.particles[0].velocity.x == 3.0f);
-        CHECK(r.particles[0].position.x == doctest::Approx(2.0).epsilon(1e-4));
-        // Half a period in, it has bounced off the right wall (at x = 7) and
-        // is at x = 6, moving left.
-        const Run half = run(def, pairwiseWorld(8, 4), {disk(2, 2, 3, 0)}, 200);
-        CHECK(half.particles[0].velocity.x == -3.0f);
-        CHECK(half.particles[0].position.x == doctest::Approx(6.0).epsilon(1e-4));
-        CHECK(half.contacts.wallImpulse[1] == doctest::Approx(6.0));  // one bounce off the right wall: 2 m v
-    }
+CAROM_BACKEND_TEST_CASE("pairwise: a disk between walls bounces with period 2 (L - 2r) / |v|") {
+    // L = 8, r = 1, v = 3: period 4 = 400 steps, back where it started
+    // (to the rounding of 400 float steps of 0.03 each, about 1e-4).
+    const Run r = run(def, pairwiseWorld(8, 4), {disk(2, 2, 3, 0)}, 400);
+    CHECK(r.particles[0].velocity.x == 3.0f);
+    CHECK(r.particles[0].position.x == doctest::Approx(2.0).epsilon(1e-4));
+    // Half a period in, it has bounced off the right wall (at x = 7) and
+    // is at x = 6, moving left.
+    const Run half = run(def, pairwiseWorld(8, 4), {disk(2, 2, 3, 0)}, 200);
+    CHECK(half.particles[0].velocity.x == -3.0f);
+    CHECK(half.particles[0].position.x == doctest::Approx(6.0).epsilon(1e-4));
+    CHECK(half.contacts.wallImpulse[1] == doctest::Approx(6.0));  // one bounce off the right wall: 2 m v
 }
 
-TEST_CASE("pairwise: Newton's cradle at dt = 0.01: the striker stops and the last disk leaves") {
-    for (const BackendDef& def : backendPipelines()) {
-        CAPTURE(describe(def));
-        std::vector<Particle> start = {disk(16, 5, 2, 0)};
-        for (float x : {20.0f, 22.0f, 24.0f, 26.0f, 28.0f}) start.push_back(disk(x, 5, 0, 0));
-        const Run r = run(def, pairwiseWorld(60, 10), start, 200);
-        for (std::size_t i = 0; i + 1 < start.size(); ++i) CHECK(std::abs(r.particles[i].velocity.x) < kEps);
-        CHECK(r.particles.back().velocity.x == doctest::Approx(2.0).epsilon(kEps));
-        CHECK(r.contacts.collisions == 5);
-    }
+CAROM_BACKEND_TEST_CASE("pairwise: Newton's cradle at dt = 0.01: the striker stops and the last disk leaves") {
+    std::vector<Particle> start = {disk(16, 5, 2, 0)};
+    for (float x : {20.0f, 22.0f, 24.0f, 26.0f, 28.0f}) start.push_back(disk(x, 5, 0, 0));
+    const Run r = run(def, pairwiseWorld(60, 10), start, 200);
+    for (std::size_t i = 0; i + 1 < start.size(); ++i) CHECK(std::abs(r.particles[i].velocity.x) < kEps);
+    CHECK(r.particles.back().velocity.x == doctest::Approx(2.0).epsilon(kEps));
+    CHECK(r.contacts.collisions == 5);
 }
 
-TEST_CASE("pairwise: an overlapping, approaching pair is a late contact: impulse, pushed to contact, counted") {
-    for (const BackendDef& def : backendPipelines()) {
-        CAPTURE(describe(def));
-        const Run r = run(def, pairwiseWorld(40, 20), {disk(10, 10, 1, 0), disk(11.5f, 10, -1, 0)}, 1);
-        CHECK(r.contacts.lateContacts == 1);
-        CHECK(r.contacts.collisions == 1);
-        CHECK(r.particles[0].velocity.x == -1.0f);
-        CHECK(r.particles[1].velocity.x == 1.0f);
-        // Pushed to contact (2 apart), then flown apart for the whole step.
-        CHECK(r.particles[1].position.x - r.particles[0].position.x == doctest::Approx(2.02).epsilon(kEps));
-    }
+CAROM_BACKEND_TEST_CASE(
+    "pairwise: an overlapping, approaching pair is a late contact: impulse, pushed to contact, counted") {
+    const Run r = run(def, pairwiseWorld(40, 20), {disk(10, 10, 1, 0), disk(11.5f, 10, -1, 0)}, 1);
+    CHECK(r.contacts.lateContacts == 1);
+    CHECK(r.contacts.collisions == 1);
+    CHECK(r.particles[0].velocity.x == -1.0f);
+    CHECK(r.particles[1].velocity.x == 1.0f);
+    // Pushed to contact (2 apart), then flown apart for the whole step.
+    CHECK(r.particles[1].position.x - r.particles[0].position.x == doctest::Approx(2.02).epsilon(kEps));
 }
 
-TEST_CASE("pairwise: kinetic energy is conserved to rounding in a dense gas (packing 0.7)") {
+CAROM_BACKEND_TEST_CASE("pairwise: kinetic energy is conserved to rounding in a dense gas (packing 0.7)") {
     SceneDef scene;
     scene.particles = 2000;
     scene.packing = 0.7f;
     scene.seed = 3;
     const InitialState s = makeInitialState(scene);
-    for (const BackendDef& def : backendPipelines()) {
-        CAPTURE(describe(def));
-        for (Boundary boundary : {Boundary::Walls, Boundary::Periodic}) {
-            CAPTURE(std::string(boundaryName(boundary)));
-            const WorldDef world = pairwiseWorld(s.width, s.height, 0.01f, {0, 0}, boundary);
-            const Run r = run(def, world, s.particles, 300);
-            const double before = measure(s.particles, world).kineticEnergy;
-            const Diagnostics after = measure(r.particles, world);
-            // The seed's simultaneous scheme gains several percent here.
-            CHECK(std::abs(after.kineticEnergy - before) / before < 1e-6);
-            CHECK(after.escaped == 0);
-            CHECK(r.contacts.collisions > 2000);
-            CHECK(r.contacts.lateContacts * 1000 < r.contacts.collisions);
-        }
+    for (Boundary boundary : {Boundary::Walls, Boundary::Periodic}) {
+        CAPTURE(std::string(boundaryName(boundary)));
+        const WorldDef world = pairwiseWorld(s.width, s.height, 0.01f, {0, 0}, boundary);
+        const Run r = run(def, world, s.particles, 300);
+        const double before = measure(s.particles, world).kineticEnergy;
+        const Diagnostics after = measure(r.particles, world);
+        // The seed's simultaneous scheme gains several percent here.
+        CHECK(std::abs(after.kineticEnergy - before) / before < 1e-6);
+        CHECK(after.escaped == 0);
+        CHECK(r.contacts.collisions > 2000);
+        CHECK(r.contacts.lateContacts * 1000 < r.contacts.collisions);
     }
 }
 
@@ -210,7 +193,7 @@ TEST_CASE("pairwise: momentum is conserved to rounding in a periodic box") {
     CHECK(std::abs(after.kineticEnergy - before.kineticEnergy) / before.kineticEnergy < 1e-6);
 }
 
-TEST_CASE("pairwise: kinetic plus potential energy is conserved as polydisperse disks fall into a pile") {
+CAROM_BACKEND_TEST_CASE("pairwise: kinetic plus potential energy is conserved as polydisperse disks fall into a pile") {
     SceneDef scene;
     scene.particles = 600;
     scene.packing = 0.4f;
@@ -220,36 +203,30 @@ TEST_CASE("pairwise: kinetic plus potential energy is conserved as polydisperse 
     scene.massMax = 5.0f;
     scene.seed = 8;
     const InitialState s = makeInitialState(scene);
-    for (const BackendDef& def : backendPipelines()) {
-        CAPTURE(describe(def));
-        const WorldDef world = pairwiseWorld(s.width, s.height, 0.01f, {0.0f, -10.0f});
-        const Run r = run(def, world, s.particles, 300);
-        const Diagnostics before = measure(s.particles, world), after = measure(r.particles, world);
-        CHECK(after.kineticEnergy > 10 * before.kineticEnergy);  // they fell
-        CHECK(std::abs(after.totalEnergy() - before.totalEnergy()) / before.totalEnergy() < 1e-4);
-        CHECK(after.escaped == 0);
-        CHECK(r.contacts.maxRounds <= kMaxPairwiseRounds);
-    }
+    const WorldDef world = pairwiseWorld(s.width, s.height, 0.01f, {0.0f, -10.0f});
+    const Run r = run(def, world, s.particles, 300);
+    const Diagnostics before = measure(s.particles, world), after = measure(r.particles, world);
+    CHECK(after.kineticEnergy > 10 * before.kineticEnergy);  // they fell
+    CHECK(std::abs(after.totalEnergy() - before.totalEnergy()) / before.totalEnergy() < 1e-4);
+    CHECK(after.escaped == 0);
+    CHECK(r.contacts.maxRounds <= kMaxPairwiseRounds);
 }
 
-TEST_CASE("pairwise: a stack resting on the floor under gravity stays put, with bounded rounds") {
+CAROM_BACKEND_TEST_CASE("pairwise: a stack resting on the floor under gravity stays put, with bounded rounds") {
     // Touching disks at rest, pressed down by gravity: no impact to resolve,
     // and no round may loop on the contacts.
     std::vector<Particle> start;
     for (int row = 0; row < 5; ++row)
         for (int column = 0; column < 8; ++column) start.push_back(disk(1.0f + 2.0f * column, 1.0f + 2.0f * row, 0, 0));
-    for (const BackendDef& def : backendPipelines()) {
-        CAPTURE(describe(def));
-        const WorldDef world = pairwiseWorld(16, 40, 0.01f, {0.0f, -10.0f});
-        const Run r = run(def, world, start, 100);
-        const Diagnostics before = measure(start, world), after = measure(r.particles, world);
-        CHECK(r.contacts.maxRounds <= kMaxPairwiseRounds);
-        CHECK(after.escaped == 0);
-        CHECK(std::abs(after.totalEnergy() - before.totalEnergy()) / before.totalEnergy() < 1e-4);
-        for (std::size_t i = 0; i < start.size(); ++i) {
-            CHECK(std::abs(r.particles[i].position.y - start[i].position.y) < 0.01f);
-            CHECK(std::abs(r.particles[i].position.x - start[i].position.x) < 0.01f);
-        }
+    const WorldDef world = pairwiseWorld(16, 40, 0.01f, {0.0f, -10.0f});
+    const Run r = run(def, world, start, 100);
+    const Diagnostics before = measure(start, world), after = measure(r.particles, world);
+    CHECK(r.contacts.maxRounds <= kMaxPairwiseRounds);
+    CHECK(after.escaped == 0);
+    CHECK(std::abs(after.totalEnergy() - before.totalEnergy()) / before.totalEnergy() < 1e-4);
+    for (std::size_t i = 0; i < start.size(); ++i) {
+        CHECK(std::abs(r.particles[i].position.y - start[i].position.y) < 0.01f);
+        CHECK(std::abs(r.particles[i].position.x - start[i].position.x) < 0.01f);
     }
 }
 
