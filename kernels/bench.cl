@@ -1,6 +1,7 @@
-/* Kernels for `carom bench` only: the all-pairs baseline and the copy that
- * measures the device's memory bandwidth. */
-#include "physics.h"
+/* The program of `carom bench` (embedded into the carom_bench library only):
+ * the all-pairs baseline, with step.cl's integrate and maxSpeedSquared, and
+ * the copy that measures the device's memory bandwidth. */
+#include "step.cl"
 
 /* resolveCollisions against every other particle, O(N^2); integrate follows
  * as in the seed pipeline. */
