@@ -132,14 +132,15 @@ void Backend::requireFinite() const {
 
 void Backend::recordRounds(unsigned int rounds) { totals_.maxRounds = std::max(totals_.maxRounds, rounds); }
 
-CaromPairwiseStep Backend::pairwiseStep(float dt) const {
-    CaromPairwiseStep step;
+CaromStepParams Backend::stepParams(float dt) const {
+    CaromStepParams step;
     step.grid = grid_.geometry;
     step.box = caromBoxOf(world_);
     step.gravityX = world_.gravity.x;
     step.gravityY = world_.gravity.y;
     step.duration = dt;
     step.tolerance = carom_rounding_tolerance(step.box);
+    step.count = static_cast<unsigned int>(particleCount_);
     return step;
 }
 

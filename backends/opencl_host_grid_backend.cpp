@@ -65,17 +65,14 @@ void OpenClHostGridBackend::uploadGrid() {
 
 void OpenClHostGridBackend::stepSimultaneous(float dt) {
     const cl_uint count = static_cast<cl_uint>(particleCount_);
-    const GridGeometry& g = grid_.geometry;
-    const cl_int periodic = caromBoxOf(world_).periodic;
+    const CaromStepParams step = stepParams(dt);
     cl_command_queue queue = queue_.get();
     Profiler* profiler = profiler_.get();
     uploadGrid();
-    setKernelArgs(resolveKernel_.get(), state_.get(), sortedIndices_.get(), cells_.get(), g.cellsPerLengthX,
-                  g.cellsPerLengthY, g.cols, g.rows, count, world_.width, world_.height, periodic, next_.get(),
+    setKernelArgs(resolveKernel_.get(), state_.get(), sortedIndices_.get(), cells_.get(), step, next_.get(),
                   tallies_.get());
     enqueue1d(queue, resolveKernel_.get(), count, workGroupSize_, "resolveCollisions", profiler);
-    setKernelArgs(integrateKernel_.get(), next_.get(), count, dt, world_.gravity.x, world_.gravity.y, world_.width,
-                  world_.height, periodic, tallies_.get(), nextStepIndex(), firstNonFinite_.get());
+    setKernelArgs(integrateKernel_.get(), next_.get(), step, tallies_.get(), nextStepIndex(), firstNonFinite_.get());
     enqueue1d(queue, integrateKernel_.get(), count, workGroupSize_, "integrate", profiler);
     enqueueNonFiniteRead();
     check(clEnqueueReadBuffer(queue, next_.get(), CL_TRUE, 0, count * sizeof(Particle), hostState_.data(), 0,
@@ -90,14 +87,13 @@ void OpenClHostGridBackend::stepSimultaneous(float dt) {
 void OpenClHostGridBackend::stepPairwise(float dt) {
     const cl_uint count = static_cast<cl_uint>(particleCount_);
     cl_command_queue queue = queue_.get();
-    const CaromPairwiseStep step = pairwiseStep(dt);
+    const CaromStepParams step = stepParams(dt);
     uploadGrid();
     pairwise_.enqueueStep(queue, {state_.get(), sortedIndices_.get(), sortedIndices_.get(), cellOf_.get(),
                                   cells_.get(), tallies_.get()},
                           step);
     recordRounds(pairwise_.complete(queue).rounds);
-    setKernelArgs(finishByIdKernel_.get(), state_.get(), step, count, tallies_.get(), nextStepIndex(),
-                  firstNonFinite_.get());
+    setKernelArgs(finishByIdKernel_.get(), state_.get(), step, tallies_.get(), nextStepIndex(), firstNonFinite_.get());
     enqueue1d(queue, finishByIdKernel_.get(), count, workGroupSize_, "finishStepById", profiler_.get());
     enqueueNonFiniteRead();
     check(clEnqueueReadBuffer(queue, state_.get(), CL_TRUE, 0, count * sizeof(Particle), hostState_.data(), 0,

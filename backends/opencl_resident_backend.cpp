@@ -66,16 +66,13 @@ void OpenClResidentBackend::enqueueStep(float dt) {
 }
 
 void OpenClResidentBackend::stepSimultaneous(float dt) {
-    const cl_uint count = static_cast<cl_uint>(particleCount_);
-    const GridGeometry& g = grid_.geometry;
+    const CaromStepParams step = stepParams(dt);
     deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get());
     // next_ receives the new state in this step's cell order: slot k holds particle sortedIds_[k].
     setKernelArgs(fusedKernel_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), deviceGrid_.cells(),
-                  g.cellsPerLengthX, g.cellsPerLengthY, g.cols, g.rows, count, dt, world_.gravity.x,
-                  world_.gravity.y, world_.width, world_.height, caromBoxOf(world_).periodic, next_.get(),
-                  tallies_.get(), deviceGrid_.nextCounts(), deviceGrid_.cellOf(), deviceGrid_.rankInCell(),
-                  nextStepIndex(), firstNonFinite_.get());
-    enqueue1d(queue_.get(), fusedKernel_.get(), count, workGroupSize_, "resolveIntegrateAndCount", profiler_.get());
+                  step, next_.get(), tallies_.get(), deviceGrid_.nextCounts(), deviceGrid_.cellOf(),
+                  deviceGrid_.rankInCell(), nextStepIndex(), firstNonFinite_.get());
+    enqueue1d(queue_.get(), fusedKernel_.get(), step.count, workGroupSize_, "resolveIntegrateAndCount", profiler_.get());
     std::swap(state_, next_);
     std::swap(ids_, sortedIds_);
     deviceGrid_.advance();
@@ -89,7 +86,7 @@ void OpenClResidentBackend::stepSimultaneous(float dt) {
 void OpenClResidentBackend::stepPairwise(float dt) {
     confirmStep();
     if (nonFinite()) return;
-    const CaromPairwiseStep step = pairwiseStep(dt);
+    const CaromStepParams step = stepParams(dt);
     deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get());
     pairwise_.enqueueStep(queue_.get(), {state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), deviceGrid_.cellOf(),
                                          deviceGrid_.cells(), tallies_.get()},
@@ -103,21 +100,20 @@ void OpenClResidentBackend::stepPairwise(float dt) {
 
 // The kernel records a disk left non-finite in the pairwise lengths, which
 // confirmStep reads anyway.
-void OpenClResidentBackend::enqueuePairwiseFinish(const CaromPairwiseStep& step, cl_uint stepIndex) {
-    const cl_uint count = static_cast<cl_uint>(particleCount_);
-    setKernelArgs(finishAndCountKernel_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), step, count,
+void OpenClResidentBackend::enqueuePairwiseFinish(const CaromStepParams& step, cl_uint stepIndex) {
+    setKernelArgs(finishAndCountKernel_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), step,
                   next_.get(), tallies_.get(), deviceGrid_.nextCounts(), deviceGrid_.cellOf(),
                   deviceGrid_.rankInCell());
-    setLocalArg(finishAndCountKernel_.get(), 10, reductionGroupSize_ * sizeof(cl_float));
+    setLocalArg(finishAndCountKernel_.get(), 9, reductionGroupSize_ * sizeof(cl_float));
     const cl_mem speedBits = speedBits_.get(), lengths = pairwise_.lengths();
     const cl_uint parity = speedParity_, condition = pairwise_.finishCondition();
-    check(clSetKernelArg(finishAndCountKernel_.get(), 11, sizeof(cl_mem), &speedBits), "clSetKernelArg");
-    check(clSetKernelArg(finishAndCountKernel_.get(), 12, sizeof(cl_uint), &parity), "clSetKernelArg");
-    check(clSetKernelArg(finishAndCountKernel_.get(), 13, sizeof(cl_mem), &lengths), "clSetKernelArg");
-    check(clSetKernelArg(finishAndCountKernel_.get(), 14, sizeof(cl_uint), &condition), "clSetKernelArg");
+    check(clSetKernelArg(finishAndCountKernel_.get(), 10, sizeof(cl_mem), &speedBits), "clSetKernelArg");
+    check(clSetKernelArg(finishAndCountKernel_.get(), 11, sizeof(cl_uint), &parity), "clSetKernelArg");
+    check(clSetKernelArg(finishAndCountKernel_.get(), 12, sizeof(cl_mem), &lengths), "clSetKernelArg");
+    check(clSetKernelArg(finishAndCountKernel_.get(), 13, sizeof(cl_uint), &condition), "clSetKernelArg");
     const cl_uint nonFiniteIndex = DevicePairwise::nonFiniteIndex();
-    check(clSetKernelArg(finishAndCountKernel_.get(), 15, sizeof(cl_uint), &stepIndex), "clSetKernelArg");
-    check(clSetKernelArg(finishAndCountKernel_.get(), 16, sizeof(cl_uint), &nonFiniteIndex), "clSetKernelArg");
+    check(clSetKernelArg(finishAndCountKernel_.get(), 14, sizeof(cl_uint), &stepIndex), "clSetKernelArg");
+    check(clSetKernelArg(finishAndCountKernel_.get(), 15, sizeof(cl_uint), &nonFiniteIndex), "clSetKernelArg");
     enqueue1d(queue_.get(), finishAndCountKernel_.get(), finishItems_, reductionGroupSize_, "finishPairwiseAndCount",
               profiler_.get());
 }

@@ -37,7 +37,7 @@ private:
     float maxSpeedSquared() override;
     void stepSimultaneous(float dt);
     void stepPairwise(float dt);
-    void enqueuePairwiseFinish(const CaromPairwiseStep& step, cl_uint stepIndex);
+    void enqueuePairwiseFinish(const CaromStepParams& step, cl_uint stepIndex);
 
     opencl::Kernel fusedKernel_;           // resolveIntegrateAndCount
     opencl::Kernel finishAndCountKernel_;  // pairwise: finishPairwiseAndCount

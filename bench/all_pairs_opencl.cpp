@@ -18,14 +18,11 @@ AllPairsOpenClBackend::AllPairsOpenClBackend(const WorldDef& world, const std::s
 }
 
 void AllPairsOpenClBackend::enqueueStep(float dt) {
-    const cl_uint count = static_cast<cl_uint>(particleCount_);
-    const cl_int periodic = caromBoxOf(world_).periodic;
-    setKernelArgs(allPairsKernel_.get(), state_.get(), count, world_.width, world_.height, periodic, next_.get(),
-                  tallies_.get());
-    enqueue1d(queue_.get(), allPairsKernel_.get(), count, workGroupSize_, "resolveAllPairs", profiler_.get());
-    setKernelArgs(integrateKernel_.get(), next_.get(), count, dt, world_.gravity.x, world_.gravity.y, world_.width,
-                  world_.height, periodic, tallies_.get(), nextStepIndex(), firstNonFinite_.get());
-    enqueue1d(queue_.get(), integrateKernel_.get(), count, workGroupSize_, "integrate", profiler_.get());
+    const CaromStepParams step = stepParams(dt);
+    setKernelArgs(allPairsKernel_.get(), state_.get(), step, next_.get(), tallies_.get());
+    enqueue1d(queue_.get(), allPairsKernel_.get(), step.count, workGroupSize_, "resolveAllPairs", profiler_.get());
+    setKernelArgs(integrateKernel_.get(), next_.get(), step, tallies_.get(), nextStepIndex(), firstNonFinite_.get());
+    enqueue1d(queue_.get(), integrateKernel_.get(), step.count, workGroupSize_, "integrate", profiler_.get());
     std::swap(state_, next_);
 }
 
