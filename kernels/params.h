@@ -2,9 +2,9 @@
  * (like particle.h, compiled by both): every kernel of a (sub)step takes one
  * CaromStepParams by value (an OpenCL C 1.2 struct argument) instead of a
  * list of scalars, and the CPU backend passes the same struct to the
- * functions of physics.h and pairwise.h. Every field is 4 bytes wide, so the
- * host and the device lay the structs out alike; the static_asserts at the
- * end check it on the host. */
+ * pairwise scheme's functions (pairwise.h). Every field is 4 bytes wide, so
+ * the host and the device lay the structs out alike; the static_asserts at
+ * the end check it on the host. */
 #ifndef CAROM_PARAMS_H
 #define CAROM_PARAMS_H
 
