@@ -10,7 +10,8 @@
 #include "backends/event_driven_backend.h"
 #include "kernels/physics.h"
 #ifdef CAROM_HAVE_OPENCL
-#include "backends/opencl_backend.h"
+#include "backends/opencl_host_grid_backend.h"
+#include "backends/opencl_resident_backend.h"
 #endif
 
 namespace carom {
@@ -131,14 +132,15 @@ void Backend::requireFinite() const {
 
 void Backend::recordRounds(unsigned int rounds) { totals_.maxRounds = std::max(totals_.maxRounds, rounds); }
 
-CaromPairwiseStep Backend::pairwiseStep(float dt) const {
-    CaromPairwiseStep step;
+CaromStepParams Backend::stepParams(float dt) const {
+    CaromStepParams step;
     step.grid = grid_.geometry;
     step.box = caromBoxOf(world_);
     step.gravityX = world_.gravity.x;
     step.gravityY = world_.gravity.y;
     step.duration = dt;
     step.tolerance = carom_rounding_tolerance(step.box);
+    step.count = static_cast<unsigned int>(particleCount_);
     return step;
 }
 
@@ -218,7 +220,11 @@ std::unique_ptr<Backend> makeBackend(const BackendDef& def, const WorldDef& worl
         return std::make_unique<CpuBackend>(world);
     }
 #ifdef CAROM_HAVE_OPENCL
-    if (def.kind == "opencl") return std::make_unique<OpenClBackend>(world, def.device, parsePipeline(def.pipeline));
+    if (def.kind == "opencl") {
+        if (def.pipeline == "seed") return std::make_unique<OpenClHostGridBackend>(world, def.device);
+        if (def.pipeline == "resident") return std::make_unique<OpenClResidentBackend>(world, def.device);
+        throw Error("unknown pipeline '" + def.pipeline + "'; allowed: seed, resident");
+    }
 #else
     if (def.kind == "opencl")
         throw Error("this carom was built without OpenCL (no OpenCL headers or loader were found); "

@@ -121,8 +121,8 @@ protected:
     std::uint64_t substepsTaken() const { return substepsTaken_; }
     // For implementations: a pairwise (sub)step used this many rounds.
     void recordRounds(unsigned int rounds);
-    // What every pass of a pairwise (sub)step of duration dt reads.
-    CaromPairwiseStep pairwiseStep(float dt) const;
+    // What every kernel of a (sub)step of duration dt reads (kernels/params.h).
+    CaromStepParams stepParams(float dt) const;
 
     WorldDef world_;
     Grid grid_;  // geometry fixed by setParticles, contents rebuilt each step

@@ -93,7 +93,7 @@ unsigned int CpuBackend::nextEpoch() {
 
 std::uint32_t CpuBackend::stepPairwise(float dt) {
     const auto count = static_cast<std::int64_t>(state_.size());
-    const CaromPairwiseStep step = pairwiseStep(dt);
+    const CaromStepParams step = stepParams(dt);
     Particle* state = state_.data();
     // State by id, so a disk's slot is its id: sortedIndices serves as both.
     const unsigned int* sorted = grid_.sortedIndices.data();

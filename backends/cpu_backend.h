@@ -1,14 +1,15 @@
 // The OpenMP CPU backend: the shared grid builder, then the collision scheme
 // in parallel loops over particles: resolveCollisions and integrate from
 // kernels/physics.h in one loop (simultaneous), or the rounds of
-// kernels/pairwise.h (pairwise).
+// kernels/pairwise.h (pairwise). The all-pairs baseline of `carom bench`
+// (bench/all_pairs_cpu.h) derives from it.
 #pragma once
 
 #include "backends/backend.h"
 
 namespace carom {
 
-class CpuBackend final : public Backend {
+class CpuBackend : public Backend {
 public:
     explicit CpuBackend(const WorldDef& world);
 
@@ -17,6 +18,11 @@ public:
     bool exactArithmetic() const override { return true; }
 
     void readParticles(std::vector<Particle>& particles) override { particles = state_; }
+
+protected:
+    std::vector<Particle> state_;  // the state before the step
+    std::vector<Particle> next_;   // simultaneous: written by the step, then swapped in
+    std::vector<ContactTally> tallies_;  // by particle id
 
 private:
     void load(std::vector<Particle> particles) override;
@@ -28,10 +34,6 @@ private:
     std::uint32_t stepSimultaneous(float dt);
     std::uint32_t stepPairwise(float dt);
     unsigned int nextEpoch();
-
-    std::vector<Particle> state_;  // the state before the step
-    std::vector<Particle> next_;   // simultaneous: written by the step, then swapped in
-    std::vector<ContactTally> tallies_;  // by particle id
 
     // Pairwise: each disk's earliest event and the round's lists, by sorted
     // position (kernels/pairwise.h), and the marks that keep each list free

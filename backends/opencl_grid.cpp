@@ -61,11 +61,10 @@ DeviceGrid::DeviceGrid(cl_context context, const DeviceInfo& device, cl_program 
 }
 
 void DeviceGrid::count(cl_command_queue queue, cl_mem state) {
-    const GridGeometry& g = geometry_;
     enqueueZero(queue, zeroOffset_.get(), sizeof(cl_uint), "zero tile offset");
     enqueueZero(queue, counts_.get(), levelSizes_[0] * sizeof(cl_uint), "cell counts");
-    setKernelArgs(countKernel_.get(), state, cl_uint(particleCount_), g.cellsPerLengthX, g.cellsPerLengthY, g.cols,
-                  g.rows, counts_.get(), cellOf_.get(), rankInCell_.get());
+    setKernelArgs(countKernel_.get(), state, cl_uint(particleCount_), geometry_, counts_.get(), cellOf_.get(),
+                  rankInCell_.get());
     enqueue1d(queue, countKernel_.get(), particleCount_, groupSize_, "countCells", profiler_);
 }
 

@@ -23,8 +23,7 @@ constexpr std::size_t kCountsWithRecord = kCounts + kNonFiniteWords;
 
 }  // namespace
 
-static_assert(sizeof(CaromPairwiseStep) == 44 && sizeof(CaromEvent) == 8,
-              "CaromPairwiseStep and CaromEvent must match their OpenCL layout");
+static_assert(sizeof(CaromEvent) == 8, "CaromEvent must match its OpenCL layout");
 
 DevicePairwise::DevicePairwise(cl_context context, const DeviceInfo& device, cl_program program,
                                std::size_t particleCount, cl_command_queue queue, Profiler* profiler)
@@ -85,14 +84,14 @@ void DevicePairwise::enqueueRound(cl_command_queue queue, unsigned int round) {
     lastRound_ = round;
 }
 
-void DevicePairwise::enqueueStep(cl_command_queue queue, const StepBuffers& buffers, const CaromPairwiseStep& step) {
+void DevicePairwise::enqueueStep(cl_command_queue queue, const StepBuffers& buffers, const CaromStepParams& step) {
     buffers_ = buffers;
     step_ = step;
     enqueueZero(queue, counts_.get(), kCounts * sizeof(cl_uint), "list lengths");
     const unsigned int epoch = nextEpoch(queue);
     setKernelArgs(forwardKernel_.get(), buffers.state, buffers.slots, buffers.ids, buffers.cellOf, buffers.cells,
-                  step, static_cast<cl_uint>(particleCount_), events_.get(), pending_[0].get(), pendingMarks_.get(),
-                  dirty_.get(), dirtyMarks_.get(), counts_.get(), cl_uint{epoch});
+                  step, events_.get(), pending_[0].get(), pendingMarks_.get(), dirty_.get(), dirtyMarks_.get(),
+                  counts_.get(), cl_uint{epoch});
     enqueue1d(queue, forwardKernel_.get(), particleCount_, groupSize_, "findEventsForward", profiler_);
     searchListed(queue, CAROM_SEARCH_ALL, dirty_.get(), 0, 2, epoch);
     lastRound_ = 0;

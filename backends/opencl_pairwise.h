@@ -35,13 +35,13 @@ public:
     };
 
     // Enqueues the first search and a batch of rounds of one (sub)step.
-    void enqueueStep(cl_command_queue queue, const StepBuffers& buffers, const CaromPairwiseStep& step);
+    void enqueueStep(cl_command_queue queue, const StepBuffers& buffers, const CaromStepParams& step);
     // A finish kernel enqueued after enqueueStep runs only if
     // lengths()[finishCondition()] is 0: no event pending after the batch.
     cl_mem lengths() const { return counts_.get(); }
     cl_uint finishCondition() const;
     // The parameters of the step enqueueStep enqueued last.
-    const CaromPairwiseStep& step() const { return step_; }
+    const CaromStepParams& step() const { return step_; }
 
     // Where a finish kernel records a disk it left non-finite: the two words
     // of lengths() from nonFiniteIndex() (carom_record_non_finite). The
@@ -76,7 +76,7 @@ private:
     unsigned int batch_ = 4;      // rounds enqueued per batch, adapted to the steps before
     unsigned int lastRound_ = 0;  // the last round enqueued for the current step
     StepBuffers buffers_{};       // the current step's
-    CaromPairwiseStep step_{};
+    CaromStepParams step_{};
 };
 
 }  // namespace carom::opencl

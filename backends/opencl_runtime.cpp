@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cctype>
 
-#include "backends/kernel_source.h"
 
 namespace carom::opencl {
 namespace {
@@ -194,8 +193,7 @@ DeviceInfo selectDevice(const std::string& selector) {
     throw Error("--device '" + selector + "' matches no OpenCL device; allowed: an index or part of a name:" + names);
 }
 
-Program buildProgram(cl_context context, const DeviceInfo& device, bool exactArithmetic) {
-    const char* source = kernelSource();
+Program buildProgram(cl_context context, const DeviceInfo& device, const char* source, bool exactArithmetic) {
     cl_int status = CL_SUCCESS;
     Program program(clCreateProgramWithSource(context, 1, &source, nullptr, &status));
     check(status, "clCreateProgramWithSource");

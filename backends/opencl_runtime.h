@@ -89,10 +89,11 @@ using Program = Handle<cl_program, releaseProgram>;
 using Kernel = Handle<cl_kernel, releaseKernel>;
 using Buffer = Handle<cl_mem, releaseMem>;
 
-// Builds the embedded kernels (kernels/*.cl) for the device. With
-// exactArithmetic, divide and sqrt are built correctly rounded. A build
-// failure throws Error with the compiler's log.
-Program buildProgram(cl_context context, const DeviceInfo& device, bool exactArithmetic);
+// Builds an embedded program (`source`: backends/kernel_source.h, or the
+// benchmark's, bench/kernel_source.h) for the device. With exactArithmetic,
+// divide and sqrt are built correctly rounded. A build failure throws Error
+// with the compiler's log.
+Program buildProgram(cl_context context, const DeviceInfo& device, const char* source, bool exactArithmetic);
 
 Kernel createKernel(cl_program program, const char* name);
 Buffer createBuffer(cl_context context, std::size_t bytes, const char* what);

@@ -2,27 +2,13 @@
 
 #include <utility>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 #include "kernels/physics.h"
 
 namespace carom::bench {
 
-std::string AllPairsCpuBackend::device() const {
-#ifdef _OPENMP
-    return "CPU, OpenMP with " + std::to_string(omp_get_max_threads()) + " threads, all pairs";
-#else
-    return "CPU, single thread, all pairs";
-#endif
-}
-
-void AllPairsCpuBackend::load(std::vector<Particle> particles) {
-    const std::size_t n = particles.size();
-    state_ = std::move(particles);
-    next_.resize(n);
-    tallies_.assign(n, ContactTally{});
+AllPairsCpuBackend::AllPairsCpuBackend(const WorldDef& world) : CpuBackend(world) {
+    if (world.collisions != CollisionScheme::Simultaneous)
+        throw Error("the all-pairs baseline runs the simultaneous scheme only");
 }
 
 void AllPairsCpuBackend::advance(std::uint64_t substeps, float dt) {

@@ -7,6 +7,7 @@
 
 #ifdef CAROM_HAVE_OPENCL
 #include "backends/opencl_runtime.h"
+#include "bench/kernel_source.h"
 #endif
 
 namespace carom::bench {
@@ -125,7 +126,7 @@ DeviceDescription measureDeviceBandwidth(const std::string& selector, std::size_
     check(status, "clCreateContext");
     Queue queue(clCreateCommandQueue(context.get(), device.id, 0, &status));
     check(status, "clCreateCommandQueue");
-    const Program program = buildProgram(context.get(), device, false);
+    const Program program = buildProgram(context.get(), device, bench::kernelSource(), false);
     const Kernel copy = createKernel(program.get(), "copyFloat4");
 
     const cl_uint vectors = static_cast<cl_uint>(bytes / 16);

@@ -6,7 +6,9 @@
 
 #include "bench/all_pairs_cpu.h"
 #ifdef CAROM_HAVE_OPENCL
-#include "backends/opencl_backend.h"
+#include "backends/opencl_host_grid_backend.h"
+#include "backends/opencl_resident_backend.h"
+#include "bench/all_pairs_opencl.h"
 #endif
 
 namespace carom::bench {
@@ -21,9 +23,12 @@ constexpr double kForwardSearchBytes = sizeof(Particle) + 2.0 * sizeof(std::uint
 constexpr double kCellOfBytes = sizeof(std::uint32_t);
 
 #ifdef CAROM_HAVE_OPENCL
-Pipeline pipelineOf(const Method& method) {
-    if (method.allPairs) return Pipeline::AllPairs;
-    return method.name == "opencl-seed" ? Pipeline::Seed : Pipeline::Resident;
+// The OpenCL backend of an OpenCL method.
+std::unique_ptr<OpenClBackend> makeOpenClBackend(const Method& method, const WorldDef& world,
+                                                 const std::string& device, bool profiling) {
+    if (method.allPairs) return std::make_unique<AllPairsOpenClBackend>(world, device, profiling);
+    if (method.name == "opencl-seed") return std::make_unique<OpenClHostGridBackend>(world, device, profiling);
+    return std::make_unique<OpenClResidentBackend>(world, device, profiling);
 }
 #endif
 
@@ -90,7 +95,7 @@ std::unique_ptr<Backend> makeMethodBackend(const Method& method, const WorldDef&
         return makeBackend(BackendDef{"cpu", "", "seed"}, world);
     }
 #ifdef CAROM_HAVE_OPENCL
-    return std::make_unique<OpenClBackend>(world, device, pipelineOf(method));
+    return makeOpenClBackend(method, world, device, false);
 #else
     (void)device;
     throw Error("this carom was built without OpenCL: method " + method.name + " is not available");
@@ -105,12 +110,12 @@ std::map<std::string, double> profileMethod(const Method& method, const WorldDef
         return method.allPairs || method.eventDriven ? std::map<std::string, double>{}
                                                      : profileHostGrid(world, particles, steps, substepsPerStep);
 #ifdef CAROM_HAVE_OPENCL
-    OpenClBackend backend(world, device, pipelineOf(method), true);
-    backend.setParticles(particles);
-    backend.step(warmupSteps);
-    backend.profiler()->clear();
-    backend.step(steps);
-    std::map<std::string, double> perStep = backend.profiler()->seconds();
+    const std::unique_ptr<OpenClBackend> backend = makeOpenClBackend(method, world, device, true);
+    backend->setParticles(particles);
+    backend->step(warmupSteps);
+    backend->profiler()->clear();
+    backend->step(steps);
+    std::map<std::string, double> perStep = backend->profiler()->seconds();
     for (auto& [name, seconds] : perStep) seconds /= double(steps);
     return perStep;
 #else

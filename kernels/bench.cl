@@ -1,21 +1,19 @@
-/* Kernels for `carom bench` only: the all-pairs baseline and the copy that
- * measures the device's memory bandwidth. */
-#include "physics.h"
+/* The program of `carom bench` (embedded into the carom_bench library only):
+ * the all-pairs baseline, with step.cl's integrate and maxSpeedSquared, and
+ * the copy that measures the device's memory bandwidth. */
+#include "step.cl"
 
 /* resolveCollisions against every other particle, O(N^2); integrate follows
  * as in the seed pipeline. */
 __kernel void resolveAllPairs(__global const Particle* in,
-                              uint count,
-                              float width,
-                              float height,
-                              int periodic,
+                              CaromStepParams step,
                               __global Particle* out,
                               __global ContactTally* tallies)
 {
     const uint i = get_global_id(0);
-    if (i >= count) return;
+    if (i >= step.count) return;
     const Particle self = in[i];
-    const CaromResponse sum = carom_collect_response_all_pairs(i, self, in, count, carom_box(width, height, periodic));
+    const CaromResponse sum = carom_collect_response_all_pairs(i, self, in, step.count, step.box);
     out[i] = carom_apply_response(self, sum);
     carom_record_collisions(&tallies[i], sum);
 }

@@ -27,16 +27,6 @@
  * this. The host sizes the local buffers to match (backends/opencl_grid.cpp). */
 #define CAROM_SCAN_ITEMS 16
 
-static inline GridGeometry carom_grid(float cellsPerLengthX, float cellsPerLengthY, int cols, int rows)
-{
-    GridGeometry grid;
-    grid.cellsPerLengthX = cellsPerLengthX;
-    grid.cellsPerLengthY = cellsPerLengthY;
-    grid.cols = cols;
-    grid.rows = rows;
-    return grid;
-}
-
 /* Counts the particle in slot i into its cell. `counts` must start at zero.
  * A disk whose position is not finite (the state blew up; the host stops at
  * its next wait for the device) goes to a cell by its slot: in cell 0, where
@@ -54,17 +44,13 @@ static inline void carom_count_into_cell(uint i, float2 position, GridGeometry g
 
 __kernel void countCells(__global const Particle* particles,
                          uint count,
-                         float cellsPerLengthX,
-                         float cellsPerLengthY,
-                         int cols,
-                         int rows,
+                         GridGeometry grid,
                          __global uint* counts,
                          __global uint* cellOf,
                          __global uint* rankInCell)
 {
     const uint i = get_global_id(0);
     if (i >= count) return;
-    const GridGeometry grid = carom_grid(cellsPerLengthX, cellsPerLengthY, cols, rows);
     carom_count_into_cell(i, particles[i].position, grid, counts, cellOf, rankInCell);
 }
 

@@ -30,8 +30,7 @@ __kernel void findEventsForward(__global const Particle* state,
                                 __global const uint* ids,
                                 __global const uint* cellOf,
                                 __global const GridCell* cells,
-                                CaromPairwiseStep step,
-                                uint count,
+                                CaromStepParams step,
                                 __global CaromEvent* events,
                                 __global uint* pending,
                                 __global uint* pendingMarks,
@@ -41,7 +40,7 @@ __kernel void findEventsForward(__global const Particle* state,
                                 uint epoch)
 {
     const uint k = get_global_id(0);
-    if (k >= count) return;
+    if (k >= step.count) return;
     const CaromList none = carom_list(0, counts, 0, 0);
     carom_find_event(k, state, slots, ids, cellOf, cells, step, events, CAROM_SEARCH_FORWARD, none,
                      carom_list(dirty, counts, 2, dirtyMarks), carom_list(pending, counts, 0, pendingMarks), epoch);
@@ -55,7 +54,7 @@ __kernel void searchListed(__global const Particle* state,
                            __global const uint* ids,
                            __global const uint* cellOf,
                            __global const GridCell* cells,
-                           CaromPairwiseStep step,
+                           CaromStepParams step,
                            __global CaromEvent* events,
                            int mode,
                            __global const uint* listed,
@@ -84,7 +83,7 @@ __kernel void resolveEvents(__global Particle* state,
                             __global const uint* slots,
                             __global const uint* ids,
                             __global const CaromEvent* events,
-                            CaromPairwiseStep step,
+                            CaromStepParams step,
                             __global ContactTally* tallies,
                             __global const uint* pending,
                             __global uint* nextPending,
@@ -104,11 +103,11 @@ __kernel void resolveEvents(__global Particle* state,
 
 /* The end of the step, particles stored by id (seed pipeline): in place.
  * A disk left non-finite is recorded under `stepIndex` (carom_record_non_finite). */
-__kernel void finishStepById(__global Particle* state, CaromPairwiseStep step, uint count,
-                             __global ContactTally* tallies, uint stepIndex, __global uint* firstNonFinite)
+__kernel void finishStepById(__global Particle* state, CaromStepParams step, __global ContactTally* tallies,
+                             uint stepIndex, __global uint* firstNonFinite)
 {
     const uint i = get_global_id(0);
-    if (i >= count) return;
+    if (i >= step.count) return;
     state[i] = carom_finish_step(state[i], step, &tallies[i]);
     carom_record_non_finite(state[i], i, stepIndex, firstNonFinite);
 }

@@ -69,15 +69,6 @@ typedef struct CaromEvent {
     unsigned int partner; /* sorted position of the other disk, CAROM_WALL + wall, or CAROM_NO_PARTNER */
 } CaromEvent;
 
-/* What every pass of one pairwise step reads. */
-typedef struct CaromPairwiseStep {
-    GridGeometry grid;
-    CaromBox box;
-    float gravityX, gravityY; /* [length/time^2] */
-    float duration;           /* the step (or substep) h [time] */
-    float tolerance;          /* overlaps up to this are float rounding, not late contacts [length] */
-} CaromPairwiseStep;
-
 /* Rounding of positions: about 8 units in the last place of the largest
  * coordinate. A pair resolved deeper in overlap than this, or a disk found
  * further past a wall, was late: its contact was missed, not just rounded. */
@@ -122,7 +113,7 @@ static inline float2 carom_separation(Particle a, Particle b, CaromBox box)
  * negates d and dv exactly and changes no product or sum, so both disks
  * compute the same bits. */
 static inline float carom_pair_event_time(Particle a, unsigned int idA, Particle b, unsigned int idB,
-                                          CaromPairwiseStep step)
+                                          CaromStepParams step)
 {
     if (a.lastPartner == idB + 1u && b.lastPartner == idA + 1u) return CAROM_NEVER;
     const float t0 = a.time > b.time ? a.time : b.time;
@@ -164,7 +155,7 @@ static inline float carom_wall_delay(float gap, float speed, float accel)
 }
 
 /* Wall w's gap, speed towards it and acceleration towards it. */
-static inline void carom_wall_motion(Particle p, int w, CaromPairwiseStep step, float* gap, float* speed,
+static inline void carom_wall_motion(Particle p, int w, CaromStepParams step, float* gap, float* speed,
                                      float* accel)
 {
     const float position = w < 2 ? p.position.x : p.position.y;
@@ -186,7 +177,7 @@ static inline void carom_wall_motion(Particle p, int w, CaromPairwiseStep step, 
  * the step in cell (cellX, cellY); equal times go to the lower wall index.
  * Only the walls of the cell's own edge of the grid can be reached in a
  * step, as only neighbouring cells can (none in a periodic box). */
-static inline CaromEvent carom_wall_event(Particle p, int cellX, int cellY, CaromPairwiseStep step)
+static inline CaromEvent carom_wall_event(Particle p, int cellX, int cellY, CaromStepParams step)
 {
     CaromEvent event;
     event.time = CAROM_NEVER;
@@ -257,7 +248,7 @@ static inline void carom_list_add(CaromList list, unsigned int k, unsigned int e
 static inline CaromEvent carom_search(unsigned int k, CAROM_GLOBAL const Particle* state,
                                       CAROM_GLOBAL const unsigned int* slots, CAROM_GLOBAL const unsigned int* ids,
                                       CAROM_GLOBAL const unsigned int* cellOf, CAROM_GLOBAL const GridCell* cells,
-                                      CaromPairwiseStep step, CAROM_GLOBAL const CaromEvent* events, int mode,
+                                      CaromStepParams step, CAROM_GLOBAL const CaromEvent* events, int mode,
                                       CaromList changed, CaromList dirty, unsigned int epoch)
 {
     const Particle self = state[slots[k]];
@@ -305,7 +296,7 @@ static inline CaromEvent carom_search(unsigned int k, CAROM_GLOBAL const Particl
  * potential energy under gravity, where it was. The collision, its virial
  * r_ij . J_ij = 2 mu_ij |v_n| r_ij and a late contact count on a's tally. */
 static inline void carom_collide_pair(Particle* a, unsigned int idA, Particle* b, unsigned int idB, float t,
-                                      CaromPairwiseStep step, CAROM_GLOBAL ContactTally* tally)
+                                      CaromStepParams step, CAROM_GLOBAL ContactTally* tally)
 {
     *a = carom_fly(*a, t, step.gravityX, step.gravityY);
     *b = carom_fly(*b, t, step.gravityX, step.gravityY);
@@ -349,7 +340,7 @@ static inline void carom_collide_pair(Particle* a, unsigned int idA, Particle* b
  * the whole way climbs as far as it pays for and rests there, still a little
  * past the wall (gravity cannot press it further: each step it sinks and
  * climbs back as far). Returns whether it was past the wall. */
-static inline int carom_put_back(Particle* p, int w, CaromPairwiseStep step)
+static inline int carom_put_back(Particle* p, int w, CaromStepParams step)
 {
     float gap, speed, accel;
     carom_wall_motion(*p, w, step, &gap, &speed, &accel);
@@ -372,7 +363,7 @@ static inline int carom_put_back(Particle* p, int w, CaromPairwiseStep step)
 /* Disk p bounces off wall w at time t: its velocity component normal to the
  * wall reverses (or, past the wall, carom_put_back sets it). The momentum it
  * gives the wall goes to wallImpulse[w]. */
-static inline Particle carom_bounce(Particle p, int w, float t, CaromPairwiseStep step,
+static inline Particle carom_bounce(Particle p, int w, float t, CaromStepParams step,
                                     CAROM_GLOBAL ContactTally* tally)
 {
     p = carom_fly(p, t, step.gravityX, step.gravityY);
@@ -398,7 +389,7 @@ static inline Particle carom_bounce(Particle p, int w, float t, CaromPairwiseSte
 static inline void carom_find_event(unsigned int k, CAROM_GLOBAL const Particle* state,
                                     CAROM_GLOBAL const unsigned int* slots, CAROM_GLOBAL const unsigned int* ids,
                                     CAROM_GLOBAL const unsigned int* cellOf, CAROM_GLOBAL const GridCell* cells,
-                                    CaromPairwiseStep step, CAROM_GLOBAL CaromEvent* events, int mode,
+                                    CaromStepParams step, CAROM_GLOBAL CaromEvent* events, int mode,
                                     CaromList changed, CaromList dirty, CaromList pending, unsigned int epoch)
 {
     const CaromEvent event = carom_search(k, state, slots, ids, cellOf, cells, step, events, mode, changed, dirty, epoch);
@@ -413,7 +404,7 @@ static inline void carom_find_event(unsigned int k, CAROM_GLOBAL const Particle*
  * `changed`. */
 static inline void carom_resolve_event(unsigned int k, CAROM_GLOBAL Particle* state,
                                        CAROM_GLOBAL const unsigned int* slots, CAROM_GLOBAL const unsigned int* ids,
-                                       CAROM_GLOBAL const CaromEvent* events, CaromPairwiseStep step,
+                                       CAROM_GLOBAL const CaromEvent* events, CaromStepParams step,
                                        CAROM_GLOBAL ContactTally* tallies, CaromList changed, CaromList nextPending,
                                        unsigned int epoch)
 {
@@ -444,7 +435,7 @@ static inline void carom_resolve_event(unsigned int k, CAROM_GLOBAL Particle* st
  * wrapped back in, with walls a disk found past one (its contact was not
  * resolved in the rounds) is put back (carom_put_back) as a late contact.
  * Its step time and last partner are cleared for the next step. */
-static inline Particle carom_finish_step(Particle p, CaromPairwiseStep step, CAROM_GLOBAL ContactTally* tally)
+static inline Particle carom_finish_step(Particle p, CaromStepParams step, CAROM_GLOBAL ContactTally* tally)
 {
     p = carom_fly(p, step.duration, step.gravityX, step.gravityY);
     if (step.box.periodic) {

@@ -13,7 +13,7 @@
 #ifndef CAROM_PHYSICS_H
 #define CAROM_PHYSICS_H
 
-#include "particle.h"
+#include "params.h"
 
 #ifdef __OPENCL_VERSION__
 #pragma OPENCL FP_CONTRACT OFF
@@ -44,22 +44,6 @@ static inline int carom_cell_index(float2 position, GridGeometry grid)
 {
     return carom_cell_coord(position.y, grid.cellsPerLengthY, grid.rows) * grid.cols +
            carom_cell_coord(position.x, grid.cellsPerLengthX, grid.cols);
-}
-
-/* The box as the kernels see it (WorldDef: width, height, boundary). */
-typedef struct CaromBox {
-    float width;
-    float height;
-    int periodic; /* 0: reflective walls; 1: the box repeats */
-} CaromBox;
-
-static inline CaromBox carom_box(float width, float height, int periodic)
-{
-    CaromBox box;
-    box.width = width;
-    box.height = height;
-    box.periodic = periodic;
-    return box;
 }
 
 /* One component of the separation between the nearest images of two disks

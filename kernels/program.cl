@@ -1,7 +1,7 @@
-/* Every kernel carom builds, in one program (the entry kernels/embed.cmake
- * inlines). The include guards of physics.h and particle.h keep each
- * definition single. */
+/* Every kernel of carom's OpenCL backends, in one program (the entry
+ * kernels/embed.cmake inlines). The include guards of physics.h and
+ * particle.h keep each definition single. The benchmark's kernels are a
+ * program of their own (bench.cl). */
 #include "step.cl"
 #include "resident.cl"
 #include "pairwise.cl"
-#include "bench.cl"

@@ -16,17 +16,7 @@ __kernel void resolveIntegrateAndCount(__global const Particle* state,
                                        __global const uint* cellOrder,
                                        __global const uint* sortedIds,
                                        __global const GridCell* cells,
-                                       float cellsPerLengthX,
-                                       float cellsPerLengthY,
-                                       int cols,
-                                       int rows,
-                                       uint count,
-                                       float dt,
-                                       float gravityX,
-                                       float gravityY,
-                                       float width,
-                                       float height,
-                                       int periodic,
+                                       CaromStepParams step,
                                        __global Particle* next,
                                        __global ContactTally* tallies,
                                        __global uint* nextCounts,
@@ -36,19 +26,20 @@ __kernel void resolveIntegrateAndCount(__global const Particle* state,
                                        __global uint* firstNonFinite)
 {
     const uint k = get_global_id(0);
-    if (k >= count) return;
-    const GridGeometry grid = carom_grid(cellsPerLengthX, cellsPerLengthY, cols, rows);
+    if (k >= step.count) return;
     const uint i = sortedIds[k];
     const Particle self = state[cellOrder[k]];
-    const CaromBox box = carom_box(width, height, periodic);
-    const CaromResponse sum = carom_collect_response_from(i, self, state, sortedIds, cellOrder, cells, grid, box);
+    const CaromResponse sum =
+        carom_collect_response_from(i, self, state, sortedIds, cellOrder, cells, step.grid, step.box);
     float wallImpulse[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    const Particle moved = carom_integrate(carom_apply_response(self, sum), dt, gravityX, gravityY, box, wallImpulse);
+    const Particle moved =
+        carom_integrate(carom_apply_response(self, sum), step.duration, step.gravityX, step.gravityY, step.box,
+                        wallImpulse);
     next[k] = moved;
     /* The tallies stay in id order, so reading them needs no slot map. */
     carom_record_collisions(&tallies[i], sum);
     carom_record_walls(&tallies[i], wallImpulse);
-    carom_count_into_cell(k, moved.position, grid, nextCounts, cellOf, rankInCell);
+    carom_count_into_cell(k, moved.position, step.grid, nextCounts, cellOf, rankInCell);
     carom_record_non_finite(moved, i, stepIndex, firstNonFinite);
 }
 
@@ -69,8 +60,7 @@ __kernel void resolveIntegrateAndCount(__global const Particle* state,
 __kernel void finishPairwiseAndCount(__global const Particle* state,
                                      __global const uint* cellOrder,
                                      __global const uint* sortedIds,
-                                     CaromPairwiseStep step,
-                                     uint count,
+                                     CaromStepParams step,
                                      __global Particle* next,
                                      __global ContactTally* tallies,
                                      __global uint* nextCounts,
@@ -86,7 +76,7 @@ __kernel void finishPairwiseAndCount(__global const Particle* state,
 {
     if (lengths[condition] != 0u) return; /* the same for every work-item */
     float largest = 0.0f;
-    for (uint k = get_global_id(0); k < count; k += get_global_size(0)) {
+    for (uint k = get_global_id(0); k < step.count; k += get_global_size(0)) {
         const Particle moved = carom_finish_step(state[cellOrder[k]], step, &tallies[sortedIds[k]]);
         next[k] = moved;
         carom_count_into_cell(k, moved.position, step.grid, nextCounts, cellOf, rankInCell);

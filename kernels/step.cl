@@ -6,42 +6,24 @@
 __kernel void resolveCollisions(__global const Particle* in,
                                 __global const uint* sortedIndices,
                                 __global const GridCell* cells,
-                                float cellsPerLengthX,
-                                float cellsPerLengthY,
-                                int cols,
-                                int rows,
-                                uint count,
-                                float width,
-                                float height,
-                                int periodic,
+                                CaromStepParams step,
                                 __global Particle* out,
                                 __global ContactTally* tallies)
 {
     const uint i = get_global_id(0);
-    if (i >= count) return;
-    GridGeometry grid;
-    grid.cellsPerLengthX = cellsPerLengthX;
-    grid.cellsPerLengthY = cellsPerLengthY;
-    grid.cols = cols;
-    grid.rows = rows;
-    carom_resolve_collisions(i, in, sortedIndices, cells, grid, carom_box(width, height, periodic), out, tallies);
+    if (i >= step.count) return;
+    carom_resolve_collisions(i, in, sortedIndices, cells, step.grid, step.box, out, tallies);
 }
 
 __kernel void integrate(__global Particle* particles,
-                        uint count,
-                        float dt,
-                        float gravityX,
-                        float gravityY,
-                        float width,
-                        float height,
-                        int periodic,
+                        CaromStepParams step,
                         __global ContactTally* tallies,
                         uint stepIndex,
                         __global uint* firstNonFinite)
 {
     const uint i = get_global_id(0);
-    if (i >= count) return;
-    carom_integrate_into(i, particles, dt, gravityX, gravityY, carom_box(width, height, periodic), tallies);
+    if (i >= step.count) return;
+    carom_integrate_into(i, particles, step.duration, step.gravityX, step.gravityY, step.box, tallies);
     carom_record_non_finite(particles[i], i, stepIndex, firstNonFinite);
 }
 

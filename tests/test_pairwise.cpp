@@ -34,7 +34,7 @@ double angleDegrees(const Particle& p) { return std::atan2(p.velocity.y, p.veloc
 // others, then the mutual pairs and the walls are resolved.
 std::vector<Particle> naivePairwise(std::vector<Particle> disks, const WorldDef& world, std::uint64_t steps,
                                     ContactTotals& totals) {
-    CaromPairwiseStep step{};
+    CaromStepParams step{};
     step.grid.cols = step.grid.rows = 1;  // every wall is within reach
     step.box = caromBoxOf(world);
     step.gravityX = world.gravity.x;

@@ -11,7 +11,9 @@
 #include "engine/grid.h"
 #include "support.h"
 #ifdef CAROM_HAVE_OPENCL
-#include "backends/opencl_backend.h"
+#include "backends/kernel_source.h"
+#include "backends/opencl_resident_backend.h"
+#include "bench/all_pairs_opencl.h"
 #endif
 
 using namespace carom;
@@ -73,9 +75,10 @@ bool bitwiseEqual(const std::vector<Particle>& a, const std::vector<Particle>& b
     return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Particle)) == 0;
 }
 
-std::unique_ptr<OpenClBackend> makeOpenCl(const WorldDef& world, Pipeline pipeline) {
+template <class OpenClPipeline>
+std::unique_ptr<OpenClPipeline> makeOpenCl(const WorldDef& world) {
     const char* device = std::getenv("CAROM_TEST_DEVICE");
-    return std::make_unique<OpenClBackend>(world, device ? device : "", pipeline);
+    return std::make_unique<OpenClPipeline>(world, device ? device : "");
 }
 
 }  // namespace
@@ -93,7 +96,7 @@ TEST_CASE("resident grid: the device builds the shared builder's cells and sorte
         CAPTURE(c.seed);
         const WorldDef world = box(c.width, c.height);
         const std::vector<Particle> ps = randomDisks(c.seed, c.count, world, c.radius);
-        auto backend = makeOpenCl(world, Pipeline::Resident);
+        auto backend = makeOpenCl<OpenClResidentBackend>(world);
         backend->setParticles(ps);
         checkSameGrid(backend->readDeviceGrid(), hostGrid(ps, backend->gridGeometry()));
     }
@@ -108,7 +111,7 @@ TEST_CASE("resident grid: the scan gives the same grid with one to four levels")
     check(status, "clCreateContext");
     const Queue queue(clCreateCommandQueue(context.get(), device.id, 0, &status));
     check(status, "clCreateCommandQueue");
-    const Program program = buildProgram(context.get(), device, false);
+    const Program program = buildProgram(context.get(), device, kernelSource(), false);
 
     const WorldDef world = box(400, 300);
     const std::vector<Particle> ps = randomDisks(11, 20000, world, 1.0f);
@@ -146,7 +149,7 @@ TEST_CASE("resident grid: stays the shared builder's as the state evolves") {
     scene.speed = 3.0f;
     const InitialState s = makeInitialState(scene);
     const WorldDef world = box(s.width, s.height);
-    auto backend = makeOpenCl(world, Pipeline::Resident);
+    auto backend = makeOpenCl<OpenClResidentBackend>(world);
     backend->setParticles(s.particles);
     for (int round = 0; round < 4; ++round) {
         CAPTURE(round);
@@ -161,7 +164,7 @@ TEST_CASE("resident pipeline: steps in several calls, with reads between, equal 
     scene.packing = 0.5f;
     const InitialState s = makeInitialState(scene);
     const WorldDef world = box(s.width, s.height);
-    auto resident = makeOpenCl(world, Pipeline::Resident);
+    auto resident = makeOpenCl<OpenClResidentBackend>(world);
     if (!resident->exactArithmetic()) {
         MESSAGE("the device lacks correctly rounded divide/sqrt: no bitwise comparison");
         return;
@@ -191,8 +194,6 @@ TEST_CASE("pipelines: resident needs the OpenCL backend, unknown names are refus
                          doctest::Contains("--pipeline resident needs --backend opencl"), Error);
     CHECK_THROWS_WITH_AS(makeBackend(BackendDef{"opencl", "", "fast"}, world),
                          doctest::Contains("unknown pipeline 'fast'; allowed: seed, resident"), Error);
-    CHECK_THROWS_WITH_AS(makeOpenCl(world, Pipeline::Seed)->readDeviceGrid(),
-                         doctest::Contains("resident pipeline"), Error);
 }
 
 #endif  // CAROM_HAVE_OPENCL
@@ -207,7 +208,7 @@ TEST_CASE("all pairs: the naive baselines find the grid search's collisions") {
     std::vector<std::unique_ptr<Backend>> naive;
     naive.push_back(std::make_unique<bench::AllPairsCpuBackend>(world));
 #ifdef CAROM_HAVE_OPENCL
-    naive.push_back(makeOpenCl(world, Pipeline::AllPairs));
+    naive.push_back(makeOpenCl<bench::AllPairsOpenClBackend>(world));
 #endif
     auto grid = makeBackend(BackendDef{"cpu", "", "seed"}, world);
     grid->setParticles(ps);

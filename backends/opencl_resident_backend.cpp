@@ -1,0 +1,170 @@
+#include "backends/opencl_resident_backend.h"
+
+#include <algorithm>
+#include <numeric>
+#include <utility>
+
+#include "backends/kernel_source.h"
+
+namespace carom {
+
+using namespace opencl;
+
+namespace {
+
+// Work-groups of finishPairwiseAndCount per compute unit: enough to hide
+// memory latency; each work-item strides over several particles, so few
+// work-groups reduce the largest speed.
+constexpr std::size_t kFinishGroupsPerComputeUnit = 16;
+
+}  // namespace
+
+OpenClResidentBackend::OpenClResidentBackend(const WorldDef& world, const std::string& device, bool profiling)
+    : OpenClBackend(world, device, kernelSource(), profiling) {
+    fusedKernel_ = createKernel(program_.get(), "resolveIntegrateAndCount");
+    finishAndCountKernel_ = createKernel(program_.get(), "finishPairwiseAndCount");
+    // finishPairwiseAndCount reduces in a work-group too.
+    fitWorkGroups({fusedKernel_.get(), finishAndCountKernel_.get()}, {finishAndCountKernel_.get()});
+    speedBits_ = createBuffer(context_.get(), 2 * sizeof(cl_uint), "largest speed squared");
+}
+
+void OpenClResidentBackend::releaseState() {
+    pairwise_ = DevicePairwise();
+    deviceGrid_ = DeviceGrid();
+    ids_.reset();
+    sortedIds_.reset();
+}
+
+// Slot s holds particle s to begin with; the first step writes them in cell order.
+void OpenClResidentBackend::loadState(std::vector<Particle> particles) {
+    const std::size_t n = particles.size();
+    ids_ = createBuffer(context_.get(), n * sizeof(cl_uint), "particle ids");
+    sortedIds_ = createBuffer(context_.get(), n * sizeof(cl_uint), "particle ids in cell order");
+    std::vector<cl_uint> ids(n);
+    std::iota(ids.begin(), ids.end(), cl_uint{0});
+    check(clEnqueueWriteBuffer(queue_.get(), ids_.get(), CL_TRUE, 0, n * sizeof(cl_uint), ids.data(), 0, nullptr,
+                               nullptr),
+          "clEnqueueWriteBuffer(particle ids)");
+    deviceGrid_ = DeviceGrid(context_.get(), device_, program_.get(), grid_.geometry, n, profiler_.get());
+    deviceGrid_.count(queue_.get(), state_.get());
+    speedKnown_ = false;
+    unconfirmed_ = false;
+    if (world_.collisions != CollisionScheme::Pairwise) return;
+    pairwise_ = DevicePairwise(context_.get(), device_, program_.get(), n, queue_.get(), profiler_.get());
+    check(clEnqueueWriteBuffer(queue_.get(), pairwise_.lengths(), CL_TRUE,
+                               DevicePairwise::nonFiniteIndex() * sizeof(cl_uint), sizeof(kNoneNonFinite),
+                               kNoneNonFinite, 0, nullptr, nullptr),
+          "clEnqueueWriteBuffer(first non-finite step and particle)");
+    enqueueZero(queue_.get(), speedBits_.get(), 2 * sizeof(cl_uint), "largest speed squared");
+    finishItems_ = std::min((n + reductionGroupSize_ - 1) / reductionGroupSize_,
+                            std::max<std::size_t>(1, device_.computeUnits) * kFinishGroupsPerComputeUnit) *
+                   reductionGroupSize_;
+}
+
+void OpenClResidentBackend::enqueueStep(float dt) {
+    world_.collisions == CollisionScheme::Pairwise ? stepPairwise(dt) : stepSimultaneous(dt);
+}
+
+void OpenClResidentBackend::stepSimultaneous(float dt) {
+    const CaromStepParams step = stepParams(dt);
+    deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get());
+    // next_ receives the new state in this step's cell order: slot k holds particle sortedIds_[k].
+    setKernelArgs(fusedKernel_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), deviceGrid_.cells(),
+                  step, next_.get(), tallies_.get(), deviceGrid_.nextCounts(), deviceGrid_.cellOf(),
+                  deviceGrid_.rankInCell(), nextStepIndex(), firstNonFinite_.get());
+    enqueue1d(queue_.get(), fusedKernel_.get(), step.count, workGroupSize_, "resolveIntegrateAndCount", profiler_.get());
+    std::swap(state_, next_);
+    std::swap(ids_, sortedIds_);
+    deviceGrid_.advance();
+}
+
+// The rounds resolve the events in state_ (in the cell order of the step
+// before), then every disk finishes the step into slot k of next_, in this
+// step's cell order, counted into the next grid, as stepSimultaneous does.
+// The host does not wait: confirmStep, before anything reads the result,
+// does (one wait per step, which also reads the largest speed for the next one).
+void OpenClResidentBackend::stepPairwise(float dt) {
+    confirmStep();
+    if (nonFinite()) return;
+    const CaromStepParams step = stepParams(dt);
+    deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get());
+    pairwise_.enqueueStep(queue_.get(), {state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), deviceGrid_.cellOf(),
+                                         deviceGrid_.cells(), tallies_.get()},
+                          step);
+    speedParity_ = 1 - speedParity_;
+    unconfirmedStepIndex_ = nextStepIndex();
+    enqueuePairwiseFinish(step, unconfirmedStepIndex_);
+    check(clFlush(queue_.get()), "clFlush");
+    unconfirmed_ = true;
+}
+
+// The kernel records a disk left non-finite in the pairwise lengths, which
+// confirmStep reads anyway.
+void OpenClResidentBackend::enqueuePairwiseFinish(const CaromStepParams& step, cl_uint stepIndex) {
+    setKernelArgs(finishAndCountKernel_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), step,
+                  next_.get(), tallies_.get(), deviceGrid_.nextCounts(), deviceGrid_.cellOf(),
+                  deviceGrid_.rankInCell());
+    setLocalArg(finishAndCountKernel_.get(), 9, reductionGroupSize_ * sizeof(cl_float));
+    const cl_mem speedBits = speedBits_.get(), lengths = pairwise_.lengths();
+    const cl_uint parity = speedParity_, condition = pairwise_.finishCondition();
+    check(clSetKernelArg(finishAndCountKernel_.get(), 10, sizeof(cl_mem), &speedBits), "clSetKernelArg");
+    check(clSetKernelArg(finishAndCountKernel_.get(), 11, sizeof(cl_uint), &parity), "clSetKernelArg");
+    check(clSetKernelArg(finishAndCountKernel_.get(), 12, sizeof(cl_mem), &lengths), "clSetKernelArg");
+    check(clSetKernelArg(finishAndCountKernel_.get(), 13, sizeof(cl_uint), &condition), "clSetKernelArg");
+    const cl_uint nonFiniteIndex = DevicePairwise::nonFiniteIndex();
+    check(clSetKernelArg(finishAndCountKernel_.get(), 14, sizeof(cl_uint), &stepIndex), "clSetKernelArg");
+    check(clSetKernelArg(finishAndCountKernel_.get(), 15, sizeof(cl_uint), &nonFiniteIndex), "clSetKernelArg");
+    enqueue1d(queue_.get(), finishAndCountKernel_.get(), finishItems_, reductionGroupSize_, "finishPairwiseAndCount",
+              profiler_.get());
+}
+
+void OpenClResidentBackend::confirmStep() {
+    if (!unconfirmed_) return;
+    unconfirmed_ = false;
+    const DevicePairwise::Completion completion = pairwise_.complete(queue_.get());
+    if (completion.finishSkipped) {
+        enqueuePairwiseFinish(pairwise_.step(), unconfirmedStepIndex_);
+        pairwise_.readLengths(queue_.get());  // rare: a wait of its own, for the finish's record
+    }
+    std::copy_n(pairwise_.nonFiniteRecord(), 2, firstNonFiniteRead_);
+    checkNonFinite();
+    recordRounds(completion.rounds);
+    speedKnown_ = true;
+    std::swap(state_, next_);
+    std::swap(ids_, sortedIds_);
+    deviceGrid_.advance();
+}
+
+// Slot s holds particle ids[s].
+void OpenClResidentBackend::readParticles(std::vector<Particle>& particles) {
+    confirmStep();
+    particles.resize(particleCount_);
+    std::vector<Particle> slots(particleCount_);
+    std::vector<cl_uint> ids(particleCount_);
+    check(clEnqueueReadBuffer(queue_.get(), state_.get(), CL_TRUE, 0, particleCount_ * sizeof(Particle),
+                              slots.data(), 0, nullptr, nullptr),
+          "clEnqueueReadBuffer(particle state)");
+    check(clEnqueueReadBuffer(queue_.get(), ids_.get(), CL_TRUE, 0, particleCount_ * sizeof(cl_uint), ids.data(), 0,
+                              nullptr, nullptr),
+          "clEnqueueReadBuffer(particle ids)");
+    for (std::size_t s = 0; s < particleCount_; ++s) particles[ids[s]] = slots[s];
+}
+
+// A pairwise step takes the largest speed as it finishes; otherwise the reduction.
+float OpenClResidentBackend::maxSpeedSquared() {
+    confirmStep();
+    if (!speedKnown_) return OpenClBackend::maxSpeedSquared();
+    cl_float largest = 0.0f;
+    check(clEnqueueReadBuffer(queue_.get(), speedBits_.get(), CL_TRUE, speedParity_ * sizeof(cl_uint),
+                              sizeof(cl_float), &largest, 0, nullptr, nullptr),
+          "clEnqueueReadBuffer(largest speed squared)");
+    return largest;
+}
+
+Grid OpenClResidentBackend::readDeviceGrid() {
+    confirmStep();
+    deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get());
+    return deviceGrid_.read(queue_.get(), sortedIds_.get());
+}
+
+}  // namespace carom

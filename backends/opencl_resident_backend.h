@@ -1,0 +1,58 @@
+// The OpenCL resident pipeline (--pipeline resident): the state stays on the
+// device, stored in the cell order of the step before; the grid is built
+// there (DeviceGrid, kernels/grid.cl) and one fused kernel resolves,
+// integrates and counts the new positions into the next grid
+// (kernels/resident.cl; pairwise: the rounds, then a kernel that finishes
+// the step and counts). The host reads the state only when asked
+// (readParticles). Bitwise equal to the seed pipeline.
+#pragma once
+
+#include "backends/opencl_backend.h"
+#include "backends/opencl_grid.h"
+#include "backends/opencl_pairwise.h"
+
+namespace carom {
+
+class OpenClResidentBackend final : public OpenClBackend {
+public:
+    // See OpenClBackend.
+    OpenClResidentBackend(const WorldDef& world, const std::string& device, bool profiling = false);
+
+    void readParticles(std::vector<Particle>& particles) override;
+
+    // The grid of the current state as the device builds it, read back
+    // (tests compare it with the shared builder's).
+    Grid readDeviceGrid();
+
+private:
+    const char* pipelineName() const override { return "resident"; }
+    void releaseState() override;
+    void loadState(std::vector<Particle> particles) override;
+    void enqueueStep(float dt) override;
+    // A pairwise step ends in a wait of its own (confirmStep).
+    bool waitsEachStep() const override { return world_.collisions == CollisionScheme::Pairwise; }
+    // Pairwise: waits for the last step's rounds (and runs the rest if its
+    // batch fell short), then makes its result the current state.
+    void confirmStep() override;
+    float maxSpeedSquared() override;
+    void stepSimultaneous(float dt);
+    void stepPairwise(float dt);
+    void enqueuePairwiseFinish(const CaromStepParams& step, cl_uint stepIndex);
+
+    opencl::Kernel fusedKernel_;           // resolveIntegrateAndCount
+    opencl::Kernel finishAndCountKernel_;  // pairwise: finishPairwiseAndCount
+    opencl::DeviceGrid deviceGrid_;
+    opencl::Buffer ids_;               // the particle id in each slot of state_
+    opencl::Buffer sortedIds_;         // sortedIndices, then the ids of next_'s slots
+    opencl::DevicePairwise pairwise_;  // pairwise
+    // Pairwise: the finish records a disk left non-finite in the pairwise
+    // lengths, which its step reads anyway (DevicePairwise::nonFiniteIndex).
+    opencl::Buffer speedBits_;         // pairwise: the largest v^2 each step leaves (two words)
+    unsigned int speedParity_ = 0;     // the word the last step wrote
+    bool speedKnown_ = false;          // whether that word holds the current state's
+    bool unconfirmed_ = false;         // a pairwise step was enqueued and not yet confirmed
+    cl_uint unconfirmedStepIndex_ = 0; // and its nextStepIndex() (its parameters: pairwise_.step())
+    std::size_t finishItems_ = 0;      // work-items of finishPairwiseAndCount, which stride over the particles
+};
+
+}  // namespace carom
