@@ -108,8 +108,8 @@ std::vector<Variant> chosenVariants(const BenchOptions& o) {
                     "only); add a method that does, such as cpu or events");
     }
     // Its timing waits for the gas to leave the lattice, which a gas at rest never does.
-    const bool events = std::any_of(variants.begin(), variants.end(),
-                                    [](const Variant& v) { return v.method.eventDriven; });
+    const bool events =
+        std::any_of(variants.begin(), variants.end(), [](const Variant& v) { return v.method.eventDriven; });
     if (events && !(o.speed > 0)) {
         std::string speed;
         appendNumber(speed, o.speed);
@@ -164,8 +164,8 @@ void benchOneSize(const BenchOptions& o, std::uint32_t particles, bool largerFol
         if (o.profile) {
             const std::uint64_t stepsTimed =
                 row.timing.warmupSteps + row.timing.stepsPerSample * row.timing.sampleSecondsPerStep.size();
-            row.profile = profileMethod(variant.method, world, initial.particles, o.device,
-                                        row.timing.stepsPerSample, row.timing.substepsPerStep, stepsTimed);
+            row.profile = profileMethod(variant.method, world, initial.particles, o.device, row.timing.stepsPerSample,
+                                        row.timing.substepsPerStep, stepsTimed);
         }
         std::cerr << "  " << variantLabel(variant) << ", N = " << particles << ": ";
         if (row.timing.events)
@@ -188,8 +188,8 @@ void benchOneSize(const BenchOptions& o, std::uint32_t particles, bool largerFol
 
 int listMethods() {
     std::cout << "methods (carom bench --methods NAME,...):\n";
-    for (const Method& m : availableMethods()) std::cout << "  " << m.name << std::string(18 - m.name.size(), ' ')
-                                                         << m.description << '\n';
+    for (const Method& m : availableMethods())
+        std::cout << "  " << m.name << std::string(18 - m.name.size(), ' ') << m.description << '\n';
     std::cout << "collision schemes (--collisions NAME,...; default: all): simultaneous, pairwise, events; the "
                  "naive methods run simultaneous only, the events method events only (in a periodic box)\n";
     std::cout << "default sizes (--sizes N,...):";
@@ -205,14 +205,17 @@ int listMethods() {
 void addBenchOptions(CLI::App& command, BenchOptions& o) {
     command.add_option("--methods", o.methods, "Methods to compare, comma-separated (see --list; default: all)")
         ->delimiter(',');
-    command.add_option("--collisions", o.collisions,
-                       "Collision schemes to measure each method under, comma-separated: simultaneous, pairwise, "
-                       "events (default: all; the naive methods run simultaneous only, the events method events "
-                       "only). The table gives pw/sim, a pairwise step's time over a simultaneous one's, and the "
-                       "events method's collisions, events and particle-time per second")
+    command
+        .add_option("--collisions", o.collisions,
+                    "Collision schemes to measure each method under, comma-separated: simultaneous, pairwise, "
+                    "events (default: all; the naive methods run simultaneous only, the events method events "
+                    "only). The table gives pw/sim, a pairwise step's time over a simultaneous one's, and the "
+                    "events method's collisions, events and particle-time per second")
         ->delimiter(',');
-    command.add_option("--sizes", o.sizes, "Particle counts N, comma-separated, e.g. 1e3,1e6,1.6e7 "
-                                           "(default: 1e3 to 1.6e7)")
+    command
+        .add_option("--sizes", o.sizes,
+                    "Particle counts N, comma-separated, e.g. 1e3,1e6,1.6e7 "
+                    "(default: 1e3 to 1.6e7)")
         ->delimiter(',');
     command.add_option("--packing", o.packing, "Area fraction of the disks")
         ->transform(realNumber())

@@ -54,11 +54,11 @@ void addRunOptions(CLI::App& command, RunOptions& o) {
                 ->transform(wholeNumber(1))
                 ->capture_default_str(),
             o.scene.given);
-    auto* resume = command.add_option("--resume", o.resume,
-                                      "Continue from this checkpoint for --steps more steps, bit for bit");
-    for (const char* scene : {"--scene", "--input-state", "--particles", "--packing", "--box", "--radius",
-                              "--radius-min", "--radius-max", "--mass", "--mass-min", "--mass-max", "--speed",
-                              "--seed", "--dt", "--gravity", "--boundary", "--collisions"})
+    auto* resume =
+        command.add_option("--resume", o.resume, "Continue from this checkpoint for --steps more steps, bit for bit");
+    for (const char* scene :
+         {"--scene", "--input-state", "--particles", "--packing", "--box", "--radius", "--radius-min", "--radius-max",
+          "--mass", "--mass-min", "--mass-max", "--speed", "--seed", "--dt", "--gravity", "--boundary", "--collisions"})
         resume->excludes(command.get_option(scene));
     // An empty name would silently mean "no output".
     for (const char* output : {"--output-state", "--trajectory", "--stats", "--checkpoint"})
@@ -82,10 +82,10 @@ struct NamedFile {
 struct Start {
     WorldDef world;
     std::vector<Particle> particles;
-    std::uint64_t step = 0;        // steps the scene has taken before this run
-    std::uint64_t collisions = 0;  // collisions before this run
-    std::uint64_t steps = 0;       // steps this run takes
-    bool resumed = false;          // from a checkpoint, whose step the previous run sampled
+    std::uint64_t step = 0;                  // steps the scene has taken before this run
+    std::uint64_t collisions = 0;            // collisions before this run
+    std::uint64_t steps = 0;                 // steps this run takes
+    bool resumed = false;                    // from a checkpoint, whose step the previous run sampled
     std::optional<EventEngineState> events;  // the events scheme's exact state, from the checkpoint
     OutputDef outputs;
     std::vector<NamedFile> outputFiles;  // outputs' paths with their names, for the checks and messages
@@ -349,8 +349,8 @@ private:
     }
 
     OutputDef def_;
-    bool resumed_;     // from a checkpoint: the trajectory and statistics are appended to
-    float maxTravel_;  // the run's --max-travel, which a resumed run must be given again
+    bool resumed_;                                // from a checkpoint: the trajectory and statistics are appended to
+    float maxTravel_;                             // the run's --max-travel, which a resumed run must be given again
     const EventDrivenBackend* engine_ = nullptr;  // with the events scheme
     std::optional<TrajectoryWriter> trajectory_;
     std::optional<StatsWriter> stats_;
@@ -387,11 +387,11 @@ public:
         shownAt_ = now;
         const double rate = double(step - first_) / elapsed;
         const double eta = rate > 0 ? double(last_ - step) / rate : 0.0;
-        const int length = std::fprintf(
-            stderr, "\rcarom: step %llu of %llu (%.0f%%), %.3g steps/s, ETA %s   ",
-            static_cast<unsigned long long>(step), static_cast<unsigned long long>(last_),
-            100.0 * double(step - first_) / double(std::max<std::uint64_t>(last_ - first_, 1)), rate,
-            duration(eta).c_str());
+        const int length =
+            std::fprintf(stderr, "\rcarom: step %llu of %llu (%.0f%%), %.3g steps/s, ETA %s   ",
+                         static_cast<unsigned long long>(step), static_cast<unsigned long long>(last_),
+                         100.0 * double(step - first_) / double(std::max<std::uint64_t>(last_ - first_, 1)), rate,
+                         duration(eta).c_str());
         std::fflush(stderr);
         shownLength_ = std::max(shownLength_, length);
     }
@@ -464,8 +464,8 @@ struct Result {
 
     // Pressure and rates over the run, at the mean of the first and last kT.
     Thermodynamics thermodynamics(const Backend& backend) const {
-        return carom::thermodynamics(contacts, 0.5 * (initialTemperature + finalTemperature),
-                                     backend.particleCount(), backend.world());
+        return carom::thermodynamics(contacts, 0.5 * (initialTemperature + finalTemperature), backend.particleCount(),
+                                     backend.world());
     }
 };
 
@@ -494,22 +494,24 @@ void printSummary(const Backend& backend, const Result& r, const std::string& re
         std::printf("  scheme       pairwise (at most %u collision rounds per substep, %llu late contacts)\n",
                     r.contacts.maxRounds, static_cast<unsigned long long>(r.contacts.lateContacts));
     else if (r.events)
-        std::printf("  scheme       events (%llu collisions, %llu wall bounces, %llu cell crossings; %llu stale and "
-                    "%llu overlapping events)\n",
-                    static_cast<unsigned long long>(r.events->counts.collisions),
-                    static_cast<unsigned long long>(r.events->counts.wallBounces),
-                    static_cast<unsigned long long>(r.events->counts.cellCrossings),
-                    static_cast<unsigned long long>(r.events->counts.stale),
-                    static_cast<unsigned long long>(r.events->counts.overlapping));
+        std::printf(
+            "  scheme       events (%llu collisions, %llu wall bounces, %llu cell crossings; %llu stale and "
+            "%llu overlapping events)\n",
+            static_cast<unsigned long long>(r.events->counts.collisions),
+            static_cast<unsigned long long>(r.events->counts.wallBounces),
+            static_cast<unsigned long long>(r.events->counts.cellCrossings),
+            static_cast<unsigned long long>(r.events->counts.stale),
+            static_cast<unsigned long long>(r.events->counts.overlapping));
     else
         std::printf("  scheme       %s\n", collisionSchemeName(w.collisions));
     std::printf("  wall time    %.3f s, %.3g particle-steps/s\n", r.seconds,
                 r.seconds > 0 ? double(backend.particleCount()) * steps / r.seconds : 0.0);
     if (hasGravity(w))
-        std::printf("  energy       total %.9g -> %.9g (relative change %+.2e)\n"
-                    "               kinetic %.9g -> %.9g, potential %.9g -> %.9g\n",
-                    r.initial.totalEnergy(), r.final.totalEnergy(), energyChange(r), r.initial.kineticEnergy,
-                    r.final.kineticEnergy, r.initial.potentialEnergy, r.final.potentialEnergy);
+        std::printf(
+            "  energy       total %.9g -> %.9g (relative change %+.2e)\n"
+            "               kinetic %.9g -> %.9g, potential %.9g -> %.9g\n",
+            r.initial.totalEnergy(), r.final.totalEnergy(), energyChange(r), r.initial.kineticEnergy,
+            r.final.kineticEnergy, r.initial.potentialEnergy, r.final.potentialEnergy);
     else
         std::printf("  energy       %.9g -> %.9g (relative change %+.2e)\n", r.initial.kineticEnergy,
                     r.final.kineticEnergy, energyChange(r));
@@ -519,8 +521,8 @@ void printSummary(const Backend& backend, const Result& r, const std::string& re
                     r.events->relativeChange());
     std::printf("  momentum     (%.6g, %.6g) -> (%.6g, %.6g)\n", r.initial.momentum[0], r.initial.momentum[1],
                 r.final.momentum[0], r.final.momentum[1]);
-    std::printf("  collisions   %llu, max overlap %.3g, escaped %zu\n",
-                static_cast<unsigned long long>(r.collisions), r.final.maxOverlap, r.final.escaped);
+    std::printf("  collisions   %llu, max overlap %.3g, escaped %zu\n", static_cast<unsigned long long>(r.collisions),
+                r.final.maxOverlap, r.final.escaped);
     const Thermodynamics t = r.thermodynamics(backend);
     std::printf("  temperature  kT %.6g, %.4g collisions per disk per unit time\n", r.finalTemperature,
                 t.collisionRate);
@@ -575,8 +577,10 @@ void printJson(const Backend& backend, const Result& r) {
     };
     if (r.events) {
         const EventCounts& counts = r.events->counts;
-        summary["events"] = {{"collisions", counts.collisions},       {"wall_bounces", counts.wallBounces},
-                             {"cell_crossings", counts.cellCrossings}, {"stale", counts.stale},
+        summary["events"] = {{"collisions", counts.collisions},
+                             {"wall_bounces", counts.wallBounces},
+                             {"cell_crossings", counts.cellCrossings},
+                             {"stale", counts.stale},
                              {"overlapping", counts.overlapping}};
         // The float32 samples' energies above change by their rounding; the engine's double state by its own.
         summary["energy"]["exact_total"] = {{"initial", r.events->initialEnergy}, {"final", r.events->finalEnergy}};
@@ -598,8 +602,8 @@ void advance(Backend& backend, std::uint64_t from, std::uint64_t steps, Outputs&
         backend.step(steps);
     } catch (const Error& e) {
         outputs.commitStreams();  // keep the complete frames and rows written so far
-        std::string message = "steps " + std::to_string(from + 1) + " to " + std::to_string(from + steps) +
-                              " failed: " + e.what();
+        std::string message =
+            "steps " + std::to_string(from + 1) + " to " + std::to_string(from + steps) + " failed: " + e.what();
         const std::string kept = outputs.written(false);
         if (!kept.empty()) message += "; kept what was written before: " + kept;
         if (!outputs.statePath().empty()) message += "; '" + outputs.statePath() + "' was not written";
@@ -644,11 +648,14 @@ void warnAboutEnergy(const Result& r, const WorldDef& world) {
     std::fprintf(stderr, "carom: warning: the %s energy changed by %+.3g %% over this run",
                  hasGravity(world) ? "total" : "kinetic", 100 * change);
     if (world.collisions == CollisionScheme::Simultaneous)
-        std::fprintf(stderr, ": the simultaneous collision scheme does not conserve it in dense or crowded "
-                             "systems; use --collisions pairwise, or a smaller --dt\n");
+        std::fprintf(stderr,
+                     ": the simultaneous collision scheme does not conserve it in dense or crowded "
+                     "systems; use --collisions pairwise, or a smaller --dt\n");
     else
-        std::fprintf(stderr, ", although the %s scheme conserves it: this is a bug in carom; please report it "
-                             "with the command line\n", collisionSchemeName(world.collisions));
+        std::fprintf(stderr,
+                     ", although the %s scheme conserves it: this is a bug in carom; please report it "
+                     "with the command line\n",
+                     collisionSchemeName(world.collisions));
 }
 
 // What each output holds (the samples end at the last multiple of --every,
@@ -683,7 +690,8 @@ int runCommand(const RunOptions& o) {
     const StopSignals stopSignals;
     Start start = planRun(o);
     const std::string& source = !o.resume.empty() ? o.resume : o.scene.inputState;
-    for (const std::string& warning : validateStart(start.particles, start.world, source.empty() ? "the scene" : source))
+    for (const std::string& warning :
+         validateStart(start.particles, start.world, source.empty() ? "the scene" : source))
         std::cerr << "carom: warning: " << warning << '\n';
     Outputs outputs(start);
     std::unique_ptr<Backend> backend = makeBackend(backendFor(o.scene, start.world.collisions), start.world);

@@ -14,8 +14,8 @@ namespace carom::app {
 namespace {
 
 // The options that describe the one particle group of a scene file.
-const char* const kGroupOptions[] = {"--particles", "--radius", "--radius-min", "--radius-max",
-                                     "--mass",      "--mass-min", "--mass-max", "--speed"};
+const char* const kGroupOptions[] = {"--particles", "--radius",   "--radius-min", "--radius-max",
+                                     "--mass",      "--mass-min", "--mass-max",   "--speed"};
 
 void applyOverrides(const SceneOptions& o, SceneFile& scene) {
     auto given = [&o](const char* option) { return o.given.count(option) > 0; };
@@ -84,15 +84,15 @@ struct UniformRange {
 UniformRange addUniformRange(CLI::App& command, const std::string& name, float& min, float& max) {
     std::string capitalized = name;
     capitalized[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(name[0])));
-    auto* value = command
-                      .add_option_function<float>(
-                          "--" + name, [&min, &max](float v) { min = max = v; },
-                          capitalized + " of every disk (default 1)")
-                      ->transform(realNumber());
-    auto* low = command.add_option("--" + name + "-min", min, "Smallest " + name + " (uniform range)")
-                    ->transform(realNumber());
-    auto* high = command.add_option("--" + name + "-max", max, "Largest " + name + " (uniform range)")
-                     ->transform(realNumber());
+    auto* value =
+        command
+            .add_option_function<float>(
+                "--" + name, [&min, &max](float v) { min = max = v; }, capitalized + " of every disk (default 1)")
+            ->transform(realNumber());
+    auto* low =
+        command.add_option("--" + name + "-min", min, "Smallest " + name + " (uniform range)")->transform(realNumber());
+    auto* high =
+        command.add_option("--" + name + "-max", max, "Largest " + name + " (uniform range)")->transform(realNumber());
     value->excludes(low)->excludes(high);
     low->needs(high);
     high->needs(low);
@@ -120,19 +120,20 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
     auto forOpenCL = [&o](const char* cpuHas) {
         return CLI::Validator(
             [&o, cpuHas](const std::string& value) {
-                return o.backend.kind == "cpu"
-                           ? "'" + value + "' needs --backend opencl; the cpu backend has " + cpuHas
-                           : std::string();
+                return o.backend.kind == "cpu" ? "'" + value + "' needs --backend opencl; the cpu backend has " + cpuHas
+                                               : std::string();
             },
             "");
     };
-    command.add_option("--device", o.backend.device,
-                       "OpenCL device: index from `carom devices` or part of its name (default: first GPU, "
-                       "else first device)")
+    command
+        .add_option("--device", o.backend.device,
+                    "OpenCL device: index from `carom devices` or part of its name (default: first GPU, "
+                    "else first device)")
         ->check(forOpenCL("no devices to choose from"));
-    command.add_option("--pipeline", o.backend.pipeline,
-                       "OpenCL pipeline: seed (host builds the grid, state read back each step) or resident "
-                       "(grid and state stay on the device)")
+    command
+        .add_option("--pipeline", o.backend.pipeline,
+                    "OpenCL pipeline: seed (host builds the grid, state read back each step) or resident "
+                    "(grid and state stay on the device)")
         ->check(CLI::IsMember({"seed", "resident"}))
         ->check(forOpenCL("one pipeline"))
         ->capture_default_str();
@@ -148,7 +149,8 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
                     ->transform(realNumber());
     packing->excludes(box);
 
-    const auto [radius, radiusMin, radiusMax] = addUniformRange(command, "radius", o.scene.radiusMin, o.scene.radiusMax);
+    const auto [radius, radiusMin, radiusMax] =
+        addUniformRange(command, "radius", o.scene.radiusMin, o.scene.radiusMax);
     const auto [mass, massMin, massMax] = addUniformRange(command, "mass", o.scene.massMin, o.scene.massMax);
 
     auto* speed = command.add_option("--speed", o.scene.speed, "Initial speed of every disk, random directions")
@@ -169,15 +171,18 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
                 throw CLI::ValidationError("--dt", "must be a number > 0 or auto, got '" + text + "'");
         },
         "Time step, or auto: the default step (0.01), split into substeps of at most --max-travel radii");
-    auto* maxTravel = command.add_option(
-        "--max-travel", o.world.maxTravel,
-        "Split each step into substeps so that no disk moves more than this fraction of the smallest radius in "
-        "one (0 = off; --dt auto uses 0.2)")
-                           ->transform(realNumber());
-    auto* boundary = command.add_option_function<std::string>(
-        "--boundary", [&o](const std::string& name) { o.world.boundary = parseBoundary(name); },
-        "walls (reflective, the default) or periodic (the box repeats)")
-        ->check(CLI::IsMember({"walls", "periodic"}));
+    auto* maxTravel =
+        command
+            .add_option(
+                "--max-travel", o.world.maxTravel,
+                "Split each step into substeps so that no disk moves more than this fraction of the smallest radius in "
+                "one (0 = off; --dt auto uses 0.2)")
+            ->transform(realNumber());
+    auto* boundary = command
+                         .add_option_function<std::string>(
+                             "--boundary", [&o](const std::string& name) { o.world.boundary = parseBoundary(name); },
+                             "walls (reflective, the default) or periodic (the box repeats)")
+                         ->check(CLI::IsMember({"walls", "periodic"}));
     auto* gravity = command.add_option("--gravity", o.gravity, "Constant acceleration GX GY (default off)")
                         ->expected(2)
                         ->transform(realNumber());
@@ -198,15 +203,16 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
     auto* input = command.add_option("--input-state", o.inputState,
                                      "Start from the particles in this CSV (id,x,y,vx,vy,mass,radius); needs --box");
     input->needs(box);
-    for (CLI::Option* generated : {particles, packing, radius, radiusMin, radiusMax, mass, massMin, massMax, speed, seed})
+    for (CLI::Option* generated :
+         {particles, packing, radius, radiusMin, radiusMax, mass, massMin, massMax, speed, seed})
         input->excludes(generated);
 
-    command.add_option("--scene", o.sceneFile,
-                       "Start from this TOML scene file; the options above that are given override its values")
+    command
+        .add_option("--scene", o.sceneFile,
+                    "Start from this TOML scene file; the options above that are given override its values")
         ->excludes(input);
-    for (CLI::Option* overriding :
-         {particles, packing, box, radius, radiusMin, radiusMax, mass, massMin, massMax, speed, seed, dt, gravity,
-          maxTravel, boundary, collisions})
+    for (CLI::Option* overriding : {particles, packing, box, radius, radiusMin, radiusMax, mass, massMin, massMax,
+                                    speed, seed, dt, gravity, maxTravel, boundary, collisions})
         tracked(overriding, o.given);
 }
 
@@ -215,25 +221,28 @@ BackendDef backendFor(const SceneOptions& o, CollisionScheme scheme) {
     const bool openclAsked = o.given.count("--backend") || !def.device.empty() || def.pipeline != "seed";
     if (scheme == CollisionScheme::Events && !openclAsked) def.kind = "cpu";
     if (scheme == CollisionScheme::Events && def.kind != "cpu")
-        throw Error("--collisions events runs on the CPU only (one thread, double precision): use --backend cpu "
-                    "with it, or --collisions pairwise on --backend " + def.kind);
+        throw Error(
+            "--collisions events runs on the CPU only (one thread, double precision): use --backend cpu "
+            "with it, or --collisions pairwise on --backend " +
+            def.kind);
     return def;
 }
 
 WorldDef withEngine(WorldDef world, const SceneOptions& o) {
     const BackendDef def = backendFor(o, world.collisions);
-    world.engine = def.kind == "cpu"                ? ComputeEngine::Cpu
-                   : def.pipeline == "resident"      ? ComputeEngine::OpenClResident
-                                                     : ComputeEngine::OpenClHostGrid;
+    world.engine = def.kind == "cpu"            ? ComputeEngine::Cpu
+                   : def.pipeline == "resident" ? ComputeEngine::OpenClResident
+                                                : ComputeEngine::OpenClHostGrid;
     world.device = def.device;
     return world;
 }
 
 void refuseSubstepsWithEvents(const WorldDef& world, const std::string& asked) {
     if (world.collisions != CollisionScheme::Events || world.maxTravel == 0.0f) return;
-    throw Error(asked + " splits steps into substeps, but the events scheme has no steps to split (it moves the "
-                        "disks exactly from event to event; --dt only sets when the state is sampled): leave it "
-                        "out, or use --collisions pairwise");
+    throw Error(asked +
+                " splits steps into substeps, but the events scheme has no steps to split (it moves the "
+                "disks exactly from event to event; --dt only sets when the state is sampled): leave it "
+                "out, or use --collisions pairwise");
 }
 
 std::string maxTravelOption(float maxTravel) {
@@ -253,8 +262,9 @@ std::string substepsSource(const SceneOptions& o) {
 
 Setup makeSetupOf(const SceneOptions& o) {
     if (o.dtAuto && o.given.count("--max-travel") && o.world.maxTravel == 0.0f) {
-        std::string message = "--dt auto splits each step so that no disk moves more than --max-travel radii; "
-                              "--max-travel 0 turns that off: give --max-travel > 0 (without it, ";
+        std::string message =
+            "--dt auto splits each step so that no disk moves more than --max-travel radii; "
+            "--max-travel 0 turns that off: give --max-travel > 0 (without it, ";
         appendNumber(message, kDefaultMaxTravel);
         throw Error(message + ") or a fixed --dt");
     }

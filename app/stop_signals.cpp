@@ -27,8 +27,7 @@ std::atomic<std::int64_t> firstSignalAtNs{0};  // lock-free, so the handler may 
 static_assert(std::atomic<std::int64_t>::is_always_lock_free);
 
 std::int64_t steadyNanoseconds() {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(
-               std::chrono::steady_clock::now().time_since_epoch())
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
         .count();
 }
 

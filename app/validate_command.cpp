@@ -42,16 +42,18 @@ void addValidateOptions(CLI::App& command, ValidateOptions& o) {
     command.add_option("--report", o.report, "Folder for the report: README.md and its SVG plots")
         ->capture_default_str();
     command.add_option("--json", o.json, "Also write every check and measurement as JSON to this file");
-    command.add_option("--backend", o.backend,
-                       "Backend of every run but the conservation checks, which run on all (pairwise scheme), "
-                       "and the event-driven runs, which run on the CPU")
+    command
+        .add_option("--backend", o.backend,
+                    "Backend of every run but the conservation checks, which run on all (pairwise scheme), "
+                    "and the event-driven runs, which run on the CPU")
         ->check(CLI::IsMember(availableBackends()))
         ->capture_default_str();
     command.add_option("--device", o.device,
                        "OpenCL device: index from `carom devices` or part of its name (default: first GPU, else "
                        "first device); also used by the OpenCL conservation runs");
-    command.add_option("--pipeline", o.pipeline,
-                       "OpenCL pipeline of the heavy runs: seed or resident (the conservation checks run both)")
+    command
+        .add_option("--pipeline", o.pipeline,
+                    "OpenCL pipeline of the heavy runs: seed or resident (the conservation checks run both)")
         ->check(CLI::IsMember({"seed", "resident"}))
         ->capture_default_str();
     command.add_option("--seed", o.seed, "Random seed of the initial positions and velocities")
@@ -61,11 +63,12 @@ void addValidateOptions(CLI::App& command, ValidateOptions& o) {
     dtHelp << "Time step of the equation-of-state, relaxation, conservation, dense-gas and gravity runs, in (0, "
            << validation::kMaxDt << "]";
     command.add_option("--dt", o.dt, dtHelp.str())->transform(realNumber())->capture_default_str();
-    command.add_option("--particles", o.particles,
-                       "Disks in each equation-of-state run of the stepped scheme (default " +
-                           std::to_string(validation::kEosParticles(false)) + ", " +
-                           std::to_string(validation::kEosParticles(true)) + " with --quick; the event-driven runs use " +
-                           std::to_string(validation::kEventsParticles) + ")")
+    command
+        .add_option("--particles", o.particles,
+                    "Disks in each equation-of-state run of the stepped scheme (default " +
+                        std::to_string(validation::kEosParticles(false)) + ", " +
+                        std::to_string(validation::kEosParticles(true)) + " with --quick; the event-driven runs use " +
+                        std::to_string(validation::kEventsParticles) + ")")
         ->transform(wholeNumber(validation::kMinEosParticles, validation::kMaxEosParticles));
 }
 
@@ -85,8 +88,8 @@ int validateCommand(const ValidateOptions& o) {
     std::error_code error;
     std::filesystem::create_directories(o.report, error);
     if (error || !std::filesystem::is_directory(o.report))
-        throw Error("cannot create the report folder '" + o.report + "': " +
-                    (error ? error.message() : "a file of that name exists"));
+        throw Error("cannot create the report folder '" + o.report +
+                    "': " + (error ? error.message() : "a file of that name exists"));
     const std::filesystem::path folder(o.report);
     std::map<std::string, std::unique_ptr<AtomicFile>> reportOutputs;
     for (const std::string& name : validation::reportFileNames())

@@ -19,8 +19,9 @@ std::function<int()> addViewCommand(CLI::App& app) {
     app.add_subcommand("view", "Watch a scene in a window (not available: built without SDL2/OpenGL/ImGui)")
         ->allow_extras();
     return []() -> int {
-        throw Error("this carom was built without the viewer (SDL2, OpenGL or Dear ImGui were not found at build "
-                    "time); install libsdl2-dev, libimgui-dev and libstb-dev and rebuild, or use `carom run`");
+        throw Error(
+            "this carom was built without the viewer (SDL2, OpenGL or Dear ImGui were not found at build "
+            "time); install libsdl2-dev, libimgui-dev and libstb-dev and rebuild, or use `carom run`");
     };
 #endif
 }

@@ -87,15 +87,15 @@ void Backend::step(std::uint64_t steps) {
         requireFinite();  // the wait for the largest speed may find the step before non-finite
         const double needed = std::ceil(speed * dt / allowed);
         if (!(needed <= double(kMaxSubsteps)))
-            throw Error("a step of dt " + std::to_string(dt) + " at the largest speed " + std::to_string(speed) +
-                        " would need " + (std::isfinite(needed) ? std::to_string(needed) : std::string("unbounded")) +
-                        " substeps to keep each move within " +
-                        (allowed == double(world_.maxTravel) * minRadius_
-                             ? "max-travel " + std::to_string(world_.maxTravel) + " x radius " +
-                                   std::to_string(minRadius_)
-                             : "the pairwise grid's allowance " + std::to_string(allowed)) +
-                        "; at most " + std::to_string(kMaxSubsteps) +
-                        " are allowed (the state may have blown up, or use a smaller dt)");
+            throw Error(
+                "a step of dt " + std::to_string(dt) + " at the largest speed " + std::to_string(speed) +
+                " would need " + (std::isfinite(needed) ? std::to_string(needed) : std::string("unbounded")) +
+                " substeps to keep each move within " +
+                (allowed == double(world_.maxTravel) * minRadius_
+                     ? "max-travel " + std::to_string(world_.maxTravel) + " x radius " + std::to_string(minRadius_)
+                     : "the pairwise grid's allowance " + std::to_string(allowed)) +
+                "; at most " + std::to_string(kMaxSubsteps) +
+                " are allowed (the state may have blown up, or use a smaller dt)");
         const auto substeps = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(needed));
         const float substepDt = substeps == 1 ? dt : static_cast<float>(double(dt) / double(substeps));
         for (std::uint64_t done = 0; done < substeps;) {
@@ -211,8 +211,10 @@ std::vector<std::string> availableBackends() {
 
 std::unique_ptr<Backend> makeBackend(const BackendDef& def, const WorldDef& world) {
     if (world.collisions == CollisionScheme::Events && def.kind != "cpu")
-        throw Error("--collisions events runs on the CPU only (one thread, double precision): use --backend cpu "
-                    "with it, or --collisions pairwise on --backend " + def.kind);
+        throw Error(
+            "--collisions events runs on the CPU only (one thread, double precision): use --backend cpu "
+            "with it, or --collisions pairwise on --backend " +
+            def.kind);
     if (def.kind == "cpu") {
         if (def.pipeline != "seed")
             throw Error("--pipeline " + def.pipeline + " needs --backend opencl; the CPU backend has one pipeline");
@@ -227,8 +229,9 @@ std::unique_ptr<Backend> makeBackend(const BackendDef& def, const WorldDef& worl
     }
 #else
     if (def.kind == "opencl")
-        throw Error("this carom was built without OpenCL (no OpenCL headers or loader were found); "
-                    "use --backend cpu");
+        throw Error(
+            "this carom was built without OpenCL (no OpenCL headers or loader were found); "
+            "use --backend cpu");
 #endif
     throw Error("unknown backend '" + def.kind + "'; allowed: cpu, opencl");
 }

@@ -146,7 +146,7 @@ private:
 
     ContactTotals totals_;
     std::uint64_t substepsSinceDrain_ = 0;
-    float gridTravel_ = 0.0f;  // gridTravelAllowance of grid_
+    float gridTravel_ = 0.0f;          // gridTravelAllowance of grid_
     std::uint64_t stepNumber_ = 0;     // the step the current state holds
     std::uint64_t substepsTaken_ = 0;  // since setParticles
     // The current and the previous advance() call's: an implementation that

@@ -20,8 +20,8 @@ public:
     void readParticles(std::vector<Particle>& particles) override { particles = state_; }
 
 protected:
-    std::vector<Particle> state_;  // the state before the step
-    std::vector<Particle> next_;   // simultaneous: written by the step, then swapped in
+    std::vector<Particle> state_;        // the state before the step
+    std::vector<Particle> next_;         // simultaneous: written by the step, then swapped in
     std::vector<ContactTally> tallies_;  // by particle id
 
 private:

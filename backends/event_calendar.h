@@ -29,8 +29,8 @@ public:
         while (leaves_ < times.size()) leaves_ *= 2;
         nodes_.assign(2 * std::size_t(leaves_), Node{HUGE_VAL, 0, 0});
         for (std::size_t i = 0; i < leaves_; ++i)
-            nodes_[leaves_ + i] = i < times.size() ? Node{times[i], std::uint32_t(i), keys[i]}
-                                                   : Node{HUGE_VAL, std::uint32_t(i), ~0u};
+            nodes_[leaves_ + i] =
+                i < times.size() ? Node{times[i], std::uint32_t(i), keys[i]} : Node{HUGE_VAL, std::uint32_t(i), ~0u};
         for (std::size_t k = leaves_ - 1; k >= 1; --k) nodes_[k] = earlierChild(k);
     }
     // Sets leaf `leaf`'s time and walks up towards the root, as far as the
@@ -57,7 +57,8 @@ private:
     // which child wins is a coin toss the processor cannot predict.
     Node earlierChild(std::size_t k) const {
         const Node* child = &nodes_[2 * k];
-        const bool right = (child[1].time < child[0].time) | ((child[1].time == child[0].time) & (child[1].key < child[0].key));
+        const bool right =
+            (child[1].time < child[0].time) | ((child[1].time == child[0].time) & (child[1].key < child[0].key));
         return child[right];
     }
     std::vector<Node> nodes_;  // nodes_[1] is the root; leaves at [leaves_, 2 leaves_)

@@ -201,9 +201,16 @@ EventEngineState EventDrivenBackend::saveState() const {
     for (std::size_t i = 0; i < disks_.size(); ++i) {
         const Disk& d = disks_[i];
         const Scheduled& e = scheduled_[i];
-        state.disks[d.id] = EventDiskState{d.x,    d.y,    d.vx,    d.vy,
-                                           d.time, e.time, e.event >= 0 ? std::int32_t(disks_[e.event].id) : e.event,
-                                           e.partnerCollisions, d.collisions, d.cell};
+        state.disks[d.id] = EventDiskState{d.x,
+                                           d.y,
+                                           d.vx,
+                                           d.vy,
+                                           d.time,
+                                           e.time,
+                                           e.event >= 0 ? std::int32_t(disks_[e.event].id) : e.event,
+                                           e.partnerCollisions,
+                                           d.collisions,
+                                           d.cell};
     }
     return state;
 }
@@ -222,9 +229,9 @@ void EventDrivenBackend::restore(const EventEngineState& state) {
                         " cells (" + std::to_string(columns_) + " x " + std::to_string(rows_) + ")");
         const std::uint32_t column = d.cell % columns_, row = d.cell / columns_;
         // No crossing out of the box through a wall.
-        if (!periodic_ && ((d.event == kEventCrossLeft && column == 0) ||
-                           (d.event == kEventCrossRight && column + 1 == columns_) ||
-                           (d.event == kEventCrossDown && row == 0) || (d.event == kEventCrossUp && row + 1 == rows_)))
+        if (!periodic_ &&
+            ((d.event == kEventCrossLeft && column == 0) || (d.event == kEventCrossRight && column + 1 == columns_) ||
+             (d.event == kEventCrossDown && row == 0) || (d.event == kEventCrossUp && row + 1 == rows_)))
             throw Error(which + " has event code " + std::to_string(d.event) + ", a crossing out of cell " +
                         std::to_string(d.cell) + " through the box's wall");
         // Its centre within rounding of its cell, at its own time and at the
@@ -237,9 +244,10 @@ void EventDrivenBackend::restore(const EventEngineState& state) {
         const Flight now = flight(d.x, d.y, d.vx, d.vy, state.time - d.time);
         if (!inCell(d.x, d.y) || !inCell(now.x, now.y))
             throw Error(which + " at (" + std::to_string(d.x) + ", " + std::to_string(d.y) + "), (" +
-                        std::to_string(now.x) + ", " + std::to_string(now.y) + ") at the state's time, is not in its cell " +
-                        std::to_string(d.cell) + " (column " + std::to_string(column) + ", row " + std::to_string(row) +
-                        " of cells " + std::to_string(cellWidth_) + " x " + std::to_string(cellHeight_) + ")");
+                        std::to_string(now.x) + ", " + std::to_string(now.y) +
+                        ") at the state's time, is not in its cell " + std::to_string(d.cell) + " (column " +
+                        std::to_string(column) + ", row " + std::to_string(row) + " of cells " +
+                        std::to_string(cellWidth_) + " x " + std::to_string(cellHeight_) + ")");
     }
     // In id order (the partners' storage indices are their ids), then sorted.
     std::vector<double> mass(disks_.size());
@@ -352,8 +360,8 @@ void EventDrivenBackend::schedule(std::uint32_t i) {
                 const Flight p = flight(o.x, o.y, o.vx, o.vy, now_ - o.time);  // the partner at now_
                 // The image across the edge the cell was reached through: in a
                 // box 3 cells wide the nearest image can be another one.
-                const double t = contactTime(d.x - (p.x + shiftX[c]), d.y - (p.y + shiftY[c]), d.vx - p.vx,
-                                             d.vy - p.vy, r + o.radius);
+                const double t = contactTime(d.x - (p.x + shiftX[c]), d.y - (p.y + shiftY[c]), d.vx - p.vx, d.vy - p.vy,
+                                             r + o.radius);
                 if (t < kNever) next.offer(now_ + t, j, o.id);
             }
             j = o.next;
@@ -374,7 +382,8 @@ void EventDrivenBackend::runUntil(double time) {
             eventsAtNow_ = 0;
         } else if (++eventsAtNow_ > kMaxEventsAtOneTime * disks_.size()) {
             throw Error("the event-driven engine took " + std::to_string(eventsAtNow_) + " events at time " +
-                        std::to_string(now_) + " without time advancing: times this large (or these disks) are "
+                        std::to_string(now_) +
+                        " without time advancing: times this large (or these disks) are "
                         "beyond what double precision resolves");
         }
         const std::int32_t event = e.event;
@@ -449,32 +458,32 @@ void EventDrivenBackend::cross(std::uint32_t i, std::int32_t direction) {
     Disk& d = disks_[i];
     std::uint32_t column = d.cell % columns_, row = d.cell / columns_;
     switch (direction) {
-    case kEventCrossLeft:
-        if (column == 0) {
-            column = columns_;
-            d.x += width_;  // periodic: it enters on the right
-        }
-        --column;
-        break;
-    case kEventCrossRight:
-        if (++column == columns_) {
-            column = 0;
-            d.x -= width_;
-        }
-        break;
-    case kEventCrossDown:
-        if (row == 0) {
-            row = rows_;
-            d.y += height_;
-        }
-        --row;
-        break;
-    default:  // kEventCrossUp
-        if (++row == rows_) {
-            row = 0;
-            d.y -= height_;
-        }
-        break;
+        case kEventCrossLeft:
+            if (column == 0) {
+                column = columns_;
+                d.x += width_;  // periodic: it enters on the right
+            }
+            --column;
+            break;
+        case kEventCrossRight:
+            if (++column == columns_) {
+                column = 0;
+                d.x -= width_;
+            }
+            break;
+        case kEventCrossDown:
+            if (row == 0) {
+                row = rows_;
+                d.y += height_;
+            }
+            --row;
+            break;
+        default:  // kEventCrossUp
+            if (++row == rows_) {
+                row = 0;
+                d.y -= height_;
+            }
+            break;
     }
     d.cell = row * columns_ + column;
     link(i);
@@ -506,10 +515,14 @@ std::vector<ExactDisk> EventDrivenBackend::exactState() const {
         const Flight f = flight(d.x, d.y, d.vx, d.vy, now_ - d.time);
         double x = f.x, y = f.y;
         if (periodic_) {
-            if (x < 0) x += width_;
-            else if (x >= width_) x -= width_;
-            if (y < 0) y += height_;
-            else if (y >= height_) y -= height_;
+            if (x < 0)
+                x += width_;
+            else if (x >= width_)
+                x -= width_;
+            if (y < 0)
+                y += height_;
+            else if (y >= height_)
+                y -= height_;
         }
         state[d.id] = ExactDisk{x, y, f.vx, f.vy, mass_[i], d.radius};
     }

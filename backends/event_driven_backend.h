@@ -114,7 +114,7 @@ private:
     // What a neighbour search reads, in one cache line per disk: the
     // trajectory, the size, the cell, the next disk in the cell's list.
     struct alignas(64) Disk {
-        double x, y, vx, vy;       // at `time` (EventDiskState)
+        double x, y, vx, vy;  // at `time` (EventDiskState)
         double time;
         double radius;
         std::int32_t next;         // the next disk in its cell's list (storage index), -1 at the end

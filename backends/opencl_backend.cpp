@@ -25,8 +25,8 @@ OpenClBackend::OpenClBackend(const WorldDef& world, const std::string& device, c
     cl_int status = CL_SUCCESS;
     context_ = Context(clCreateContext(nullptr, 1, &device_.id, nullptr, nullptr, &status));
     check(status, "clCreateContext");
-    queue_ = Queue(clCreateCommandQueue(context_.get(), device_.id, profiling ? CL_QUEUE_PROFILING_ENABLE : 0,
-                                        &status));
+    queue_ =
+        Queue(clCreateCommandQueue(context_.get(), device_.id, profiling ? CL_QUEUE_PROFILING_ENABLE : 0, &status));
     check(status, "clCreateCommandQueue");
     program_ = buildProgram(context_.get(), device_, programSource, device_.correctlyRoundedDivideSqrt);
     maxSpeedKernel_ = createKernel(program_.get(), "maxSpeedSquared");
@@ -36,8 +36,7 @@ OpenClBackend::OpenClBackend(const WorldDef& world, const std::string& device, c
 }
 
 std::string OpenClBackend::device() const {
-    return device_.name + " (" + device_.platformName + ", " + device_.version + "), " + pipelineName() +
-           " pipeline";
+    return device_.name + " (" + device_.platformName + ", " + device_.version + "), " + pipelineName() + " pipeline";
 }
 
 void OpenClBackend::fitWorkGroups(std::initializer_list<cl_kernel> perParticle,
@@ -63,8 +62,8 @@ void OpenClBackend::load(std::vector<Particle> particles) {
                                nullptr, nullptr),
           "clEnqueueWriteBuffer(particle state)");
     enqueueZero(queue_.get(), tallies_.get(), n * sizeof(ContactTally), "contact tallies");
-    check(clEnqueueWriteBuffer(queue_.get(), firstNonFinite_.get(), CL_TRUE, 0, sizeof(kNoneNonFinite),
-                               kNoneNonFinite, 0, nullptr, nullptr),
+    check(clEnqueueWriteBuffer(queue_.get(), firstNonFinite_.get(), CL_TRUE, 0, sizeof(kNoneNonFinite), kNoneNonFinite,
+                               0, nullptr, nullptr),
           "clEnqueueWriteBuffer(first non-finite step and particle)");
     substep_ = nonFiniteBase_ = 0;
     loadState(std::move(particles));
@@ -126,8 +125,8 @@ float OpenClBackend::maxSpeedSquared() {
     setLocalArg(maxSpeedKernel_.get(), 2, reductionGroupSize_ * sizeof(cl_float));
     const cl_mem groupMaxBuffer = groupMax_.get();
     check(clSetKernelArg(maxSpeedKernel_.get(), 3, sizeof(cl_mem), &groupMaxBuffer), "clSetKernelArg");
-    enqueue1d(queue_.get(), maxSpeedKernel_.get(), groups * reductionGroupSize_, reductionGroupSize_,
-              "maxSpeedSquared", profiler_.get());
+    enqueue1d(queue_.get(), maxSpeedKernel_.get(), groups * reductionGroupSize_, reductionGroupSize_, "maxSpeedSquared",
+              profiler_.get());
     std::vector<cl_float> groupMax(groups);
     check(clEnqueueReadBuffer(queue_.get(), groupMax_.get(), CL_TRUE, 0, groups * sizeof(cl_float), groupMax.data(), 0,
                               nullptr, nullptr),

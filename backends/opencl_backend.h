@@ -100,9 +100,9 @@ private:
     void awaitSteps() final;
 
     opencl::Kernel maxSpeedKernel_;
-    opencl::Buffer groupMax_;           // maxSpeedSquared's per-group results
-    std::uint64_t substep_ = 0;         // substeps enqueued since load
-    std::uint64_t nonFiniteBase_ = 0;   // the substep that step index 0 means
+    opencl::Buffer groupMax_;          // maxSpeedSquared's per-group results
+    std::uint64_t substep_ = 0;        // substeps enqueued since load
+    std::uint64_t nonFiniteBase_ = 0;  // the substep that step index 0 means
 };
 
 }  // namespace carom

@@ -19,9 +19,7 @@ std::size_t powerOfTwoAtMost(std::size_t limit) {
 // Local memory of a scan work-group: the tile, padded by one word in 32
 // (carom_padded), and one run sum per work-item.
 std::size_t scanTileBytes(std::size_t tileLength) { return (tileLength + tileLength / 32) * sizeof(cl_uint); }
-std::size_t scanLocalBytes(std::size_t group) {
-    return scanTileBytes(group * kScanItems) + group * sizeof(cl_uint);
-}
+std::size_t scanLocalBytes(std::size_t group) { return scanTileBytes(group * kScanItems) + group * sizeof(cl_uint); }
 
 }  // namespace
 
@@ -110,11 +108,11 @@ Grid DeviceGrid::read(cl_command_queue queue, cl_mem sortedIds) const {
     grid.geometry = geometry_;
     grid.cells.resize(levelSizes_[0]);
     grid.sortedIndices.resize(particleCount_);
-    check(clEnqueueReadBuffer(queue, cells_.get(), CL_TRUE, 0, grid.cells.size() * sizeof(GridCell),
-                              grid.cells.data(), 0, nullptr, nullptr),
+    check(clEnqueueReadBuffer(queue, cells_.get(), CL_TRUE, 0, grid.cells.size() * sizeof(GridCell), grid.cells.data(),
+                              0, nullptr, nullptr),
           "clEnqueueReadBuffer(grid cells)");
-    check(clEnqueueReadBuffer(queue, sortedIds, CL_TRUE, 0, particleCount_ * sizeof(cl_uint),
-                              grid.sortedIndices.data(), 0, nullptr, nullptr),
+    check(clEnqueueReadBuffer(queue, sortedIds, CL_TRUE, 0, particleCount_ * sizeof(cl_uint), grid.sortedIndices.data(),
+                              0, nullptr, nullptr),
           "clEnqueueReadBuffer(sorted indices)");
     return grid;
 }

@@ -45,9 +45,8 @@ void OpenClHostGridBackend::uploadGrid() {
     const auto gridStart = std::chrono::steady_clock::now();
     buildGrid(hostState_.data(), hostState_.size(), grid_);
     if (profiler)
-        profiler->addHostSeconds("buildGrid (host)", std::chrono::duration<double>(
-                                                         std::chrono::steady_clock::now() - gridStart)
-                                                         .count());
+        profiler->addHostSeconds("buildGrid (host)",
+                                 std::chrono::duration<double>(std::chrono::steady_clock::now() - gridStart).count());
     // Non-blocking writes: the host vectors stay untouched until the
     // blocking read at the end of the step, which the in-order queue runs last.
     cl_command_queue queue = queue_.get();
@@ -75,8 +74,8 @@ void OpenClHostGridBackend::stepSimultaneous(float dt) {
     setKernelArgs(integrateKernel_.get(), next_.get(), step, tallies_.get(), nextStepIndex(), firstNonFinite_.get());
     enqueue1d(queue, integrateKernel_.get(), count, workGroupSize_, "integrate", profiler);
     enqueueNonFiniteRead();
-    check(clEnqueueReadBuffer(queue, next_.get(), CL_TRUE, 0, count * sizeof(Particle), hostState_.data(), 0,
-                              nullptr, eventSlot(profiler, "download state")),
+    check(clEnqueueReadBuffer(queue, next_.get(), CL_TRUE, 0, count * sizeof(Particle), hostState_.data(), 0, nullptr,
+                              eventSlot(profiler, "download state")),
           "clEnqueueReadBuffer(particle state)");
     checkNonFinite();
     std::swap(state_, next_);
@@ -89,15 +88,15 @@ void OpenClHostGridBackend::stepPairwise(float dt) {
     cl_command_queue queue = queue_.get();
     const CaromStepParams step = stepParams(dt);
     uploadGrid();
-    pairwise_.enqueueStep(queue, {state_.get(), sortedIndices_.get(), sortedIndices_.get(), cellOf_.get(),
-                                  cells_.get(), tallies_.get()},
-                          step);
+    pairwise_.enqueueStep(
+        queue, {state_.get(), sortedIndices_.get(), sortedIndices_.get(), cellOf_.get(), cells_.get(), tallies_.get()},
+        step);
     recordRounds(pairwise_.complete(queue).rounds);
     setKernelArgs(finishByIdKernel_.get(), state_.get(), step, tallies_.get(), nextStepIndex(), firstNonFinite_.get());
     enqueue1d(queue, finishByIdKernel_.get(), count, workGroupSize_, "finishStepById", profiler_.get());
     enqueueNonFiniteRead();
-    check(clEnqueueReadBuffer(queue, state_.get(), CL_TRUE, 0, count * sizeof(Particle), hostState_.data(), 0,
-                              nullptr, eventSlot(profiler_.get(), "download state")),
+    check(clEnqueueReadBuffer(queue, state_.get(), CL_TRUE, 0, count * sizeof(Particle), hostState_.data(), 0, nullptr,
+                              eventSlot(profiler_.get(), "download state")),
           "clEnqueueReadBuffer(particle state)");
     checkNonFinite();
 }

@@ -64,8 +64,8 @@ unsigned int DevicePairwise::nextEpoch(cl_command_queue queue) {
 void DevicePairwise::searchListed(cl_command_queue queue, int mode, cl_mem listed, unsigned int round,
                                   unsigned int listIndex, unsigned int epoch) {
     const StepBuffers& b = buffers_;
-    setKernelArgs(listedKernel_.get(), b.state, b.slots, b.ids, b.cellOf, b.cells, step_, events_.get(),
-                  cl_int{mode}, listed, changed_.get(), changedMarks_.get(), dirty_.get(), dirtyMarks_.get(),
+    setKernelArgs(listedKernel_.get(), b.state, b.slots, b.ids, b.cellOf, b.cells, step_, events_.get(), cl_int{mode},
+                  listed, changed_.get(), changedMarks_.get(), dirty_.get(), dirtyMarks_.get(),
                   pending_[round % 2].get(), pendingMarks_.get(), counts_.get(), cl_uint{round}, cl_uint{listIndex},
                   cl_uint{epoch});
     enqueue1d(queue, listedKernel_.get(), listItems_, groupSize_,
@@ -89,9 +89,9 @@ void DevicePairwise::enqueueStep(cl_command_queue queue, const StepBuffers& buff
     step_ = step;
     enqueueZero(queue, counts_.get(), kCounts * sizeof(cl_uint), "list lengths");
     const unsigned int epoch = nextEpoch(queue);
-    setKernelArgs(forwardKernel_.get(), buffers.state, buffers.slots, buffers.ids, buffers.cellOf, buffers.cells,
-                  step, events_.get(), pending_[0].get(), pendingMarks_.get(), dirty_.get(), dirtyMarks_.get(),
-                  counts_.get(), cl_uint{epoch});
+    setKernelArgs(forwardKernel_.get(), buffers.state, buffers.slots, buffers.ids, buffers.cellOf, buffers.cells, step,
+                  events_.get(), pending_[0].get(), pendingMarks_.get(), dirty_.get(), dirtyMarks_.get(), counts_.get(),
+                  cl_uint{epoch});
     enqueue1d(queue, forwardKernel_.get(), particleCount_, groupSize_, "findEventsForward", profiler_);
     searchListed(queue, CAROM_SEARCH_ALL, dirty_.get(), 0, 2, epoch);
     lastRound_ = 0;
@@ -107,8 +107,8 @@ cl_uint DevicePairwise::finishCondition() const {
 }
 
 void DevicePairwise::readLengths(cl_command_queue queue) {
-    check(clEnqueueReadBuffer(queue, counts_.get(), CL_TRUE, 0, kCountsWithRecord * sizeof(cl_uint), hostCounts_.data(), 0,
-                              nullptr, eventSlot(profiler_, "read list lengths")),
+    check(clEnqueueReadBuffer(queue, counts_.get(), CL_TRUE, 0, kCountsWithRecord * sizeof(cl_uint), hostCounts_.data(),
+                              0, nullptr, eventSlot(profiler_, "read list lengths")),
           "clEnqueueReadBuffer(list lengths)");
 }
 

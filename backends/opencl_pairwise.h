@@ -53,7 +53,7 @@ public:
     void readLengths(cl_command_queue queue);
 
     struct Completion {
-        unsigned int rounds = 0;    // rounds that resolved an event
+        unsigned int rounds = 0;     // rounds that resolved an event
         bool finishSkipped = false;  // the batch fell short: enqueue the finish again (its condition now holds)
     };
     // Waits for the step's rounds; runs the rest if the batch fell short.

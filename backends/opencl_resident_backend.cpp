@@ -72,7 +72,8 @@ void OpenClResidentBackend::stepSimultaneous(float dt) {
     setKernelArgs(fusedKernel_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), deviceGrid_.cells(),
                   step, next_.get(), tallies_.get(), deviceGrid_.nextCounts(), deviceGrid_.cellOf(),
                   deviceGrid_.rankInCell(), nextStepIndex(), firstNonFinite_.get());
-    enqueue1d(queue_.get(), fusedKernel_.get(), step.count, workGroupSize_, "resolveIntegrateAndCount", profiler_.get());
+    enqueue1d(queue_.get(), fusedKernel_.get(), step.count, workGroupSize_, "resolveIntegrateAndCount",
+              profiler_.get());
     std::swap(state_, next_);
     std::swap(ids_, sortedIds_);
     deviceGrid_.advance();
@@ -88,8 +89,9 @@ void OpenClResidentBackend::stepPairwise(float dt) {
     if (nonFinite()) return;
     const CaromStepParams step = stepParams(dt);
     deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get());
-    pairwise_.enqueueStep(queue_.get(), {state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), deviceGrid_.cellOf(),
-                                         deviceGrid_.cells(), tallies_.get()},
+    pairwise_.enqueueStep(queue_.get(),
+                          {state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), deviceGrid_.cellOf(),
+                           deviceGrid_.cells(), tallies_.get()},
                           step);
     speedParity_ = 1 - speedParity_;
     unconfirmedStepIndex_ = nextStepIndex();
@@ -141,8 +143,8 @@ void OpenClResidentBackend::readParticles(std::vector<Particle>& particles) {
     particles.resize(particleCount_);
     std::vector<Particle> slots(particleCount_);
     std::vector<cl_uint> ids(particleCount_);
-    check(clEnqueueReadBuffer(queue_.get(), state_.get(), CL_TRUE, 0, particleCount_ * sizeof(Particle),
-                              slots.data(), 0, nullptr, nullptr),
+    check(clEnqueueReadBuffer(queue_.get(), state_.get(), CL_TRUE, 0, particleCount_ * sizeof(Particle), slots.data(),
+                              0, nullptr, nullptr),
           "clEnqueueReadBuffer(particle state)");
     check(clEnqueueReadBuffer(queue_.get(), ids_.get(), CL_TRUE, 0, particleCount_ * sizeof(cl_uint), ids.data(), 0,
                               nullptr, nullptr),
@@ -155,8 +157,8 @@ float OpenClResidentBackend::maxSpeedSquared() {
     confirmStep();
     if (!speedKnown_) return OpenClBackend::maxSpeedSquared();
     cl_float largest = 0.0f;
-    check(clEnqueueReadBuffer(queue_.get(), speedBits_.get(), CL_TRUE, speedParity_ * sizeof(cl_uint),
-                              sizeof(cl_float), &largest, 0, nullptr, nullptr),
+    check(clEnqueueReadBuffer(queue_.get(), speedBits_.get(), CL_TRUE, speedParity_ * sizeof(cl_uint), sizeof(cl_float),
+                              &largest, 0, nullptr, nullptr),
           "clEnqueueReadBuffer(largest speed squared)");
     return largest;
 }

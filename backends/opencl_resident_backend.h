@@ -47,12 +47,12 @@ private:
     opencl::DevicePairwise pairwise_;  // pairwise
     // Pairwise: the finish records a disk left non-finite in the pairwise
     // lengths, which its step reads anyway (DevicePairwise::nonFiniteIndex).
-    opencl::Buffer speedBits_;         // pairwise: the largest v^2 each step leaves (two words)
-    unsigned int speedParity_ = 0;     // the word the last step wrote
-    bool speedKnown_ = false;          // whether that word holds the current state's
-    bool unconfirmed_ = false;         // a pairwise step was enqueued and not yet confirmed
-    cl_uint unconfirmedStepIndex_ = 0; // and its nextStepIndex() (its parameters: pairwise_.step())
-    std::size_t finishItems_ = 0;      // work-items of finishPairwiseAndCount, which stride over the particles
+    opencl::Buffer speedBits_;          // pairwise: the largest v^2 each step leaves (two words)
+    unsigned int speedParity_ = 0;      // the word the last step wrote
+    bool speedKnown_ = false;           // whether that word holds the current state's
+    bool unconfirmed_ = false;          // a pairwise step was enqueued and not yet confirmed
+    cl_uint unconfirmedStepIndex_ = 0;  // and its nextStepIndex() (its parameters: pairwise_.step())
+    std::size_t finishItems_ = 0;       // work-items of finishPairwiseAndCount, which stride over the particles
 };
 
 }  // namespace carom

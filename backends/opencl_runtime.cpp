@@ -3,13 +3,11 @@
 #include <algorithm>
 #include <cctype>
 
-
 namespace carom::opencl {
 namespace {
 
 #define CAROM_CL_ERROR(code) \
-    case code:               \
-        return #code;
+    case code: return #code;
 
 const char* errorSymbol(cl_int status) {
     switch (status) {
@@ -72,10 +70,8 @@ const char* errorSymbol(cl_int status) {
         CAROM_CL_ERROR(CL_INVALID_COMPILER_OPTIONS)
         CAROM_CL_ERROR(CL_INVALID_LINKER_OPTIONS)
         CAROM_CL_ERROR(CL_INVALID_DEVICE_PARTITION_COUNT)
-        case -1001:
-            return "CL_PLATFORM_NOT_FOUND_KHR";
-        default:
-            return "unknown OpenCL error";
+        case -1001: return "CL_PLATFORM_NOT_FOUND_KHR";
+        default: return "unknown OpenCL error";
     }
 }
 #undef CAROM_CL_ERROR
@@ -121,9 +117,7 @@ const char* const kNoOpenCl =
 
 }  // namespace
 
-std::string errorName(cl_int status) {
-    return std::string(errorSymbol(status)) + " (" + std::to_string(status) + ")";
-}
+std::string errorName(cl_int status) { return std::string(errorSymbol(status)) + " (" + std::to_string(status) + ")"; }
 
 void check(cl_int status, const char* call) {
     if (status != CL_SUCCESS) throw Error(std::string("OpenCL: ") + call + " failed: " + errorName(status));
@@ -157,9 +151,8 @@ std::vector<DeviceInfo> listDevices() {
             d.version = deviceString(id, CL_DEVICE_VERSION);
             d.driverVersion = deviceString(id, CL_DRIVER_VERSION);
             d.type = typeName(deviceValue<cl_device_type>(id, CL_DEVICE_TYPE));
-            d.correctlyRoundedDivideSqrt =
-                (deviceValue<cl_device_fp_config>(id, CL_DEVICE_SINGLE_FP_CONFIG) &
-                 CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) != 0;
+            d.correctlyRoundedDivideSqrt = (deviceValue<cl_device_fp_config>(id, CL_DEVICE_SINGLE_FP_CONFIG) &
+                                            CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) != 0;
             d.globalMemoryBytes = deviceValue<cl_ulong>(id, CL_DEVICE_GLOBAL_MEM_SIZE);
             d.localMemoryBytes = deviceValue<cl_ulong>(id, CL_DEVICE_LOCAL_MEM_SIZE);
             d.computeUnits = deviceValue<cl_uint>(id, CL_DEVICE_MAX_COMPUTE_UNITS);
@@ -206,8 +199,8 @@ Program buildProgram(cl_context context, const DeviceInfo& device, const char* s
         clGetProgramBuildInfo(program.get(), device.id, CL_PROGRAM_BUILD_LOG, 0, nullptr, &size);
         std::string log(size, '\0');
         clGetProgramBuildInfo(program.get(), device.id, CL_PROGRAM_BUILD_LOG, size, log.data(), nullptr);
-        throw Error("OpenCL: clBuildProgram failed for " + device.name + ": " + errorName(status) +
-                    "\nbuild log:\n" + log.c_str());
+        throw Error("OpenCL: clBuildProgram failed for " + device.name + ": " + errorName(status) + "\nbuild log:\n" +
+                    log.c_str());
     }
     check(status, "clBuildProgram");
     return program;
@@ -260,12 +253,11 @@ void Profiler::collect() {
     pending_.clear();
 }
 
-void enqueue1d(cl_command_queue queue, cl_kernel kernel, std::size_t items, std::size_t groupSize,
-               const char* name, Profiler* profiler) {
+void enqueue1d(cl_command_queue queue, cl_kernel kernel, std::size_t items, std::size_t groupSize, const char* name,
+               Profiler* profiler) {
     if (items == 0) return;
     const std::size_t global = (items + groupSize - 1) / groupSize * groupSize;
-    check(clEnqueueNDRangeKernel(queue, kernel, 1, nullptr, &global, &groupSize, 0, nullptr,
-                                 eventSlot(profiler, name)),
+    check(clEnqueueNDRangeKernel(queue, kernel, 1, nullptr, &global, &groupSize, 0, nullptr, eventSlot(profiler, name)),
           (std::string("clEnqueueNDRangeKernel(") + name + ")").c_str());
 }
 

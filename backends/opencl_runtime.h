@@ -125,17 +125,15 @@ private:
 };
 
 // `profiler`'s event slot for a command, or none when not profiling.
-inline cl_event* eventSlot(Profiler* profiler, const char* name) {
-    return profiler ? profiler->slot(name) : nullptr;
-}
+inline cl_event* eventSlot(Profiler* profiler, const char* name) { return profiler ? profiler->slot(name) : nullptr; }
 
 // The largest work-group the kernel can run with on the device.
 std::size_t kernelWorkGroupLimit(cl_kernel kernel, cl_device_id device);
 
 // Runs a 1D kernel over `items` work-items in groups of `groupSize` (the
 // global size rounded up; kernels skip the excess ids).
-void enqueue1d(cl_command_queue queue, cl_kernel kernel, std::size_t items, std::size_t groupSize,
-               const char* name, Profiler* profiler = nullptr);
+void enqueue1d(cl_command_queue queue, cl_kernel kernel, std::size_t items, std::size_t groupSize, const char* name,
+               Profiler* profiler = nullptr);
 
 // Sets `bytes` bytes of the buffer to zero (clEnqueueFillBuffer).
 void enqueueZero(cl_command_queue queue, cl_mem buffer, std::size_t bytes, const char* what);

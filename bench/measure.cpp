@@ -15,9 +15,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double secondsSince(Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-}
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 double timedSteps(Backend& backend, std::uint64_t steps) {
     const auto start = Clock::now();
@@ -88,14 +86,14 @@ Timing timeSteps(Backend& backend, const TimingPlan& plan) {
     timing.substepsPerStep = double(totals.substeps) / double(totals.steps);
     if (engine) {
         const EventCounts& end = engine->eventCounts();
-        timing.events = EventRates{median(collisionRates),
-                                   median(eventRates),
-                                   median(particleTimeRates),
-                                   collisionRates,
-                                   double(warm.collisions) / particles,
-                                   {end.collisions - warm.collisions, end.wallBounces - warm.wallBounces,
-                                    end.cellCrossings - warm.cellCrossings, end.stale - warm.stale,
-                                    end.overlapping - warm.overlapping}};
+        timing.events = EventRates{
+            median(collisionRates),
+            median(eventRates),
+            median(particleTimeRates),
+            collisionRates,
+            double(warm.collisions) / particles,
+            {end.collisions - warm.collisions, end.wallBounces - warm.wallBounces,
+             end.cellCrossings - warm.cellCrossings, end.stale - warm.stale, end.overlapping - warm.overlapping}};
     }
     return timing;
 }

@@ -15,10 +15,10 @@
 namespace carom::bench {
 
 struct TimingPlan {
-    int samples = 7;                // timed samples; the median is reported
-    double sampleSeconds = 0.1;     // each sample runs enough steps to last about this long
-    double warmupSeconds = 0.2;     // untimed steps first (caches, clocks, lazy allocations)
-    double budgetSeconds = 1.0;     // a step slower than this: fewer samples, and larger N is dropped
+    int samples = 7;             // timed samples; the median is reported
+    double sampleSeconds = 0.1;  // each sample runs enough steps to last about this long
+    double warmupSeconds = 0.2;  // untimed steps first (caches, clocks, lazy allocations)
+    double budgetSeconds = 1.0;  // a step slower than this: fewer samples, and larger N is dropped
     int samplesOverBudget = 3;
     // The event-driven backend also warms up until this many collisions per
     // disk: the gas leaves its starting lattice before it is timed.
@@ -46,7 +46,7 @@ struct Timing {
     std::vector<double> sampleSecondsPerStep;  // each sample's mean step time
     std::uint64_t stepsPerSample = 1;
     std::uint64_t warmupSteps = 0;
-    double substepsPerStep = 1;  // the mean over every step taken (Backend::step splits some)
+    double substepsPerStep = 1;        // the mean over every step taken (Backend::step splits some)
     std::optional<EventRates> events;  // for the event-driven backend
 };
 

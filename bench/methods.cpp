@@ -24,8 +24,8 @@ constexpr double kCellOfBytes = sizeof(std::uint32_t);
 
 #ifdef CAROM_HAVE_OPENCL
 // The OpenCL backend of an OpenCL method.
-std::unique_ptr<OpenClBackend> makeOpenClBackend(const Method& method, const WorldDef& world,
-                                                 const std::string& device, bool profiling) {
+std::unique_ptr<OpenClBackend> makeOpenClBackend(const Method& method, const WorldDef& world, const std::string& device,
+                                                 bool profiling) {
     if (method.allPairs) return std::make_unique<AllPairsOpenClBackend>(world, device, profiling);
     if (method.name == "opencl-seed") return std::make_unique<OpenClHostGridBackend>(world, device, profiling);
     return std::make_unique<OpenClResidentBackend>(world, device, profiling);
@@ -88,8 +88,7 @@ Method findMethod(const std::string& name) {
 
 std::unique_ptr<Backend> makeMethodBackend(const Method& method, const WorldDef& world, const std::string& device) {
     if (!runsScheme(method, world.collisions))
-        throw Error("method " + method.name + " does not run the " + collisionSchemeName(world.collisions) +
-                    " scheme");
+        throw Error("method " + method.name + " does not run the " + collisionSchemeName(world.collisions) + " scheme");
     if (!method.opencl) {
         if (method.allPairs) return std::make_unique<AllPairsCpuBackend>(world);
         return makeBackend(BackendDef{"cpu", "", "seed"}, world);
@@ -104,8 +103,7 @@ std::unique_ptr<Backend> makeMethodBackend(const Method& method, const WorldDef&
 
 std::map<std::string, double> profileMethod(const Method& method, const WorldDef& world,
                                             const std::vector<Particle>& particles, const std::string& device,
-                                            std::uint64_t steps, double substepsPerStep,
-                                            std::uint64_t warmupSteps) {
+                                            std::uint64_t steps, double substepsPerStep, std::uint64_t warmupSteps) {
     if (!method.opencl)
         return method.allPairs || method.eventDriven ? std::map<std::string, double>{}
                                                      : profileHostGrid(world, particles, steps, substepsPerStep);

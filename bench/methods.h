@@ -16,8 +16,8 @@ namespace carom::bench {
 struct Method {
     std::string name;
     std::string description;
-    bool opencl = false;    // runs on the OpenCL device, else on the host CPU
-    bool allPairs = false;  // the naive O(N^2) baseline, simultaneous scheme only
+    bool opencl = false;       // runs on the OpenCL device, else on the host CPU
+    bool allPairs = false;     // the naive O(N^2) baseline, simultaneous scheme only
     bool eventDriven = false;  // the event-driven engine, events scheme only: timed in collisions per second
 };
 
@@ -54,8 +54,7 @@ std::unique_ptr<Backend> makeMethodBackend(const Method& method, const WorldDef&
 // CPU all-pairs and events methods.
 std::map<std::string, double> profileMethod(const Method& method, const WorldDef& world,
                                             const std::vector<Particle>& particles, const std::string& device,
-                                            std::uint64_t steps, double substepsPerStep,
-                                            std::uint64_t warmupSteps);
+                                            std::uint64_t steps, double substepsPerStep, std::uint64_t warmupSteps);
 
 // Bytes a method must move per particle-step, by the memory they cross: the
 // state read and written once (2 x 32 B), the grid written and read once

@@ -17,9 +17,7 @@ std::string format(const char* pattern, double value) {
     return text;
 }
 
-std::string optionalRatio(std::optional<double> ratio) {
-    return ratio ? format("%.2fx", *ratio) : "-";
-}
+std::string optionalRatio(std::optional<double> ratio) { return ratio ? format("%.2fx", *ratio) : "-"; }
 
 nlohmann::json optionalJson(std::optional<double> value) {
     return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
@@ -53,22 +51,21 @@ void printEventRates(std::ostream& out, const Report& report, bool afterTable) {
         if (!row.timing.events) continue;
         const EventRates& e = *row.timing.events;
         if (first) {
-            out << (afterTable ? "\n" : "") << "event-driven, periodic box: per wall-clock second, median of the samples, timed after at "
+            out << (afterTable ? "\n" : "")
+                << "event-driven, periodic box: per wall-clock second, median of the samples, timed after at "
                    "least "
                 << report.plan.warmupCollisionsPerDisk << " collisions per disk\n";
-            std::snprintf(line, sizeof line, "%-16s %10s %14s %16s %12s %11s %8s %12s\n", "method", "N",
-                          "collisions/s", "particle-time/s", "events/s", "events/coll", "stale", "warm-up c/N");
+            std::snprintf(line, sizeof line, "%-16s %10s %14s %16s %12s %11s %8s %12s\n", "method", "N", "collisions/s",
+                          "particle-time/s", "events/s", "events/coll", "stale", "warm-up c/N");
             out << line;
             first = false;
         }
         const EventCounts& c = e.sampled;
         const double collisions = double(c.collisions);
         std::snprintf(line, sizeof line, "%-16s %10u %14.4g %16.4g %12.4g %11.3g %7.1f%% %12.3g\n",
-                      row.variant.method.name.c_str(), row.particles, e.collisionsPerSecond,
-                      e.particleTimePerSecond, e.eventsPerSecond,
-                      collisions > 0 ? double(eventsOf(c)) / collisions : 0.0,
-                      eventsOf(c) > 0 ? 100.0 * double(c.stale) / double(eventsOf(c)) : 0.0,
-                      e.warmupCollisionsPerDisk);
+                      row.variant.method.name.c_str(), row.particles, e.collisionsPerSecond, e.particleTimePerSecond,
+                      e.eventsPerSecond, collisions > 0 ? double(eventsOf(c)) / collisions : 0.0,
+                      eventsOf(c) > 0 ? 100.0 * double(c.stale) / double(eventsOf(c)) : 0.0, e.warmupCollisionsPerDisk);
         out << line;
     }
     if (!first)
@@ -147,8 +144,8 @@ void printTable(std::ostream& out, const Report& report) {
     const auto stepped = [](const Row& row) { return !row.timing.events; };
     const bool anyStepped = std::any_of(report.rows.begin(), report.rows.end(), stepped);
     if (anyStepped) {
-        std::snprintf(line, sizeof line, "%-16s %-12s %10s %11s %16s %7s %9s %9s %10s %9s\n", "method", "scheme",
-                      "N", "ms/step", "particle-steps/s", "pw/sim", "vs seed", "vs naive", "floor ms", "of floor");
+        std::snprintf(line, sizeof line, "%-16s %-12s %10s %11s %16s %7s %9s %9s %10s %9s\n", "method", "scheme", "N",
+                      "ms/step", "particle-steps/s", "pw/sim", "vs seed", "vs naive", "floor ms", "of floor");
         out << line;
         for (const Row& row : report.rows) {
             if (!stepped(row)) continue;
@@ -204,7 +201,8 @@ void writeJson(std::ostream& out, const Report& report) {
             {"scheme", collisionSchemeName(row.variant.scheme)},
             {"particles", row.particles},
             {"ms_per_step", row.timing.secondsPerStep * 1e3},
-            {"sample_ms_per_step", [&] {
+            {"sample_ms_per_step",
+             [&] {
                  json samples = json::array();
                  for (double s : row.timing.sampleSecondsPerStep) samples.push_back(s * 1e3);
                  return samples;
@@ -246,7 +244,11 @@ void writeJson(std::ostream& out, const Report& report) {
         {"host", {{"cpu", report.host}, {"threads", report.hostThreads}, {"load_average_1min", report.hostLoad}}},
         {"opencl_device", device},
         {"scene",
-         {{"packing", s.packing}, {"radius", s.radiusMin}, {"mass", s.massMin}, {"speed", s.speed}, {"seed", s.seed},
+         {{"packing", s.packing},
+          {"radius", s.radiusMin},
+          {"mass", s.massMin},
+          {"speed", s.speed},
+          {"seed", s.seed},
           {"dt", report.dt}}},
         {"timing",
          {{"samples", report.plan.samples},
@@ -256,7 +258,10 @@ void writeJson(std::ostream& out, const Report& report) {
           {"warmup_collisions_per_disk", report.plan.warmupCollisionsPerDisk},
           {"statistic", "median of the samples' mean ms/step; for the events method, of the samples' rates"}}},
         {"bandwidth_bytes_per_second",
-         {{"host_copy", b.hostCopy}, {"device_copy", b.deviceCopy}, {"upload", b.upload}, {"download", b.download},
+         {{"host_copy", b.hostCopy},
+          {"device_copy", b.deviceCopy},
+          {"upload", b.upload},
+          {"download", b.download},
           {"note", "copies count bytes read plus bytes written; best of several runs"}}},
         {"traffic_model",
          "bytes per particle-step: state read and written once (2 x 32), sortedIndices written and read once "
@@ -284,9 +289,8 @@ void writeCsv(std::ostream& out, const Report& report) {
         if (events)
             out << ",,,,,,";
         else
-            out << format("%.6g", row.timing.secondsPerStep * 1e3) << ','
-                << format("%.6g", particleStepsPerSecond(row)) << ','
-                << optional(speedupOver(report, row, "opencl-seed")) << ','
+            out << format("%.6g", row.timing.secondsPerStep * 1e3) << ',' << format("%.6g", particleStepsPerSecond(row))
+                << ',' << optional(speedupOver(report, row, "opencl-seed")) << ','
                 << optional(speedupOver(report, row, naiveCounterpart(row.variant.method))) << ','
                 << format("%.6g", floorSecondsPerStep(report, row) * 1e3) << ','
                 << format("%.6g", fractionOfFloor(report, row)) << ',';
@@ -318,10 +322,10 @@ void writeSvgPlot(std::ostream& out, const Report& report) {
         return;
     }
     const std::map<std::string, std::string> colours = {{"naive-cpu", "#9e9e9e"},
-                                                         {"naive-opencl", "#616161"},
-                                                         {"cpu", "#1f77b4"},
-                                                         {"opencl-seed", "#ff7f0e"},
-                                                         {"opencl-resident", "#2ca02c"}};
+                                                        {"naive-opencl", "#616161"},
+                                                        {"cpu", "#1f77b4"},
+                                                        {"opencl-seed", "#ff7f0e"},
+                                                        {"opencl-resident", "#2ca02c"}};
     // Floors (in particle-steps/s) of the grid methods, at the largest N's cells per particle.
     std::map<std::string, double> floors;
     for (const Row& row : rows) {
@@ -348,11 +352,11 @@ void writeSvgPlot(std::ostream& out, const Report& report) {
         << report.scene.packing << (report.device ? ", " + report.device->name : std::string()) << "</text>\n";
     for (double e = x0; e <= x1; ++e)
         out << "<line x1=\"" << px(std::pow(10, e)) << "\" y1=\"" << top << "\" x2=\"" << px(std::pow(10, e))
-            << "\" y2=\"" << top + plotH << "\" stroke=\"#e0e0e0\"/>\n<text x=\"" << px(std::pow(10, e))
-            << "\" y=\"" << top + plotH + 20 << "\" text-anchor=\"middle\">1e" << e << "</text>\n";
+            << "\" y2=\"" << top + plotH << "\" stroke=\"#e0e0e0\"/>\n<text x=\"" << px(std::pow(10, e)) << "\" y=\""
+            << top + plotH + 20 << "\" text-anchor=\"middle\">1e" << e << "</text>\n";
     for (double e = y0; e <= y1; ++e)
-        out << "<line x1=\"" << left << "\" y1=\"" << py(std::pow(10, e)) << "\" x2=\"" << left + plotW
-            << "\" y2=\"" << py(std::pow(10, e)) << "\" stroke=\"#e0e0e0\"/>\n<text x=\"" << left - 8 << "\" y=\""
+        out << "<line x1=\"" << left << "\" y1=\"" << py(std::pow(10, e)) << "\" x2=\"" << left + plotW << "\" y2=\""
+            << py(std::pow(10, e)) << "\" stroke=\"#e0e0e0\"/>\n<text x=\"" << left - 8 << "\" y=\""
             << py(std::pow(10, e)) + 4 << "\" text-anchor=\"end\">1e" << e << "</text>\n";
     out << "<rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << plotW << "\" height=\"" << plotH
         << "\" fill=\"none\" stroke=\"black\"/>\n<text x=\"" << left + plotW / 2 << "\" y=\"" << height - 15
@@ -369,9 +373,9 @@ void writeSvgPlot(std::ostream& out, const Report& report) {
             if (points.empty()) continue;
             const std::string& colour = colours.at(method.name);
             out << "<polyline fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"2\""
-                << (scheme == CollisionScheme::Pairwise ? " stroke-dasharray=\"2,3\"" : "") << " points=\""
-                << points << "\"/>\n<text x=\"" << left + plotW + 12 << "\" y=\"" << legendY << "\" fill=\""
-                << colour << "\">" << variantLabel({method, scheme}) << "</text>\n";
+                << (scheme == CollisionScheme::Pairwise ? " stroke-dasharray=\"2,3\"" : "") << " points=\"" << points
+                << "\"/>\n<text x=\"" << left + plotW + 12 << "\" y=\"" << legendY << "\" fill=\"" << colour << "\">"
+                << variantLabel({method, scheme}) << "</text>\n";
             legendY += 20;
         }
         const auto floor = floors.find(method.name);

@@ -99,8 +99,7 @@ void AtomicFile::commit() {
         // where std::rename refuses.
         std::error_code error;
         fs::rename(temporaryPath_, target_, error);
-        if (error)
-            throw Error("cannot rename '" + temporaryPath_ + "' to '" + target_ + "': " + error.message());
+        if (error) throw Error("cannot rename '" + temporaryPath_ + "' to '" + target_ + "': " + error.message());
         // The file is in place now; a folder that cannot be synced (some file
         // systems refuse) leaves it as safe as a plain rename would.
         const fs::path folder = fs::path(target_).parent_path();

@@ -23,9 +23,9 @@ struct InitialState {
 
 // Which backend runs the step.
 struct BackendDef {
-    std::string kind = "cpu";  // "cpu" (OpenMP) or "opencl"
-    std::string device;        // OpenCL only: index from `carom devices` or part of the
-                               //   device name; empty = first GPU, else first device
+    std::string kind = "cpu";       // "cpu" (OpenMP) or "opencl"
+    std::string device;             // OpenCL only: index from `carom devices` or part of the
+                                    //   device name; empty = first GPU, else first device
     std::string pipeline = "seed";  // OpenCL only: "seed" (host grid, state read back each
                                     //   step) or "resident" (grid and state stay on the device)
 };
@@ -43,8 +43,7 @@ InitialState makeInitialState(const SceneDef& scene);
 // their ranges (kMinMass.., kMinLength..), fits in the box and lies inside
 // it. `what` names the source in messages (for example the file the
 // particles came from).
-void validateParticles(const std::vector<Particle>& particles, const WorldDef& world,
-                       const std::string& what);
+void validateParticles(const std::vector<Particle>& particles, const WorldDef& world, const std::string& what);
 
 // The motion checks of validateStart alone (the world's dt and gravity with
 // the particles' speeds), for a change of dt or gravity on a running world.

@@ -115,8 +115,7 @@ struct Header {
 // Checks what the first `available` bytes of a `fileSize`-byte file say
 // about it, and returns its version and particle count. Refuses before
 // anything sized by the count is allocated.
-Header checkHeader(const unsigned char* data, std::size_t available, std::uint64_t fileSize,
-                   const std::string& what) {
+Header checkHeader(const unsigned char* data, std::size_t available, std::uint64_t fileSize, const std::string& what) {
     if (available < sizeof kMagic || std::memcmp(data, kMagic, sizeof kMagic) != 0)
         fail(what, "not a carom checkpoint (it does not start with \"CAROMCKP\")");
     if (available < 16)
@@ -126,8 +125,9 @@ Header checkHeader(const unsigned char* data, std::size_t available, std::uint64
     header.skip(sizeof kMagic);
     const std::uint32_t mark = header.u32();
     if (mark == kSwappedByteOrderMark)
-        fail(what, "its byte order is swapped (big-endian); carom checkpoints are little-endian on every "
-                   "machine, so this file was converted or written by another program");
+        fail(what,
+             "its byte order is swapped (big-endian); carom checkpoints are little-endian on every "
+             "machine, so this file was converted or written by another program");
     if (mark != kByteOrderMark) fail(what, "corrupted header: bad byte order mark");
     const std::uint32_t version = header.u32();
     if (version < kOldestVersion || version > kCheckpointVersion)
@@ -176,7 +176,6 @@ EventEngineState decodeEvents(Decoder& in, std::size_t count) {
     return state;
 }
 
-
 }  // namespace
 
 std::uint32_t crc32(const unsigned char* data, std::size_t size) {
@@ -200,8 +199,8 @@ std::string encodeCheckpoint(const Checkpoint& c) {
     if (events != c.events.has_value() || (events && c.events->disks.size() != c.particles.size()))
         throw Error(std::string("a checkpoint holds the engine's state exactly with the events scheme (here ") +
                     collisionSchemeName(c.world.collisions) + ", " +
-                    (c.events ? std::to_string(c.events->disks.size()) + " disks in the state" : "no state") +
-                    ", " + std::to_string(c.particles.size()) + " particles)");
+                    (c.events ? std::to_string(c.events->disks.size()) + " disks in the state" : "no state") + ", " +
+                    std::to_string(c.particles.size()) + " particles)");
     out.bytes().reserve(expectedSize(c.particles.size(), kCheckpointVersion, events));
     out.bytes().append(kMagic, sizeof kMagic);
     out.u32(kByteOrderMark);
@@ -255,8 +254,8 @@ Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& what) {
 
     // A valid checksum over invalid values: written by something other than carom.
     if (boundary != kReflectiveWalls && boundary != kPeriodic)
-        fail(what, "boundary code " + std::to_string(boundary) +
-                       " is unknown; allowed: 0 (reflective walls), 1 (periodic)");
+        fail(what,
+             "boundary code " + std::to_string(boundary) + " is unknown; allowed: 0 (reflective walls), 1 (periodic)");
     c.world.boundary = boundary == kPeriodic ? Boundary::Periodic : Boundary::Walls;
     if (scheme != kSimultaneous && scheme != kPairwise && !header.events)
         fail(what, "collision scheme code " + std::to_string(scheme) + " is unknown in format version " +
@@ -287,8 +286,8 @@ void writeCheckpoint(const std::string& path, const Checkpoint& checkpoint) {
 Checkpoint readCheckpoint(const std::string& path, std::uint64_t availableBytes) {
     std::error_code error;
     if (!std::filesystem::is_regular_file(path, error))
-        throw Error("cannot read checkpoint '" + path + "': " +
-                    (std::filesystem::exists(path, error) ? "not a regular file" : "no such file"));
+        throw Error("cannot read checkpoint '" + path +
+                    "': " + (std::filesystem::exists(path, error) ? "not a regular file" : "no such file"));
     std::ifstream in(path, std::ios::binary | std::ios::ate);
     if (!in) throw Error("cannot read checkpoint '" + path + "': " + std::strerror(errno));
     const std::streamoff size = in.tellg();

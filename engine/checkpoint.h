@@ -46,12 +46,12 @@
 namespace carom {
 
 struct Checkpoint {
-    WorldDef world;                    // box, dt, gravity, boundary, collision scheme
-                                       //   (not maxTravel: give it again)
-    std::uint64_t step = 0;            // steps taken since the scene began
-    double time = 0.0;                 // simulated time [time], step * dt
-    std::uint64_t collisions = 0;      // pairs that received an impulse since the scene began
-    std::vector<Particle> particles;   // in id order
+    WorldDef world;                   // box, dt, gravity, boundary, collision scheme
+                                      //   (not maxTravel: give it again)
+    std::uint64_t step = 0;           // steps taken since the scene began
+    double time = 0.0;                // simulated time [time], step * dt
+    std::uint64_t collisions = 0;     // pairs that received an impulse since the scene began
+    std::vector<Particle> particles;  // in id order
     // The event-driven engine's exact state (EventDrivenBackend::saveState),
     // present exactly when world.collisions is CollisionScheme::Events.
     std::optional<EventEngineState> events;

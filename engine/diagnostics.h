@@ -11,21 +11,21 @@
 namespace carom {
 
 struct Diagnostics {
-    double kineticEnergy = 0.0;           // sum of m v^2 / 2, summed in double in id order
-    double potentialEnergy = 0.0;         // in the world's gravity g: -sum of m g.x (0 without gravity)
-    std::array<double, 2> momentum{};     // sum of m v
-    double maxOverlap = 0.0;              // largest r_i + r_j - |x_i - x_j| over touching pairs, 0 if none
-    std::size_t escaped = 0;              // particles whose centre is outside the box or not finite
+    double kineticEnergy = 0.0;        // sum of m v^2 / 2, summed in double in id order
+    double potentialEnergy = 0.0;      // in the world's gravity g: -sum of m g.x (0 without gravity)
+    std::array<double, 2> momentum{};  // sum of m v
+    double maxOverlap = 0.0;           // largest r_i + r_j - |x_i - x_j| over touching pairs, 0 if none
+    std::size_t escaped = 0;           // particles whose centre is outside the box or not finite
 
     double totalEnergy() const { return kineticEnergy + potentialEnergy; }
 };
 
 // The overlapping pairs of a state, found with the grid in O(N).
 struct Overlaps {
-    std::size_t pairs = 0;                  // pairs with r_i + r_j > |x_i - x_j|
-    double deepest = 0.0;                   // the largest r_i + r_j - |x_i - x_j|, 0 if none
+    std::size_t pairs = 0;                          // pairs with r_i + r_j > |x_i - x_j|
+    double deepest = 0.0;                           // the largest r_i + r_j - |x_i - x_j|, 0 if none
     std::array<std::uint32_t, 2> deepestPair{};     // the ids of that pair (the first found on ties)
-    std::size_t coincident = 0;             // pairs whose centres are equal (no collision normal)
+    std::size_t coincident = 0;                     // pairs whose centres are equal (no collision normal)
     std::array<std::uint32_t, 2> coincidentPair{};  // the first of them found (the lowest first id)
 };
 Overlaps findOverlaps(const std::vector<Particle>& particles, const WorldDef& world);

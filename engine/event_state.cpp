@@ -23,20 +23,21 @@ std::string eventStateProblem(const EventEngineState& state, Boundary boundary) 
     for (std::int64_t i = 0; i < count; ++i) {
         const EventDiskState& d = state.disks[i];
         problem = "events state: disk " + std::to_string(i) + ": ";
-        const std::pair<const char*, double> values[] = {{"x", d.x},  {"y", d.y}, {"vx", d.vx},
-                                                         {"vy", d.vy}, {"time", d.time}};
+        const std::pair<const char*, double> values[] = {
+            {"x", d.x}, {"y", d.y}, {"vx", d.vx}, {"vy", d.vy}, {"time", d.time}};
         for (const auto& [name, value] : values)
             if (!std::isfinite(value)) {
                 number(name, value);
                 return problem + " must be finite";
             }
         if (d.event < kEventLowestCode || d.event >= count) {
-            problem += "event code " + std::to_string(d.event) + " is unknown; allowed: " +
-                       std::to_string(kEventLowestCode) + " to -1 (kinds of event) or a partner id from 0 to " +
-                       std::to_string(count - 1);
+            problem += "event code " + std::to_string(d.event) +
+                       " is unknown; allowed: " + std::to_string(kEventLowestCode) +
+                       " to -1 (kinds of event) or a partner id from 0 to " + std::to_string(count - 1);
             return problem;
         }
-        if (d.event == i) return problem + "its event is a collision with itself (event code " + std::to_string(i) + ")";
+        if (d.event == i)
+            return problem + "its event is a collision with itself (event code " + std::to_string(i) + ")";
         if (boundary == Boundary::Periodic && d.event <= kEventWallLeft && d.event >= kEventWallTop)
             return problem + "event code " + std::to_string(d.event) + " is a wall bounce, but the box is periodic";
         const bool none = d.event == kEventNone;

@@ -15,22 +15,22 @@ namespace carom {
 
 // The scheduled event of a disk (EventDiskState::event): >= 0 is a
 // collision with that disk; the negative codes are the rest.
-constexpr std::int32_t kEventNone = -1;              // nothing will happen to it
-constexpr std::int32_t kEventWallLeft = -2;          // walls: left, right, bottom, top
+constexpr std::int32_t kEventNone = -1;      // nothing will happen to it
+constexpr std::int32_t kEventWallLeft = -2;  // walls: left, right, bottom, top
 constexpr std::int32_t kEventWallRight = -3;
 constexpr std::int32_t kEventWallBottom = -4;
 constexpr std::int32_t kEventWallTop = -5;
-constexpr std::int32_t kEventCrossLeft = -6;         // it leaves its cell to the left, right,
-constexpr std::int32_t kEventCrossRight = -7;        //   below or above
+constexpr std::int32_t kEventCrossLeft = -6;   // it leaves its cell to the left, right,
+constexpr std::int32_t kEventCrossRight = -7;  //   below or above
 constexpr std::int32_t kEventCrossDown = -8;
 constexpr std::int32_t kEventCrossUp = -9;
 constexpr std::int32_t kEventLowestCode = kEventCrossUp;
 
 struct EventDiskState {
-    double x = 0, y = 0;    // centre at `time` [length]; periodic boxes keep it in its cell's image
-    double vx = 0, vy = 0;  // velocity at `time` [length/time]
-    double time = 0;        // the time its position and velocity hold [time, since the state's origin]
-    double eventTime = 0;   // when its scheduled event happens [time]; infinite for kEventNone
+    double x = 0, y = 0;                  // centre at `time` [length]; periodic boxes keep it in its cell's image
+    double vx = 0, vy = 0;                // velocity at `time` [length/time]
+    double time = 0;                      // the time its position and velocity hold [time, since the state's origin]
+    double eventTime = 0;                 // when its scheduled event happens [time]; infinite for kEventNone
     std::int32_t event = kEventNone;      // what happens then (codes above)
     std::uint32_t partnerCollisions = 0;  // a collision: the partner's `collisions` when it was
                                           //   scheduled (the event is stale once that changes)

@@ -9,8 +9,8 @@
 
 namespace carom {
 
-GridGeometry gridGeometryFor(float width, float height, float maxRadius, std::size_t particleCount,
-                             Boundary boundary, float slack) {
+GridGeometry gridGeometryFor(float width, float height, float maxRadius, std::size_t particleCount, Boundary boundary,
+                             float slack) {
     // A hair more than the diameter: float rounding of position * cellsPerLength
     // must never put two touching disks two cells apart.
     const double diameter = 2.0 * maxRadius * (1.0 + 1e-5);
@@ -88,8 +88,7 @@ std::string gridCostWarning(const std::vector<Particle>& particles, const WorldD
     return message.str();
 }
 
-float gridTravelAllowance(const GridGeometry& geometry, float width, float height, float maxRadius,
-                          Boundary boundary) {
+float gridTravelAllowance(const GridGeometry& geometry, float width, float height, float maxRadius, Boundary boundary) {
     const int reachesAll = boundary == Boundary::Periodic ? 3 : 2;  // cells a 3x3 search always covers
     const double diameter = 2.0 * maxRadius * (1.0 + 1e-5);
     double allowance = HUGE_VAL;

@@ -19,7 +19,7 @@ namespace carom {
 
 struct Grid {
     GridGeometry geometry{};
-    std::vector<GridCell> cells;              // cols * rows, row-major
+    std::vector<GridCell> cells;               // cols * rows, row-major
     std::vector<std::uint32_t> sortedIndices;  // particle ids grouped by cell
     std::vector<std::uint32_t> cellOf;         // the cell of each particle, by id
 };
@@ -65,8 +65,7 @@ std::string gridCostWarning(const std::vector<Particle>& particles, const WorldD
 // it started in still hold every disk it can touch: half of what a cell's
 // width exceeds the largest diameter by [length]; infinite along an axis
 // whose every cell the 3x3 search reaches.
-float gridTravelAllowance(const GridGeometry& geometry, float width, float height, float maxRadius,
-                          Boundary boundary);
+float gridTravelAllowance(const GridGeometry& geometry, float width, float height, float maxRadius, Boundary boundary);
 
 // Fills grid.cells, grid.sortedIndices and grid.cellOf for the particles,
 // keeping grid.geometry. Reuses the vectors' storage from step to step.

@@ -15,15 +15,15 @@ namespace carom {
 // What the collisions and walls did over an interval, summed by the backend
 // (Backend::contacts()).
 struct ContactTotals {
-    std::uint64_t collisions = 0;  // pairs that received an impulse, each pair once
-    double virial = 0.0;           // sum over those impulses of r_ij . J_ij = 2 mu_ij |v_n| r_ij
-                                   //   [mass length^2/time]
+    std::uint64_t collisions = 0;         // pairs that received an impulse, each pair once
+    double virial = 0.0;                  // sum over those impulses of r_ij . J_ij = 2 mu_ij |v_n| r_ij
+                                          //   [mass length^2/time]
     std::array<double, 4> wallImpulse{};  // momentum delivered to the left, right, bottom
                                           //   and top wall [mass length/time]
-    double time = 0.0;             // simulated time covered [time]
-    std::uint64_t steps = 0;       // steps taken
-    std::uint64_t substeps = 0;    // substeps taken (more than steps with maxTravel > 0 or the
-                                   //   pairwise scheme's grid allowance)
+    double time = 0.0;                    // simulated time covered [time]
+    std::uint64_t steps = 0;              // steps taken
+    std::uint64_t substeps = 0;           // substeps taken (more than steps with maxTravel > 0 or the
+                                          //   pairwise scheme's grid allowance)
     // Pairwise scheme only:
     std::uint64_t lateContacts = 0;  // pairs resolved while overlapping beyond rounding, and disks
                                      //   found past a wall: contacts the rounds could not order in time

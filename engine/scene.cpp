@@ -49,7 +49,7 @@ struct MotionScale {
                            //   energy of a fall across the box, |g_x| W + |g_y| H, added to its square
     double step = 0.0;     // dt, or the substep --max-travel splits it into (as the backend does at the start)
     double diagonal = 0.0;
-    double spacing = 0.0;  // of the positions near the far side of the box
+    double spacing = 0.0;                           // of the positions near the far side of the box
     double move() const { return typical * step; }  // a typical disk's displacement per step
     double spacings() const { return move() / spacing; }
 };
@@ -67,12 +67,13 @@ MotionScale motionScale(const std::vector<Particle>& particles, const WorldDef& 
     MotionScale m;
     m.diagonal = std::hypot(double(world.width), double(world.height));
     m.fastest = fastest + gravity * world.dt + std::sqrt(2 * gravity * m.diagonal);
-    m.typical = std::sqrt(twiceKinetic / (double(particles.size()) * heaviest) +
-                          std::fabs(double(world.gravity.x)) * world.width +
-                          std::fabs(double(world.gravity.y)) * world.height);
+    m.typical =
+        std::sqrt(twiceKinetic / (double(particles.size()) * heaviest) +
+                  std::fabs(double(world.gravity.x)) * world.width + std::fabs(double(world.gravity.y)) * world.height);
     m.step = world.dt;
     if (world.maxTravel > 0.0f) {
-        const double substeps = std::ceil((fastest + gravity * world.dt) * world.dt / (world.maxTravel * smallestRadius));
+        const double substeps =
+            std::ceil((fastest + gravity * world.dt) * world.dt / (world.maxTravel * smallestRadius));
         if (substeps > 1) m.step = world.dt / std::min(substeps, double(kMaxSubsteps));
     }
     m.spacing = floatSpacingBelow(std::max(world.width, world.height));
@@ -98,12 +99,12 @@ void requireValidMotion(const std::vector<Particle>& particles, const WorldDef& 
              " (or split each step into substeps: WorldDef::maxTravel > 0, on the command line --max-travel or "
              "--dt auto)");
     if (m.typical > 0.0 && m.spacings() < kMinStepSpacings)
-        fail(what, ": a step moves a typical disk (speed ", m.typical, ", step ", m.step, ") by ", m.move(),
-             ", less than the float32 spacing ", m.spacing, " of positions in the ", world.width, " x ", world.height,
-             " box, so its motion would be lost or wrong by more than 50 %; for these speeds and dt the largest box is ",
-             largestBoxFor(m.move() / kMinStepSpacings), " (README, Limits)");
+        fail(
+            what, ": a step moves a typical disk (speed ", m.typical, ", step ", m.step, ") by ", m.move(),
+            ", less than the float32 spacing ", m.spacing, " of positions in the ", world.width, " x ", world.height,
+            " box, so its motion would be lost or wrong by more than 50 %; for these speeds and dt the largest box is ",
+            largestBoxFor(m.move() / kMinStepSpacings), " (README, Limits)");
 }
-
 
 Boundary parseBoundary(const std::string& name) {
     if (name == "walls") return Boundary::Walls;
@@ -122,9 +123,9 @@ CollisionScheme parseCollisionScheme(const std::string& name) {
 
 const char* collisionSchemeName(CollisionScheme scheme) {
     switch (scheme) {
-    case CollisionScheme::Simultaneous: return "simultaneous";
-    case CollisionScheme::Pairwise: return "pairwise";
-    case CollisionScheme::Events: return "events";
+        case CollisionScheme::Simultaneous: return "simultaneous";
+        case CollisionScheme::Pairwise: return "pairwise";
+        case CollisionScheme::Events: return "events";
     }
     return "unknown";
 }
@@ -155,8 +156,7 @@ void validate(const SceneDef& scene) {
     if (boxGiven) {
         requireWithin("box width", scene.width, kMinLength, kMaxLength, kLengthReason);
         requireWithin("box height", scene.height, kMinLength, kMaxLength, kLengthReason);
-    } else if (!(std::isfinite(scene.packing) && scene.packing > 0.0f &&
-                 scene.packing <= kMaxPacking)) {
+    } else if (!(std::isfinite(scene.packing) && scene.packing > 0.0f && scene.packing <= kMaxPacking)) {
         fail("packing must be in (0, ", kMaxPacking, "], got ", scene.packing);
     }
     requireRange("radius", "radius-min", scene.radiusMin, "radius-max", scene.radiusMax, kMinLength, kMaxLength,
@@ -168,8 +168,7 @@ void validate(const SceneDef& scene) {
              "], the range where results are valid: speeds must square to finite float32 numbers (README, Limits)");
 }
 
-void validateParticles(const std::vector<Particle>& particles, const WorldDef& world,
-                       const std::string& what) {
+void validateParticles(const std::vector<Particle>& particles, const WorldDef& world, const std::string& what) {
     validate(world);
     if (particles.empty()) fail(what, ": no particles (at least 1 is needed)");
     for (std::size_t i = 0; i < particles.size(); ++i) {
@@ -183,8 +182,8 @@ void validateParticles(const std::vector<Particle>& particles, const WorldDef& w
         requireWithin(particle + "radius", r, kMinLength, kMaxLength, kLengthReason);
         requireWithin(particle + "mass", p.mass, kMinMass, kMaxMass, kMassReason);
         if (2.0f * r > world.width || 2.0f * r > world.height)
-            fail(what, ": particle ", i, ": radius ", r, " does not fit in the ", world.width,
-                 " x ", world.height, " box");
+            fail(what, ": particle ", i, ": radius ", r, " does not fit in the ", world.width, " x ", world.height,
+                 " box");
         const float2 x = p.position;
         if (world.boundary == Boundary::Periodic) {
             // Where the wrap in integrate keeps centres.
@@ -196,8 +195,8 @@ void validateParticles(const std::vector<Particle>& particles, const WorldDef& w
         // The same bounds the walls clamp to, so a saved final state reads back.
         if (!(x.x >= r && x.x <= world.width - r && x.y >= r && x.y <= world.height - r))
             fail(what, ": particle ", i, ": position (", x.x, ", ", x.y,
-                 ") puts the disk outside the box; the centre must lie in [", r, ", ",
-                 world.width - r, "] x [", r, ", ", world.height - r, "]");
+                 ") puts the disk outside the box; the centre must lie in [", r, ", ", world.width - r, "] x [", r,
+                 ", ", world.height - r, "]");
     }
 }
 
@@ -218,9 +217,9 @@ std::vector<std::string> validateStart(const std::vector<Particle>& particles, c
     const MotionScale m = motionScale(particles, world);
     if (world.collisions != CollisionScheme::Events && m.typical > 0.0 && m.spacings() < kWarnStepSpacings) {
         text << "a step moves a typical disk by " << m.move() << ", only " << m.spacings()
-             << " float32 spacings of the positions in this box: each step may be off by up to "
-             << 50.0 / m.spacings() << " %; boxes up to " << largestBoxFor(m.move() / kWarnStepSpacings)
-             << " keep it within " << 50.0 / kWarnStepSpacings << " % at these speeds and dt (README, Limits)";
+             << " float32 spacings of the positions in this box: each step may be off by up to " << 50.0 / m.spacings()
+             << " %; boxes up to " << largestBoxFor(m.move() / kWarnStepSpacings) << " keep it within "
+             << 50.0 / kWarnStepSpacings << " % at these speeds and dt (README, Limits)";
         warnings.push_back(text.str());
     }
     // Overlaps up to what two disks close in one step, plus rounding, are

@@ -43,14 +43,16 @@ public:
     SceneFile parse(const toml::table& root) const {
         SceneFile scene;
         scene.path = path_;
-        requireKnownKeys(root, "", {"boundary", "box", "collisions", "disk", "dt", "gravity", "group", "max_travel",
-                                    "output", "packing", "seed", "steps"});
+        requireKnownKeys(root, "",
+                         {"boundary", "box", "collisions", "disk", "dt", "gravity", "group", "max_travel", "output",
+                          "packing", "seed", "steps"});
         const toml::node* box = root.get("box");
         const toml::node* packing = root.get("packing");
         if (box && packing) fail(*packing, "packing", "give box or packing, not both");
         if (!box && !packing)
-            failAt(line(root), "the scene needs box = [W, H] (the world is [0,W]x[0,H]) or packing = ETA "
-                               "(a square box that the disks cover to this area fraction)");
+            failAt(line(root),
+                   "the scene needs box = [W, H] (the world is [0,W]x[0,H]) or packing = ETA "
+                   "(a square box that the disks cover to this area fraction)");
         if (box) {
             const float2 size = pair(*box, "box", Bound::Positive);
             scene.world.width = size.x;
@@ -62,9 +64,12 @@ public:
         }
         if (const toml::node* boundary = root.get("boundary")) {
             const std::string name = text(*boundary, "boundary");
-            if (name == "walls") scene.world.boundary = Boundary::Walls;
-            else if (name == "periodic") scene.world.boundary = Boundary::Periodic;
-            else fail(*boundary, "boundary", "allowed: \"walls\" (reflective) or \"periodic\"");
+            if (name == "walls")
+                scene.world.boundary = Boundary::Walls;
+            else if (name == "periodic")
+                scene.world.boundary = Boundary::Periodic;
+            else
+                fail(*boundary, "boundary", "allowed: \"walls\" (reflective) or \"periodic\"");
         }
         if (const toml::node* collisions = root.get("collisions")) {
             const std::string name = text(*collisions, "collisions");
@@ -93,12 +98,10 @@ public:
         if (const toml::array* groups = root.get_as<toml::array>("group"); groups && groups->size() > kMaxGroups)
             failAt(line(*groups), std::to_string(groups->size()) + " [[group]] tables; allowed: at most " +
                                       std::to_string(kMaxGroups) + " (for more, write a state CSV for --input-state)");
-        forEachTable(root, "group", [&](const toml::table& t, const std::string& key) {
-            scene.groups.push_back(group(t, key));
-        });
-        forEachTable(root, "disk", [&](const toml::table& t, const std::string& key) {
-            scene.disks.push_back(disk(t, key));
-        });
+        forEachTable(root, "group",
+                     [&](const toml::table& t, const std::string& key) { scene.groups.push_back(group(t, key)); });
+        forEachTable(root, "disk",
+                     [&](const toml::table& t, const std::string& key) { scene.disks.push_back(disk(t, key)); });
         if (const toml::node* output = root.get("output")) scene.output = outputs(*output);
         return scene;
     }
@@ -140,14 +143,13 @@ private:
                           std::initializer_list<const char*> allowed) const {
         for (const auto& [key, node] : table) {
             const std::string_view name = key.str();
-            const bool known =
-                std::any_of(allowed.begin(), allowed.end(), [name](const char* allowedName) { return name == allowedName; });
+            const bool known = std::any_of(allowed.begin(), allowed.end(),
+                                           [name](const char* allowedName) { return name == allowedName; });
             if (known) continue;
             std::string list;
             for (const char* allowedName : allowed) list += (list.empty() ? "" : ", ") + std::string(allowedName);
             failAt(line(node), "unknown key '" + prefix + printable(name) + "'; allowed" +
-                                   (prefix.empty() ? "" : " in " + prefix.substr(0, prefix.size() - 1)) + ": " +
-                                   list);
+                                   (prefix.empty() ? "" : " in " + prefix.substr(0, prefix.size() - 1)) + ": " + list);
         }
     }
 
@@ -164,7 +166,8 @@ private:
                              : bound == Bound::Positive ? std::isfinite(value) && value > 0
                                                         : std::isfinite(value) && value >= 0;
         if (!inBound) fail(node, key, std::string("must be ") + describe(bound));
-        if (std::fabs(value) > FLT_MAX) fail(node, key, "is out of range: carom computes in 32-bit floats (|x| < 3.4e38)");
+        if (std::fabs(value) > FLT_MAX)
+            fail(node, key, "is out of range: carom computes in 32-bit floats (|x| < 3.4e38)");
         const auto single = static_cast<float>(value);
         if (bound == Bound::Positive && !(single > 0.0f))
             fail(node, key, "is too small for a 32-bit float (at least 1.2e-38)");
@@ -297,8 +300,8 @@ SceneFile parseSceneFile(std::string_view text, const std::string& path) {
 SceneFile readSceneFile(const std::string& path) {
     std::error_code error;
     if (!std::filesystem::is_regular_file(path, error))
-        throw Error("cannot read scene file '" + path + "': " +
-                    (std::filesystem::exists(path, error) ? "not a regular file" : "no such file"));
+        throw Error("cannot read scene file '" + path +
+                    "': " + (std::filesystem::exists(path, error) ? "not a regular file" : "no such file"));
     std::ifstream in(path, std::ios::binary | std::ios::ate);
     if (!in) throw Error("cannot read scene file '" + path + "': " + std::strerror(errno));
     const std::streamoff size = in.tellg();

@@ -44,26 +44,26 @@ struct Region {
 // hexagonal lattice over their region. Groups that name the same region (or
 // none) share one lattice, their disks shuffled over its sites.
 struct GroupDef {
-    std::string name;            // shown in messages; default "group[K]", K counting from 1
-    std::size_t line = 0;        // line of its [[group]] header, for messages
-    std::uint32_t count = 0;     // number of disks, >= 1; required
-    float radiusMin = 1.0f;      // radius, fixed or uniform in [radiusMin, radiusMax] [length], > 0
+    std::string name;         // shown in messages; default "group[K]", K counting from 1
+    std::size_t line = 0;     // line of its [[group]] header, for messages
+    std::uint32_t count = 0;  // number of disks, >= 1; required
+    float radiusMin = 1.0f;   // radius, fixed or uniform in [radiusMin, radiusMax] [length], > 0
     float radiusMax = 1.0f;
-    float massMin = 1.0f;        // mass, fixed or uniform in [massMin, massMax] [mass], > 0
+    float massMin = 1.0f;  // mass, fixed or uniform in [massMin, massMax] [mass], > 0
     float massMax = 1.0f;
-    float speed = 1.0f;          // speed of every disk, random directions [length/time], >= 0
-    float temperature = 0.0f;    // > 0: Maxwell-Boltzmann velocities at k_B T = temperature
-                                 //   [mass length^2/time^2] instead of `speed`; 0 = off
+    float speed = 1.0f;            // speed of every disk, random directions [length/time], >= 0
+    float temperature = 0.0f;      // > 0: Maxwell-Boltzmann velocities at k_B T = temperature
+                                   //   [mass length^2/time^2] instead of `speed`; 0 = off
     std::optional<Region> region;  // where the disks go; default the whole box
 };
 
 // One [[disk]]: a single disk, exactly where it is put.
 struct DiskDef {
-    std::size_t line = 0;     // line of its [[disk]] header, for messages
-    float2 position{0, 0};    // centre [length]; required, the disk must lie inside the box
-    float2 velocity{0, 0};    // [length/time]; default at rest
-    float mass = 1.0f;        // [mass], > 0
-    float radius = 1.0f;      // [length], > 0
+    std::size_t line = 0;   // line of its [[disk]] header, for messages
+    float2 position{0, 0};  // centre [length]; required, the disk must lie inside the box
+    float2 velocity{0, 0};  // [length/time]; default at rest
+    float mass = 1.0f;      // [mass], > 0
+    float radius = 1.0f;    // [length], > 0
 };
 
 // [output]: the files a run writes. Paths are relative to the working

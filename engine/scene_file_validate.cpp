@@ -36,8 +36,7 @@ void validateGroup(const SceneFile& scene, const GroupDef& g) {
     if (!(std::isfinite(g.temperature) && g.temperature >= 0.0f))
         fail(where, ": temperature must be a finite number > 0, got ", g.temperature);
     if (!g.region) return;
-    if (scene.packing > 0)
-        fail(where, ": a region needs a known box: give box = [W, H] instead of packing");
+    if (scene.packing > 0) fail(where, ": a region needs a known box: give box = [W, H] instead of packing");
     const Region& r = *g.region;
     if (r.xMax > scene.world.width || r.yMax > scene.world.height)
         fail(where, ": region ", regionText(r), " extends past the ", scene.world.width, " x ", scene.world.height,

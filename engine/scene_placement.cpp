@@ -77,7 +77,8 @@ void setVelocity(Particle& p, const GroupDef& g, Random& random) {
         p.velocity = float2{static_cast<float>(sigma * a), static_cast<float>(sigma * b)};
     } else {
         const double angle = 2 * kPi * random.unit();
-        p.velocity = float2{static_cast<float>(g.speed * std::cos(angle)), static_cast<float>(g.speed * std::sin(angle))};
+        p.velocity =
+            float2{static_cast<float>(g.speed * std::cos(angle)), static_cast<float>(g.speed * std::sin(angle))};
     }
 }
 
@@ -178,11 +179,11 @@ void requireNoOverlap(const SceneFile& scene, const std::vector<Particle>& parti
     // not possible: the walled search finds every one.
     forEachOverlappingPair(particles.data(), particles.size(), grid, carom_box(width, height, 0),
                            [&](std::uint32_t i, std::uint32_t j) {
-        const DiskDef& d = scene.disks[j - firstDisk];  // j > i, so j is a [[disk]]
-        fail(scene.path, ':', d.line, ": ", name(j), " at (", d.position.x, ", ", d.position.y, ") overlaps ",
-             name(i), " at (", particles[i].position.x, ", ", particles[i].position.y,
-             "); disks may touch but not overlap");
-    });
+                               const DiskDef& d = scene.disks[j - firstDisk];  // j > i, so j is a [[disk]]
+                               fail(scene.path, ':', d.line, ": ", name(j), " at (", d.position.x, ", ", d.position.y,
+                                    ") overlaps ", name(i), " at (", particles[i].position.x, ", ",
+                                    particles[i].position.y, "); disks may touch but not overlap");
+                           });
 }
 
 }  // namespace
@@ -204,16 +205,15 @@ InitialState makeInitialState(const SceneDef& scene) {
     state.width = boxGiven ? scene.width : static_cast<float>(std::sqrt(diskArea / scene.packing));
     state.height = boxGiven ? scene.height : state.width;
     if (!boxGiven && !(state.width <= kMaxLength))
-        fail("packing ", scene.packing, " makes a ", state.width, " x ", state.height, " box; boxes up to ",
-             kMaxLength, " are valid (README, Limits): raise the packing");
+        fail("packing ", scene.packing, " makes a ", state.width, " x ", state.height, " box; boxes up to ", kMaxLength,
+             " are valid (README, Limits): raise the packing");
     const double packing = diskArea / (double(state.width) * state.height);
 
     const double rmax = scene.radiusMax;
     const double innerWidth = state.width - 2 * rmax;
     const double innerHeight = state.height - 2 * rmax;
     if (innerWidth < 0 || innerHeight < 0)
-        fail("a disk of radius ", scene.radiusMax, " does not fit in the ", state.width, " x ",
-             state.height, " box");
+        fail("a disk of radius ", scene.radiusMax, " does not fit in the ", state.width, " x ", state.height, " box");
 
     // Keep a gap of a few float ulps between neighbours so that rounding the
     // positions to float cannot create an overlap.
@@ -222,8 +222,8 @@ InitialState makeInitialState(const SceneDef& scene) {
     const double freeSpace = lattice.minDistance - 2 * rmax - gap;
     if (freeSpace < 0) {
         const double reachable = packing * std::pow(std::min(1.0, lattice.minDistance / (2 * rmax + gap)), 2);
-        fail("cannot place ", scene.particles, " disks of radius up to ", scene.radiusMax,
-             " without overlap in a ", state.width, " x ", state.height, " box (packing ", packing,
+        fail("cannot place ", scene.particles, " disks of radius up to ", scene.radiusMax, " without overlap in a ",
+             state.width, " x ", state.height, " box (packing ", packing,
              "); with these radii the lattice placement reaches packing ", reachable,
              " at most: lower the packing or the number of disks, or enlarge the box");
     }

@@ -165,8 +165,7 @@ std::vector<Particle> parseStateCsv(std::istream& in, const std::string& path, s
     if (!reader.nextLine(in, line, lineNumber))
         reader.fail(1, std::string("empty file; expected the header '") + kHeader + "'");
     skipByteOrderMark(line);
-    if (trim(line) != kHeader)
-        reader.fail(1, "header is '" + printable(trim(line)) + "'; expected '" + kHeader + "'");
+    if (trim(line) != kHeader) reader.fail(1, "header is '" + printable(trim(line)) + "'; expected '" + kHeader + "'");
 
     struct Row {
         std::uint64_t id;
@@ -183,8 +182,8 @@ std::vector<Particle> parseStateCsv(std::istream& in, const std::string& path, s
         for (std::string field; std::getline(split, field, ',');) fields.push_back(trim(field));
         if (!line.empty() && line.back() == ',') fields.emplace_back();
         if (fields.size() != kColumnCount)
-            reader.fail(lineNumber, "expected " + std::to_string(kColumnCount) + " columns (" + kHeader +
-                                        "), found " + std::to_string(fields.size()));
+            reader.fail(lineNumber, "expected " + std::to_string(kColumnCount) + " columns (" + kHeader + "), found " +
+                                        std::to_string(fields.size()));
         requireRoomFor(rows.size() + 1, availableBytes, where.c_str());  // before the row is stored
         Row row{reader.id(lineNumber, fields[0]), lineNumber, Particle{}};
         Particle& p = row.particle;

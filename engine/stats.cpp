@@ -19,8 +19,7 @@ Existing continuation(const std::string& path, std::optional<std::uint64_t> resu
     std::ifstream in(path, std::ios::binary);
     std::string header;
     std::getline(in, header);
-    if (header != kHeader)
-        refuseToAppend(path, "its header is '" + printable(header) + "', not '" + kHeader + "'");
+    if (header != kHeader) refuseToAppend(path, "its header is '" + printable(header) + "', not '" + kHeader + "'");
     LinesFromEnd lines(path);
     std::string last;
     lines.previous(last);

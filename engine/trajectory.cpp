@@ -25,8 +25,8 @@ Existing continuation(const std::string& path, std::optional<std::uint64_t> resu
         requireAppendable(path, "frame", step, *resumedAt);
         std::string count;
         if (lines.previous(count) && count != std::to_string(particles))
-            refuseToAppend(path, "its last frame has " + count + " disks, the checkpoint " +
-                                     std::to_string(particles) + ", so it is another simulation's trajectory");
+            refuseToAppend(path, "its last frame has " + count + " disks, the checkpoint " + std::to_string(particles) +
+                                     ", so it is another simulation's trajectory");
         return Existing::Append;
     }
     refuseToAppend(path, "it has no frame header with a step=, so it is no carom trajectory");

@@ -17,12 +17,9 @@ namespace {
 
 BackendDef backendFor(const WorldDef& def) {
     switch (def.engine) {
-    case ComputeEngine::Cpu:
-        return BackendDef{"cpu", "", "seed"};
-    case ComputeEngine::OpenClHostGrid:
-        return BackendDef{"opencl", def.device, "seed"};
-    case ComputeEngine::OpenClResident:
-        return BackendDef{"opencl", def.device, "resident"};
+        case ComputeEngine::Cpu: return BackendDef{"cpu", "", "seed"};
+        case ComputeEngine::OpenClHostGrid: return BackendDef{"opencl", def.device, "seed"};
+        case ComputeEngine::OpenClResident: return BackendDef{"opencl", def.device, "resident"};
     }
     throw Error("WorldDef::engine " + std::to_string(static_cast<int>(def.engine)) +
                 " is not a ComputeEngine; allowed: Cpu, OpenClHostGrid, OpenClResident");
@@ -51,12 +48,9 @@ bool engineAvailable(ComputeEngine engine) {
 
 const char* computeEngineName(ComputeEngine engine) {
     switch (engine) {
-    case ComputeEngine::Cpu:
-        return "cpu";
-    case ComputeEngine::OpenClHostGrid:
-        return "opencl-host-grid";
-    case ComputeEngine::OpenClResident:
-        return "opencl-resident";
+        case ComputeEngine::Cpu: return "cpu";
+        case ComputeEngine::OpenClHostGrid: return "opencl-host-grid";
+        case ComputeEngine::OpenClResident: return "opencl-resident";
     }
     return "unknown";
 }
@@ -86,7 +80,8 @@ void World::Impl::edit(std::vector<Particle> particles) {
 World::World(const WorldDef& def) : impl_(std::make_unique<Impl>()) {
     if (def.engine != ComputeEngine::Cpu && def.collisions == CollisionScheme::Events)
         throw Error(std::string("CollisionScheme::Events runs on ComputeEngine::Cpu only (one thread, double "
-                                "precision); got ComputeEngine ") + computeEngineName(def.engine));
+                                "precision); got ComputeEngine ") +
+                    computeEngineName(def.engine));
     if (!engineAvailable(def.engine))
         throw Error(std::string("ComputeEngine ") + computeEngineName(def.engine) +
                     " needs OpenCL, which this carom was built without; allowed: ComputeEngine::Cpu");
@@ -212,9 +207,7 @@ Measurements World::measurements() const {
     return m;
 }
 
-std::uint64_t World::collisionCount() const {
-    return impl_->collisionsBefore + impl_->backend->contacts().collisions;
-}
+std::uint64_t World::collisionCount() const { return impl_->collisionsBefore + impl_->backend->contacts().collisions; }
 
 void World::resetMeasurements() {
     impl_->collisionsBefore = collisionCount();

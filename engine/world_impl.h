@@ -16,12 +16,12 @@ namespace carom {
 struct World::Impl {
     WorldDef def;
     std::unique_ptr<Backend> backend;
-    std::uint64_t step = 0;              // the step the state holds
+    std::uint64_t step = 0;  // the step the state holds
     // time() = motionTime + (step - motionStep) x dt: dt may change (setMotion).
     double motionTime = 0.0;
     std::uint64_t motionStep = 0;
-    std::uint64_t collisionsBefore = 0;  // since the scene began, before the measurements' interval
-    std::vector<std::string> warnings;   // the last start's (validateStart)
+    std::uint64_t collisionsBefore = 0;     // since the scene began, before the measurements' interval
+    std::vector<std::string> warnings;      // the last start's (validateStart)
     double intervalStartTemperature = 0.0;  // kT when the measurements' interval began
     // The state as last read from the backend, while it is current.
     std::vector<Particle> state;

@@ -18,7 +18,8 @@ int main(int argc, char** argv) {
         carom::WorldDef def;
         def.width = scene.width;
         def.height = scene.height;
-        if (argc > 1 && std::strcmp(argv[1], "opencl-host-grid") == 0) def.engine = carom::ComputeEngine::OpenClHostGrid;
+        if (argc > 1 && std::strcmp(argv[1], "opencl-host-grid") == 0)
+            def.engine = carom::ComputeEngine::OpenClHostGrid;
         if (argc > 1 && std::strcmp(argv[1], "opencl-resident") == 0) def.engine = carom::ComputeEngine::OpenClResident;
 
         carom::World world(def);

@@ -32,12 +32,11 @@
  * its next wait for the device) goes to a cell by its slot: in cell 0, where
  * carom_cell_index puts NaN, such disks would be searched against each other
  * and sorted one by one, and the steps until that wait would cost N^2. */
-static inline void carom_count_into_cell(uint i, float2 position, GridGeometry grid, __global uint* counts,
-                                         __global uint* cellOf, __global uint* rankInCell)
+static inline void carom_count_into_cell(
+    uint i, float2 position, GridGeometry grid, __global uint* counts, __global uint* cellOf, __global uint* rankInCell)
 {
-    const uint cell = carom_isfinite(position.x) && carom_isfinite(position.y)
-                          ? (uint)carom_cell_index(position, grid)
-                          : i % (uint)(grid.cols * grid.rows);
+    const uint cell = carom_isfinite(position.x) && carom_isfinite(position.y) ? (uint)carom_cell_index(position, grid)
+                                                                               : i % (uint)(grid.cols * grid.rows);
     cellOf[i] = cell;
     rankInCell[i] = atomic_inc(&counts[cell]);
 }
@@ -124,8 +123,8 @@ __kernel void scanCountsIntoCells(__global const uint* counts,
 }
 
 /* The levels above: tile sums scanned in place, their totals one level up. */
-__kernel void scanTiles(__global uint* values, uint n, __global uint* tileSums, __local uint* tile,
-                        __local uint* runSums)
+__kernel void scanTiles(
+    __global uint* values, uint n, __global uint* tileSums, __local uint* tile, __local uint* runSums)
 {
     const uint total = carom_scan_tile(values, n, tile, runSums);
     const uint lid = get_local_id(0);
@@ -144,7 +143,9 @@ __kernel void addTileOffsets(__global uint* values, uint n, uint tileLength, __g
 }
 
 /* The start of cell c: its start within its scan tile plus the tile's offset. */
-static inline uint carom_cell_start(__global const GridCell* cells, uint c, __global const uint* tileOffsets,
+static inline uint carom_cell_start(__global const GridCell* cells,
+                                    uint c,
+                                    __global const uint* tileOffsets,
                                     uint tileLength)
 {
     return cells[c].start + tileOffsets[c / tileLength];

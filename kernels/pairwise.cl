@@ -14,8 +14,7 @@
  * only the device knows when the kernel is enqueued. */
 #include "pairwise.h"
 
-static inline CaromList carom_list(__global uint* items, __global uint* counts, uint countIndex,
-                                   __global uint* marks)
+static inline CaromList carom_list(__global uint* items, __global uint* counts, uint countIndex, __global uint* marks)
 {
     CaromList list;
     list.items = items;
@@ -103,8 +102,11 @@ __kernel void resolveEvents(__global Particle* state,
 
 /* The end of the step, particles stored by id (seed pipeline): in place.
  * A disk left non-finite is recorded under `stepIndex` (carom_record_non_finite). */
-__kernel void finishStepById(__global Particle* state, CaromStepParams step, __global ContactTally* tallies,
-                             uint stepIndex, __global uint* firstNonFinite)
+__kernel void finishStepById(__global Particle* state,
+                             CaromStepParams step,
+                             __global ContactTally* tallies,
+                             uint stepIndex,
+                             __global uint* firstNonFinite)
 {
     const uint i = get_global_id(0);
     if (i >= step.count) return;

@@ -42,7 +42,10 @@
 
 #ifdef __OPENCL_VERSION__
 #define CAROM_NEVER HUGE_VALF
-static inline unsigned int carom_append(volatile __global unsigned int* count) { return atomic_inc(count); }
+static inline unsigned int carom_append(volatile __global unsigned int* count)
+{
+    return atomic_inc(count);
+}
 /* 1 for the first caller of the round (epoch) only. */
 static inline int carom_claim(volatile __global unsigned int* mark, unsigned int epoch)
 {
@@ -52,7 +55,10 @@ static inline int carom_claim(volatile __global unsigned int* mark, unsigned int
 #include <cstdint>
 namespace carom {
 constexpr float CAROM_NEVER = HUGE_VALF;
-static inline unsigned int carom_append(unsigned int* count) { return __atomic_fetch_add(count, 1u, __ATOMIC_RELAXED); }
+static inline unsigned int carom_append(unsigned int* count)
+{
+    return __atomic_fetch_add(count, 1u, __ATOMIC_RELAXED);
+}
 static inline int carom_claim(unsigned int* mark, unsigned int epoch)
 {
     return __atomic_exchange_n(mark, epoch, __ATOMIC_RELAXED) != epoch;
@@ -112,8 +118,8 @@ static inline float2 carom_separation(Particle a, Particle b, CaromBox box)
  * rule keeps float rounding from colliding them twice. Swapping a and b
  * negates d and dv exactly and changes no product or sum, so both disks
  * compute the same bits. */
-static inline float carom_pair_event_time(Particle a, unsigned int idA, Particle b, unsigned int idB,
-                                          CaromStepParams step)
+static inline float carom_pair_event_time(
+    Particle a, unsigned int idA, Particle b, unsigned int idB, CaromStepParams step)
 {
     if (a.lastPartner == idB + 1u && b.lastPartner == idA + 1u) return CAROM_NEVER;
     const float t0 = a.time > b.time ? a.time : b.time;
@@ -155,8 +161,7 @@ static inline float carom_wall_delay(float gap, float speed, float accel)
 }
 
 /* Wall w's gap, speed towards it and acceleration towards it. */
-static inline void carom_wall_motion(Particle p, int w, CaromStepParams step, float* gap, float* speed,
-                                     float* accel)
+static inline void carom_wall_motion(Particle p, int w, CaromStepParams step, float* gap, float* speed, float* accel)
 {
     const float position = w < 2 ? p.position.x : p.position.y;
     const float velocity = w < 2 ? p.velocity.x : p.velocity.y;
@@ -198,8 +203,8 @@ static inline CaromEvent carom_wall_event(Particle p, int cellX, int cellY, Caro
 }
 
 /* Whether event (t, lo, hi) comes before event (u, uLo, uHi). */
-static inline int carom_event_before(float t, unsigned int lo, unsigned int hi, float u, unsigned int uLo,
-                                     unsigned int uHi)
+static inline int carom_event_before(
+    float t, unsigned int lo, unsigned int hi, float u, unsigned int uLo, unsigned int uHi)
 {
     if (t != u) return t < u;
     if (lo != uLo) return lo < uLo;
@@ -207,8 +212,8 @@ static inline int carom_event_before(float t, unsigned int lo, unsigned int hi, 
 }
 
 /* Whether a pair event (t, ids a and b) comes before disk `self`'s event e. */
-static inline int carom_pair_event_before(float t, unsigned int a, unsigned int b, CaromEvent e, unsigned int self,
-                                          CAROM_GLOBAL const unsigned int* ids)
+static inline int carom_pair_event_before(
+    float t, unsigned int a, unsigned int b, CaromEvent e, unsigned int self, CAROM_GLOBAL const unsigned int* ids)
 {
     if (e.time == CAROM_NEVER) return 1;
     unsigned int eLo = self, eHi = e.partner;
@@ -235,21 +240,30 @@ static inline void carom_list_add(CaromList list, unsigned int k, unsigned int e
 }
 
 /* What a search visits, and whom it adds to the dirty list to search again. */
-#define CAROM_SEARCH_ALL 0     /* every neighbour */
-#define CAROM_SEARCH_FORWARD 1 /* the neighbours after k in sorted order, each pair once; those it can meet are
+#define CAROM_SEARCH_ALL 0 /* every neighbour */
+#define CAROM_SEARCH_FORWARD \
+    1 /* the neighbours after k in sorted order, each pair once; those it can meet are
                                 * dirty, to collect the pairs before them */
-#define CAROM_SEARCH_CHANGED 2 /* every neighbour, for a disk that changed this round: unchanged neighbours
+#define CAROM_SEARCH_CHANGED \
+    2 /* every neighbour, for a disk that changed this round: unchanged neighbours
                                 * whose earliest event it beats, or whose earliest event was with it, are dirty */
 
 /* The earliest event of the disk at sorted position k, searched over the
  * 3x3 cells around the cell it started the step in (the grid's cells are
  * wide enough for every pair that can meet within the step), as `mode`
  * says. */
-static inline CaromEvent carom_search(unsigned int k, CAROM_GLOBAL const Particle* state,
-                                      CAROM_GLOBAL const unsigned int* slots, CAROM_GLOBAL const unsigned int* ids,
-                                      CAROM_GLOBAL const unsigned int* cellOf, CAROM_GLOBAL const GridCell* cells,
-                                      CaromStepParams step, CAROM_GLOBAL const CaromEvent* events, int mode,
-                                      CaromList changed, CaromList dirty, unsigned int epoch)
+static inline CaromEvent carom_search(unsigned int k,
+                                      CAROM_GLOBAL const Particle* state,
+                                      CAROM_GLOBAL const unsigned int* slots,
+                                      CAROM_GLOBAL const unsigned int* ids,
+                                      CAROM_GLOBAL const unsigned int* cellOf,
+                                      CAROM_GLOBAL const GridCell* cells,
+                                      CaromStepParams step,
+                                      CAROM_GLOBAL const CaromEvent* events,
+                                      int mode,
+                                      CaromList changed,
+                                      CaromList dirty,
+                                      unsigned int epoch)
 {
     const Particle self = state[slots[k]];
     const unsigned int selfId = ids[k];
@@ -295,8 +309,13 @@ static inline CaromEvent carom_search(unsigned int k, CAROM_GLOBAL const Particl
  * other's share of the mass, which keeps the centre of mass, and so the
  * potential energy under gravity, where it was. The collision, its virial
  * r_ij . J_ij = 2 mu_ij |v_n| r_ij and a late contact count on a's tally. */
-static inline void carom_collide_pair(Particle* a, unsigned int idA, Particle* b, unsigned int idB, float t,
-                                      CaromStepParams step, CAROM_GLOBAL ContactTally* tally)
+static inline void carom_collide_pair(Particle* a,
+                                      unsigned int idA,
+                                      Particle* b,
+                                      unsigned int idB,
+                                      float t,
+                                      CaromStepParams step,
+                                      CAROM_GLOBAL ContactTally* tally)
 {
     *a = carom_fly(*a, t, step.gravityX, step.gravityY);
     *b = carom_fly(*b, t, step.gravityX, step.gravityY);
@@ -363,8 +382,7 @@ static inline int carom_put_back(Particle* p, int w, CaromStepParams step)
 /* Disk p bounces off wall w at time t: its velocity component normal to the
  * wall reverses (or, past the wall, carom_put_back sets it). The momentum it
  * gives the wall goes to wallImpulse[w]. */
-static inline Particle carom_bounce(Particle p, int w, float t, CaromStepParams step,
-                                    CAROM_GLOBAL ContactTally* tally)
+static inline Particle carom_bounce(Particle p, int w, float t, CaromStepParams step, CAROM_GLOBAL ContactTally* tally)
 {
     p = carom_fly(p, t, step.gravityX, step.gravityY);
     const float before = w < 2 ? p.velocity.x : p.velocity.y;
@@ -386,13 +404,22 @@ static inline Particle carom_bounce(Particle p, int w, float t, CaromStepParams 
  * the pending list if it has one. The first search of a step runs forward
  * for every disk, then all for the disks it made dirty; a round's runs
  * changed for the disks it changed, then all for the dirty ones. */
-static inline void carom_find_event(unsigned int k, CAROM_GLOBAL const Particle* state,
-                                    CAROM_GLOBAL const unsigned int* slots, CAROM_GLOBAL const unsigned int* ids,
-                                    CAROM_GLOBAL const unsigned int* cellOf, CAROM_GLOBAL const GridCell* cells,
-                                    CaromStepParams step, CAROM_GLOBAL CaromEvent* events, int mode,
-                                    CaromList changed, CaromList dirty, CaromList pending, unsigned int epoch)
+static inline void carom_find_event(unsigned int k,
+                                    CAROM_GLOBAL const Particle* state,
+                                    CAROM_GLOBAL const unsigned int* slots,
+                                    CAROM_GLOBAL const unsigned int* ids,
+                                    CAROM_GLOBAL const unsigned int* cellOf,
+                                    CAROM_GLOBAL const GridCell* cells,
+                                    CaromStepParams step,
+                                    CAROM_GLOBAL CaromEvent* events,
+                                    int mode,
+                                    CaromList changed,
+                                    CaromList dirty,
+                                    CaromList pending,
+                                    unsigned int epoch)
 {
-    const CaromEvent event = carom_search(k, state, slots, ids, cellOf, cells, step, events, mode, changed, dirty, epoch);
+    const CaromEvent event =
+        carom_search(k, state, slots, ids, cellOf, cells, step, events, mode, changed, dirty, epoch);
     events[k] = event;
     if (event.time != CAROM_NEVER) carom_list_add(pending, k, epoch);
 }
@@ -402,10 +429,15 @@ static inline void carom_find_event(unsigned int k, CAROM_GLOBAL const Particle*
  * lower id of the two, which writes both disks); an event that is not
  * mutual waits on the next round's pending list. Resolved disks go to
  * `changed`. */
-static inline void carom_resolve_event(unsigned int k, CAROM_GLOBAL Particle* state,
-                                       CAROM_GLOBAL const unsigned int* slots, CAROM_GLOBAL const unsigned int* ids,
-                                       CAROM_GLOBAL const CaromEvent* events, CaromStepParams step,
-                                       CAROM_GLOBAL ContactTally* tallies, CaromList changed, CaromList nextPending,
+static inline void carom_resolve_event(unsigned int k,
+                                       CAROM_GLOBAL Particle* state,
+                                       CAROM_GLOBAL const unsigned int* slots,
+                                       CAROM_GLOBAL const unsigned int* ids,
+                                       CAROM_GLOBAL const CaromEvent* events,
+                                       CaromStepParams step,
+                                       CAROM_GLOBAL ContactTally* tallies,
+                                       CaromList changed,
+                                       CaromList nextPending,
                                        unsigned int epoch)
 {
     const CaromEvent event = events[k];

@@ -32,7 +32,7 @@ static inline CaromBox carom_box(float width, float height, int periodic)
 
 /* What every kernel of one (sub)step reads (Backend::stepParams). */
 typedef struct CaromStepParams {
-    GridGeometry grid;        /* the cells the grid of the step has */
+    GridGeometry grid; /* the cells the grid of the step has */
     CaromBox box;
     float gravityX, gravityY; /* [length/time^2] */
     float duration;           /* the step (or substep) h [time] */

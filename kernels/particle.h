@@ -36,9 +36,9 @@ typedef struct CAROM_ALIGNED(32) Particle {
  * substeps since the host last read and zeroed the tallies (Backend::contacts).
  * Pair quantities count on the lower id of the pair only, so each pair once. */
 typedef struct ContactTally {
-    unsigned int collisions; /* pairs (i, j > i) that received an impulse */
-    float virial;            /* sum of r_ij . J_ij over those impulses [mass length^2/time] */
-    float wallImpulse[4];    /* momentum given to the left, right, bottom, top wall [mass length/time] */
+    unsigned int collisions;   /* pairs (i, j > i) that received an impulse */
+    float virial;              /* sum of r_ij . J_ij over those impulses [mass length^2/time] */
+    float wallImpulse[4];      /* momentum given to the left, right, bottom, top wall [mass length/time] */
     unsigned int lateContacts; /* pairwise scheme: pairs (i, j > i) found already overlapping, and
                                 * wall contacts found past the wall, when resolved */
 } ContactTally;

@@ -24,8 +24,14 @@
 #include <cmath>
 #define CAROM_GLOBAL
 namespace carom {
-static inline float carom_sqrt(float x) { return std::sqrt(x); }
-static inline bool carom_isfinite(float x) { return std::isfinite(x); }
+static inline float carom_sqrt(float x)
+{
+    return std::sqrt(x);
+}
+static inline bool carom_isfinite(float x)
+{
+    return std::isfinite(x);
+}
 #endif
 
 /* The cell coordinate of a position along one axis. Positions on or beyond
@@ -62,16 +68,18 @@ static inline float carom_nearest_image(float d, float extent)
  * stays NaN, for the diagnostics to report. */
 static inline float carom_wrap(float x, float extent)
 {
-    if (x < 0.0f) x += extent;
-    else if (x >= extent) x -= extent;
+    if (x < 0.0f)
+        x += extent;
+    else if (x >= extent)
+        x -= extent;
     if (x >= extent || x < 0.0f) return 0.0f;
     return x;
 }
 
 /* The changes that particle i collects from its neighbours in one step. */
 typedef struct CaromResponse {
-    float dvx, dvy; /* velocity change */
-    float dpx, dpy; /* position change */
+    float dvx, dvy;        /* velocity change */
+    float dpx, dpy;        /* position change */
     unsigned int impulses; /* pairs (i, j > i) that received an impulse */
     float virial;          /* their r_ij . J_ij, summed */
 } CaromResponse;
@@ -87,8 +95,8 @@ typedef struct CaromResponse {
  *    exactly the overlap.
  * In a periodic box the separation is to j's nearest image.
  * Callers visit neighbours in a fixed order, so the sums are reproducible. */
-static inline void carom_add_pair_response(unsigned int i, Particle self, unsigned int j, Particle other,
-                                           CaromBox box, CaromResponse* sum)
+static inline void carom_add_pair_response(
+    unsigned int i, Particle self, unsigned int j, Particle other, CaromBox box, CaromResponse* sum)
 {
     float dx = self.position.x - other.position.x;
     float dy = self.position.y - other.position.y;
@@ -101,8 +109,7 @@ static inline void carom_add_pair_response(unsigned int i, Particle self, unsign
     if (dist2 >= contact * contact) return;
 
     const float share = other.mass / (self.mass + other.mass);
-    const float approach = (self.velocity.x - other.velocity.x) * dx +
-                           (self.velocity.y - other.velocity.y) * dy;
+    const float approach = (self.velocity.x - other.velocity.x) * dx + (self.velocity.y - other.velocity.y) * dy;
     if (approach < 0.0f) { /* also false when dist2 == 0 */
         const float scale = (2.0f * share) * (approach / dist2);
         sum->dvx -= scale * dx;
@@ -126,10 +133,15 @@ static inline void carom_add_pair_response(unsigned int i, Particle self, unsign
 }
 
 /* Adds the responses to the particles sortedIndices[begin .. end). */
-static inline void carom_add_run_response(unsigned int i, Particle self, CAROM_GLOBAL const Particle* in,
+static inline void carom_add_run_response(unsigned int i,
+                                          Particle self,
+                                          CAROM_GLOBAL const Particle* in,
                                           CAROM_GLOBAL const unsigned int* sortedIndices,
-                                          CAROM_GLOBAL const unsigned int* slots, unsigned int begin,
-                                          unsigned int end, CaromBox box, CaromResponse* sum)
+                                          CAROM_GLOBAL const unsigned int* slots,
+                                          unsigned int begin,
+                                          unsigned int end,
+                                          CaromBox box,
+                                          CaromResponse* sum)
 {
     for (unsigned int k = begin; k < end; ++k) {
         const unsigned int j = sortedIndices[k];
@@ -148,12 +160,20 @@ static inline void carom_add_run_response(unsigned int i, Particle self, CAROM_G
  * also visits the column across the edge (the grid is at least 3 x 3, so
  * that column is never in the row's run). Returns 0 for a run that does not
  * exist (a row outside a walled box, no column across). */
-static inline int carom_neighbour_run(int run, int cellX, int cellY, CAROM_GLOBAL const GridCell* cells,
-                                      GridGeometry grid, CaromBox box, unsigned int* begin, unsigned int* end)
+static inline int carom_neighbour_run(int run,
+                                      int cellX,
+                                      int cellY,
+                                      CAROM_GLOBAL const GridCell* cells,
+                                      GridGeometry grid,
+                                      CaromBox box,
+                                      unsigned int* begin,
+                                      unsigned int* end)
 {
     int y = cellY - 1 + run / 2;
-    if (box.periodic) y = y < 0 ? y + grid.rows : (y >= grid.rows ? y - grid.rows : y);
-    else if (y < 0 || y >= grid.rows) return 0;
+    if (box.periodic)
+        y = y < 0 ? y + grid.rows : (y >= grid.rows ? y - grid.rows : y);
+    else if (y < 0 || y >= grid.rows)
+        return 0;
     if (run % 2 == 0) {
         const int firstX = cellX > 0 ? cellX - 1 : cellX;
         const int lastX = cellX + 1 < grid.cols ? cellX + 1 : cellX;
@@ -178,12 +198,14 @@ static inline int carom_neighbour_run(int run, int cellX, int cellY, CAROM_GLOBA
  * with particles stored by id, `slots` is sortedIndices itself; the resident
  * pipeline stores them in the cell order of the step before, so that
  * neighbours sit close together in memory. */
-static inline CaromResponse carom_collect_response_from(unsigned int i, Particle self,
+static inline CaromResponse carom_collect_response_from(unsigned int i,
+                                                        Particle self,
                                                         CAROM_GLOBAL const Particle* in,
                                                         CAROM_GLOBAL const unsigned int* sortedIndices,
                                                         CAROM_GLOBAL const unsigned int* slots,
                                                         CAROM_GLOBAL const GridCell* cells,
-                                                        GridGeometry grid, CaromBox box)
+                                                        GridGeometry grid,
+                                                        CaromBox box)
 {
     const int cellX = carom_cell_coord(self.position.x, grid.cellsPerLengthX, grid.cols);
     const int cellY = carom_cell_coord(self.position.y, grid.cellsPerLengthY, grid.rows);
@@ -197,11 +219,13 @@ static inline CaromResponse carom_collect_response_from(unsigned int i, Particle
 }
 
 /* The response from the particles stored by id. */
-static inline CaromResponse carom_collect_response(unsigned int i, Particle self,
+static inline CaromResponse carom_collect_response(unsigned int i,
+                                                   Particle self,
                                                    CAROM_GLOBAL const Particle* in,
                                                    CAROM_GLOBAL const unsigned int* sortedIndices,
                                                    CAROM_GLOBAL const GridCell* cells,
-                                                   GridGeometry grid, CaromBox box)
+                                                   GridGeometry grid,
+                                                   CaromBox box)
 {
     return carom_collect_response_from(i, self, in, sortedIndices, sortedIndices, cells, grid, box);
 }
@@ -209,9 +233,8 @@ static inline CaromResponse carom_collect_response(unsigned int i, Particle self
 /* The same response without a grid, for the all-pairs baseline of `carom
  * bench`: every other particle, in ascending id, O(N) per particle. The same
  * pairs as the grid search, summed in another order, so not bitwise equal. */
-static inline CaromResponse carom_collect_response_all_pairs(unsigned int i, Particle self,
-                                                             CAROM_GLOBAL const Particle* in,
-                                                             unsigned int count, CaromBox box)
+static inline CaromResponse carom_collect_response_all_pairs(
+    unsigned int i, Particle self, CAROM_GLOBAL const Particle* in, unsigned int count, CaromBox box)
 {
     CaromResponse sum = {0.0f, 0.0f, 0.0f, 0.0f, 0u, 0.0f};
     for (unsigned int j = 0; j < count; ++j)
@@ -241,8 +264,7 @@ static inline void carom_record_collisions(CAROM_GLOBAL ContactTally* tally, Car
 
 static inline void carom_record_walls(CAROM_GLOBAL ContactTally* tally, const float* wallImpulse)
 {
-    if (wallImpulse[0] == 0.0f && wallImpulse[1] == 0.0f && wallImpulse[2] == 0.0f && wallImpulse[3] == 0.0f)
-        return;
+    if (wallImpulse[0] == 0.0f && wallImpulse[1] == 0.0f && wallImpulse[2] == 0.0f && wallImpulse[3] == 0.0f) return;
     for (int w = 0; w < 4; ++w) tally->wallImpulse[w] += wallImpulse[w];
 }
 
@@ -254,7 +276,8 @@ static inline void carom_resolve_collisions(unsigned int i,
                                             CAROM_GLOBAL const Particle* in,
                                             CAROM_GLOBAL const unsigned int* sortedIndices,
                                             CAROM_GLOBAL const GridCell* cells,
-                                            GridGeometry grid, CaromBox box,
+                                            GridGeometry grid,
+                                            CaromBox box,
                                             CAROM_GLOBAL Particle* out,
                                             CAROM_GLOBAL ContactTally* tallies)
 {
@@ -290,16 +313,18 @@ static inline float carom_wall_position(float position, float radius, float exte
 static inline void carom_add_wall_impulse(float mass, float before, float after, int low, float* wallImpulse)
 {
     if (after == before) return;
-    if (before < 0.0f) wallImpulse[low] += (2.0f * mass) * -before;
-    else wallImpulse[low + 1] += (2.0f * mass) * before;
+    if (before < 0.0f)
+        wallImpulse[low] += (2.0f * mass) * -before;
+    else
+        wallImpulse[low + 1] += (2.0f * mass) * before;
 }
 
 /* integrate: one semi-implicit Euler step (velocity first, then position
  * with the new velocity), then the boundary: wrapped around a periodic box,
  * or reflected by the walls, whose impulses are added to wallImpulse (left,
  * right, bottom, top). */
-static inline Particle carom_integrate(Particle p, float dt, float gravityX, float gravityY, CaromBox box,
-                                       float* wallImpulse)
+static inline Particle carom_integrate(
+    Particle p, float dt, float gravityX, float gravityY, CaromBox box, float* wallImpulse)
 {
     p.velocity.x += gravityX * dt;
     p.velocity.y += gravityY * dt;
@@ -322,8 +347,13 @@ static inline Particle carom_integrate(Particle p, float dt, float gravityX, flo
 }
 
 /* integrate for particle i, recording its wall impulses. */
-static inline void carom_integrate_into(unsigned int i, CAROM_GLOBAL Particle* particles, float dt, float gravityX,
-                                        float gravityY, CaromBox box, CAROM_GLOBAL ContactTally* tallies)
+static inline void carom_integrate_into(unsigned int i,
+                                        CAROM_GLOBAL Particle* particles,
+                                        float dt,
+                                        float gravityX,
+                                        float gravityY,
+                                        CaromBox box,
+                                        CAROM_GLOBAL ContactTally* tallies)
 {
     float wallImpulse[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     particles[i] = carom_integrate(particles[i], dt, gravityX, gravityY, box, wallImpulse);

@@ -32,9 +32,8 @@ __kernel void resolveIntegrateAndCount(__global const Particle* state,
     const CaromResponse sum =
         carom_collect_response_from(i, self, state, sortedIds, cellOrder, cells, step.grid, step.box);
     float wallImpulse[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    const Particle moved =
-        carom_integrate(carom_apply_response(self, sum), step.duration, step.gravityX, step.gravityY, step.box,
-                        wallImpulse);
+    const Particle moved = carom_integrate(carom_apply_response(self, sum), step.duration, step.gravityX, step.gravityY,
+                                           step.box, wallImpulse);
     next[k] = moved;
     /* The tallies stay in id order, so reading them needs no slot map. */
     carom_record_collisions(&tallies[i], sum);

@@ -85,13 +85,13 @@ int registerCases(Registered which, const char* name, const char* file, unsigned
 // The same for the OpenCL pipelines only: comparisons of OpenCL against the CPU.
 #define CAROM_OPENCL_TEST_CASE(name) CAROM_REGISTERED_TEST_CASE_(OpenClPipelines, name, DOCTEST_ANONYMOUS(CAROM_CASE_))
 
-#define CAROM_REGISTERED_TEST_CASE_(which, name, body)                                                           \
-    static void body(const ::carom::BackendDef& def);                                                            \
-    DOCTEST_GLOBAL_NO_WARNINGS(DOCTEST_ANONYMOUS(CAROM_REGISTRATION_),                                          \
-                               ::carom::test::registration::registerCases<body>(                                 \
-                                   ::carom::test::Registered::which, name, __FILE__, __LINE__,                   \
-                                   doctest_detail_test_suite_ns::getCurrentTestSuite(),                          \
-                                   std::make_index_sequence<std::size(::carom::test::kTestPipelines)>()))        \
+#define CAROM_REGISTERED_TEST_CASE_(which, name, body)                                                    \
+    static void body(const ::carom::BackendDef& def);                                                     \
+    DOCTEST_GLOBAL_NO_WARNINGS(DOCTEST_ANONYMOUS(CAROM_REGISTRATION_),                                    \
+                               ::carom::test::registration::registerCases<body>(                          \
+                                   ::carom::test::Registered::which, name, __FILE__, __LINE__,            \
+                                   doctest_detail_test_suite_ns::getCurrentTestSuite(),                   \
+                                   std::make_index_sequence<std::size(::carom::test::kTestPipelines)>())) \
     static void body(const ::carom::BackendDef& def)
 
 namespace carom::test {

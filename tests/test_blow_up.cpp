@@ -18,8 +18,7 @@ constexpr std::uint64_t kFirstStep = 1000;
 
 // The reference: one step at a time on the CPU backend, each state read back
 // and scanned, the first step with a non-finite disk and its lowest id.
-NonFiniteState scanOneStepAtATime(const WorldDef& world, const std::vector<Particle>& particles,
-                                  std::uint64_t limit) {
+NonFiniteState scanOneStepAtATime(const WorldDef& world, const std::vector<Particle>& particles, std::uint64_t limit) {
     auto cpu = makeBackend(testBackendDef("cpu"), world);
     cpu->setParticles(particles);
     std::vector<Particle> state;
@@ -40,8 +39,8 @@ NonFiniteState scanOneStepAtATime(const WorldDef& world, const std::vector<Parti
 void checkReported(const BackendDef& def, const WorldDef& world, const std::vector<Particle>& particles,
                    std::uint64_t steps) {
     const NonFiniteState expected = scanOneStepAtATime(world, particles, steps);
-    const std::string message = "the state went non-finite at step " + std::to_string(expected.step) +
-                                ": particle " + std::to_string(expected.particle) + " ";
+    const std::string message = "the state went non-finite at step " + std::to_string(expected.step) + ": particle " +
+                                std::to_string(expected.particle) + " ";
     CAPTURE(message);
     auto backend = makeBackend(def, world);
     backend->setParticles(particles, kFirstStep);

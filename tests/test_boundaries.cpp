@@ -139,8 +139,9 @@ CAROM_BACKEND_TEST_CASE("contacts: a dilute gas pushes on the walls with P A = N
     CHECK(t.wallPressure[3] == doctest::Approx(t.wallPressureMean).epsilon(0.1));
 }
 
-CAROM_BACKEND_TEST_CASE("substeps: a fast head-on pair tunnels through the simultaneous scheme with a fixed dt, and "
-                        "collides with max travel or the pairwise scheme") {
+CAROM_BACKEND_TEST_CASE(
+    "substeps: a fast head-on pair tunnels through the simultaneous scheme with a fixed dt, and "
+    "collides with max travel or the pairwise scheme") {
     // Closing at 50 with dt 0.1: 2.5 apart, then passed through. With max
     // travel 0.2 each step takes ceil(25 x 0.1 / 0.2) = 13 substeps.
     const std::vector<Particle> pair = {disk(40, 10, 25, 0), disk(47.5f, 10, -25, 0)};
@@ -183,7 +184,8 @@ CAROM_BACKEND_TEST_CASE("substeps: gravity counts towards the travel, and a runa
 
 CAROM_BACKEND_TEST_CASE("maxSpeed: the largest speed of the state, exactly") {
     std::vector<Particle> ps;
-    for (int i = 0; i < 5000; ++i) ps.push_back(disk(1.0f + (i % 70) * 2.5f, 1.0f + (i / 70) * 2.5f, 0.0005f * i, -0.5f));
+    for (int i = 0; i < 5000; ++i)
+        ps.push_back(disk(1.0f + (i % 70) * 2.5f, 1.0f + (i / 70) * 2.5f, 0.0005f * i, -0.5f));
     ps[4321].velocity = float2{3, -4};
     auto backend = makeBackend(def, box(180, 180));
     backend->setParticles(ps);

@@ -120,11 +120,11 @@ TEST_CASE("checkpoint: a version-1 file (before the collision schemes) reads as 
         u32(bits);
     };
     u32(0x01020304);
-    u32(1);  // version
-    u64(2);  // particles
+    u32(1);                                                     // version
+    u64(2);                                                     // particles
     for (float v : {12.0f, 8.0f, 0.005f, 0.0f, -2.0f}) f32(v);  // box, dt, gravity
-    u32(1);  // periodic
-    u64(40);  // step
+    u32(1);                                                     // periodic
+    u64(40);                                                    // step
     const double time = 0.2;
     std::uint64_t timeBits;
     std::memcpy(&timeBits, &time, sizeof timeBits);

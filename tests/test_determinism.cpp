@@ -77,8 +77,8 @@ std::vector<Particle> fixedScene() {
     std::vector<Particle> disks;
     for (int i = 0; i < kColumns * kRows; ++i) {
         const float x = kPitch / 2 + kPitch * float(i % kColumns), y = kPitch / 2 + kPitch * float(i / kColumns);
-        const float radius = 0.5f + float((i * 7) % 17) / 32;  // 0.5 to 1
-        const float mass = 0.5f + float((i * 11) % 13) / 4;    // 0.5 to 3.5
+        const float radius = 0.5f + float((i * 7) % 17) / 32;                                // 0.5 to 1
+        const float mass = 0.5f + float((i * 11) % 13) / 4;                                  // 0.5 to 3.5
         const float vx = float((i * 13) % 41 - 20) / 8, vy = float((i * 29) % 37 - 18) / 8;  // up to 2.5
         disks.push_back(disk(x, y, vx, vy, mass, radius));
     }
@@ -110,8 +110,7 @@ std::uint64_t trajectoryHash(Backend& backend) {
     CHECK(collisions > 1000);  // the scene exercises the collisions, not just the flight
     Fnv1a hash;
     for (const Particle& p : disks) {
-        for (float value : {p.position.x, p.position.y, p.velocity.x, p.velocity.y, p.mass, p.radius})
-            hash.add(value);
+        for (float value : {p.position.x, p.position.y, p.velocity.x, p.velocity.y, p.mass, p.radius}) hash.add(value);
     }
     hash.add(collisions, 8);
     return hash.value();
@@ -128,8 +127,8 @@ void checkPinned(const BackendDef& def, CollisionScheme scheme) {
             CHECK_MESSAGE(hash == pinned.hash, "trajectory hash " << hex(hash) << ", pinned " << hex(pinned.hash)
                                                                   << " (re-pinning: the comment at the top)");
         } else {
-            MESSAGE("the device lacks correctly rounded divide/sqrt: its hash " << hex(hash)
-                                                                            << " is checked for repeatability only");
+            MESSAGE("the device lacks correctly rounded divide/sqrt: its hash "
+                    << hex(hash) << " is checked for repeatability only");
             CHECK(trajectoryHash(*makeBackend(def, world)) == hash);
         }
     }

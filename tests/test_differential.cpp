@@ -34,9 +34,9 @@ void compareWithCpu(const BackendDef& def, const SceneDef& scene, WorldDef rules
         steps = 20;
     }
     ContactTotals cpuContacts;
-    const std::vector<Particle> cpu =
-        simulate(testBackendDef("cpu"), world, s.particles, steps, nullptr, &cpuContacts);
-    REQUIRE_MESSAGE(measure(cpu, world).escaped == 0, "the CPU run itself went unstable: nothing meaningful to compare");
+    const std::vector<Particle> cpu = simulate(testBackendDef("cpu"), world, s.particles, steps, nullptr, &cpuContacts);
+    REQUIRE_MESSAGE(measure(cpu, world).escaped == 0,
+                    "the CPU run itself went unstable: nothing meaningful to compare");
 
     opencl->setParticles(s.particles);
     opencl->step(steps);

@@ -34,11 +34,11 @@ std::string digits(double value) {
 }  // namespace
 
 // Passes when `got` lies within kExact x `scale` of `expected`; says both otherwise.
-#define CHECK_EXACT(got, expected, scale)                                                   \
-    do {                                                                                    \
-        const double got_ = (got), expected_ = (expected);                                  \
-        INFO(#got " = " << digits(got_) << ", expected " << digits(expected_));             \
-        CHECK(std::abs(got_ - expected_) <= kExact * (scale));                              \
+#define CHECK_EXACT(got, expected, scale)                                       \
+    do {                                                                        \
+        const double got_ = (got), expected_ = (expected);                      \
+        INFO(#got " = " << digits(got_) << ", expected " << digits(expected_)); \
+        CHECK(std::abs(got_ - expected_) <= kExact * (scale));                  \
     } while (0)
 
 namespace {
@@ -189,16 +189,16 @@ TEST_CASE("events: oblique collisions at impact parameter sigma/2 are exact, wit
         float m1, m2, r1, r2;
         double u1x, u1y, u2x, u2y;
     };
-    for (const Case c : {Case{1, 1, 1, 1, 0.5, s3 / 2, 1.5, -s3 / 2},
-                         Case{1, 3, 0.5f, 1.5f, -0.25, 3 * s3 / 4, 0.75, -s3 / 4}}) {
+    for (const Case c :
+         {Case{1, 1, 1, 1, 0.5, s3 / 2, 1.5, -s3 / 2}, Case{1, 3, 0.5f, 1.5f, -0.25, 3 * s3 / 4, 0.75, -s3 / 4}}) {
         CAPTURE(c.m2);
         CAPTURE(c.r1);
-        auto events = startEvents(eventWorld(40, 30, 0.25f),
-                                  {disk(10, 11, 2, 0, c.m1, c.r1), disk(20, 10, 0, 0, c.m2, c.r2)});
+        auto events =
+            startEvents(eventWorld(40, 30, 0.25f), {disk(10, 11, 2, 0, c.m1, c.r1), disk(20, 10, 0, 0, c.m2, c.r2)});
         const double contact = 5 - s3 / 2;
         events->step(16);  // t = 4, before the contact
         CHECK(events->eventCounts().collisions == 0);
-        events->step(8);   // t = 6, after it
+        events->step(8);  // t = 6, after it
         const double t = events->time();
         const std::vector<ExactDisk> after = events->exactState();
         CHECK_EXACT(after[0].vx, c.u1x, 2);
@@ -309,19 +309,20 @@ TEST_CASE("events: three disks on a line collide in the order and at the times w
     // Then A runs left, C right, B rests: no more collisions (the walls are
     // reached at t = 16 and 21.25, after the last sample at 12).
     // Momentum 2 and energy 2 before and after: -2/3 + 2 4/3 = 2, 2/9 + 16/9 = 2.
-    auto events = startEvents(eventWorld(40, 20, 0.25f),
-                              {disk(5, 10, 2, 0, 1), disk(10, 10, 0, 0, 1), disk(14, 10, 0, 0, 2)});
+    auto events =
+        startEvents(eventWorld(40, 20, 0.25f), {disk(5, 10, 2, 0, 1), disk(10, 10, 0, 0, 1), disk(14, 10, 0, 0, 2)});
     struct Sample {
         int steps;  // t = steps / 4
         std::uint64_t collisions;
         double a, va, b, vb, c, vc;  // positions and velocities at t
     };
     const double third = 1.0 / 3.0;
-    for (const Sample s : {Sample{4, 0, 7, 2, 10, 0, 14, 0},                                   // t = 1
-                           Sample{8, 1, 8, 0, 11, 2, 14, 0},                                   // t = 2
-                           Sample{16, 2, 8, 0, 12 - 1.5 * 2 * third, -2 * third, 14 + 1.5 * 4 * third, 4 * third},  // t = 4
-                           Sample{32, 3, 8 - 2.5 * 2 * third, -2 * third, 10, 0, 14 + 5.5 * 4 * third, 4 * third},  // t = 8
-                           Sample{48, 3, 8 - 6.5 * 2 * third, -2 * third, 10, 0, 14 + 9.5 * 4 * third, 4 * third}}) {  // t = 12
+    for (const Sample s :
+         {Sample{4, 0, 7, 2, 10, 0, 14, 0},                                                           // t = 1
+          Sample{8, 1, 8, 0, 11, 2, 14, 0},                                                           // t = 2
+          Sample{16, 2, 8, 0, 12 - 1.5 * 2 * third, -2 * third, 14 + 1.5 * 4 * third, 4 * third},     // t = 4
+          Sample{32, 3, 8 - 2.5 * 2 * third, -2 * third, 10, 0, 14 + 5.5 * 4 * third, 4 * third},     // t = 8
+          Sample{48, 3, 8 - 6.5 * 2 * third, -2 * third, 10, 0, 14 + 9.5 * 4 * third, 4 * third}}) {  // t = 12
         events->step(static_cast<std::uint64_t>(s.steps) - events->contacts().steps);
         CAPTURE(events->time());
         CHECK(events->time() == s.steps / 4.0);
@@ -461,7 +462,8 @@ TEST_CASE("events: periodic boxes collide across the edge with the nearest image
     // Box 20 x 20: A at x = 1 moving left at 1, B at rest at x = 18.5, whose
     // image at -1.5 is 2.5 from A: they touch at t = 0.5, A stops at 0.5 and
     // B leaves at -1 (equal masses). At t = 2, B is at 17.
-    auto events = startEvents(eventWorld(20, 20, 0.25f, Boundary::Periodic), {disk(1, 10, -1, 0), disk(18.5f, 10, 0, 0)});
+    auto events =
+        startEvents(eventWorld(20, 20, 0.25f, Boundary::Periodic), {disk(1, 10, -1, 0), disk(18.5f, 10, 0, 0)});
     events->step(8);
     CHECK(events->eventCounts().collisions == 1);
     const std::vector<ExactDisk> d = events->exactState();
@@ -501,7 +503,7 @@ TEST_CASE("events: a disk crossing the periodic boundary many times stays on its
 TEST_CASE("events: a checkpoint resumes bit for bit") {
     const InitialState s = polydisperse(600, 0.4f);
     for (const WorldDef& world : {eventWorld(s.width, s.height, 0.05f, Boundary::Walls, float2{0.1f, -0.5f}),
-                                 eventWorld(s.width, s.height, 0.05f, Boundary::Periodic)}) {
+                                  eventWorld(s.width, s.height, 0.05f, Boundary::Periodic)}) {
         const std::string boundary = boundaryName(world.boundary);
         CAPTURE(boundary);
         const std::uint64_t half = 100;
@@ -523,8 +525,7 @@ TEST_CASE("events: a checkpoint resumes bit for bit") {
         REQUIRE(a.size() == b.size());
         CHECK(std::memcmp(a.data(), b.data(), a.size() * sizeof(ExactDisk)) == 0);
         CHECK(straight->time() == resumed.time());
-        CHECK(straight->eventCounts().collisions ==
-              first->eventCounts().collisions + resumed.eventCounts().collisions);
+        CHECK(straight->eventCounts().collisions == first->eventCounts().collisions + resumed.eventCounts().collisions);
         CHECK(straight->eventCounts().collisions > 1000);
         const EventEngineState endA = straight->saveState(), endB = resumed.saveState();
         CHECK(endA.time == endB.time);
@@ -687,6 +688,6 @@ TEST_CASE("events: the event-driven scheme runs on the CPU backend only") {
         CHECK(message.find("--collisions events") != std::string::npos);
         CHECK(message.find("--backend cpu") != std::string::npos);
     }
-    CHECK_THROWS_WITH_AS(makeBackend(BackendDef{"cpu", "", "resident"}, world), doctest::Contains("--pipeline resident"),
-                         Error);
+    CHECK_THROWS_WITH_AS(makeBackend(BackendDef{"cpu", "", "resident"}, world),
+                         doctest::Contains("--pipeline resident"), Error);
 }

@@ -121,31 +121,40 @@ TEST_CASE("events checkpoint: sizes are checked against the file before anything
 }
 
 TEST_CASE("events checkpoint: every invalid value is refused, naming it") {
-    CHECK(refusalOf([](EventEngineState& s) { s.time = NAN; }).find(
-              "checkpoint 'c.ckpt': events state: time nan must be a finite number >= 0") != std::string::npos);
+    CHECK(refusalOf([](EventEngineState& s) {
+              s.time = NAN;
+          }).find("checkpoint 'c.ckpt': events state: time nan must be a finite number >= 0") != std::string::npos);
     CHECK(refusalOf([](EventEngineState& s) { s.time = -1; }).find("events state: time -1 must be") !=
           std::string::npos);
-    CHECK(refusalOf([](EventEngineState& s) { s.disks[1].x = kInfinity; }).find(
-              "events state: disk 1: x inf must be finite") != std::string::npos);
+    CHECK(refusalOf([](EventEngineState& s) {
+              s.disks[1].x = kInfinity;
+          }).find("events state: disk 1: x inf must be finite") != std::string::npos);
     CHECK(refusalOf([](EventEngineState& s) { s.disks[2].vy = NAN; }).find("disk 2: vy nan must be finite") !=
           std::string::npos);
-    CHECK(refusalOf([](EventEngineState& s) { s.disks[0].time = -kInfinity; }).find(
-              "disk 0: time -inf must be finite") != std::string::npos);
-    CHECK(refusalOf([](EventEngineState& s) { s.disks[0].event = -10; }).find(
-              "disk 0: event code -10 is unknown; allowed: -9 to -1 (kinds of event) or a partner id from 0 to 2") !=
-          std::string::npos);
+    CHECK(refusalOf([](EventEngineState& s) {
+              s.disks[0].time = -kInfinity;
+          }).find("disk 0: time -inf must be finite") != std::string::npos);
+    CHECK(
+        refusalOf([](EventEngineState& s) {
+            s.disks[0].event = -10;
+        }).find("disk 0: event code -10 is unknown; allowed: -9 to -1 (kinds of event) or a partner id from 0 to 2") !=
+        std::string::npos);
     CHECK(refusalOf([](EventEngineState& s) { s.disks[0].event = 3; }).find("disk 0: event code 3 is unknown") !=
           std::string::npos);
-    CHECK(refusalOf([](EventEngineState& s) { s.disks[2].event = 2; }).find(
-              "disk 2: its event is a collision with itself (event code 2)") != std::string::npos);
+    CHECK(refusalOf([](EventEngineState& s) {
+              s.disks[2].event = 2;
+          }).find("disk 2: its event is a collision with itself (event code 2)") != std::string::npos);
     CHECK(refusalOf([](EventEngineState& s) { s.disks[1].event = kEventWallRight; }, Boundary::Periodic)
               .find("disk 1: event code -3 is a wall bounce, but the box is periodic") != std::string::npos);
-    CHECK(refusalOf([](EventEngineState& s) { s.disks[2].eventTime = 5; }).find(
-              "disk 2: event time 5 must be +infinity for event code -1 (no event)") != std::string::npos);
-    CHECK(refusalOf([](EventEngineState& s) { s.disks[2].eventTime = -kInfinity; }).find(
-              "event time -inf must be +infinity") != std::string::npos);
-    CHECK(refusalOf([](EventEngineState& s) { s.disks[0].eventTime = kInfinity; }).find(
-              "disk 0: event time inf must be finite for event code 1") != std::string::npos);
+    CHECK(refusalOf([](EventEngineState& s) {
+              s.disks[2].eventTime = 5;
+          }).find("disk 2: event time 5 must be +infinity for event code -1 (no event)") != std::string::npos);
+    CHECK(refusalOf([](EventEngineState& s) {
+              s.disks[2].eventTime = -kInfinity;
+          }).find("event time -inf must be +infinity") != std::string::npos);
+    CHECK(refusalOf([](EventEngineState& s) {
+              s.disks[0].eventTime = kInfinity;
+          }).find("disk 0: event time inf must be finite for event code 1") != std::string::npos);
     CHECK(refusalOf([](EventEngineState&) {}).empty());
 }
 
@@ -172,8 +181,8 @@ TEST_CASE("events checkpoint: version 2 still reads, and never held the events s
 TEST_CASE("events checkpoint: the engine's state goes with the events scheme and no other") {
     Checkpoint c = threeDisks();
     c.events.reset();
-    CHECK_THROWS_WITH_AS(encodeCheckpoint(c), doctest::Contains("exactly with the events scheme (here events, no state"),
-                         Error);
+    CHECK_THROWS_WITH_AS(encodeCheckpoint(c),
+                         doctest::Contains("exactly with the events scheme (here events, no state"), Error);
     c = threeDisks();
     c.world.collisions = CollisionScheme::Pairwise;
     CHECK_THROWS_WITH_AS(encodeCheckpoint(c), doctest::Contains("(here pairwise, 3 disks in the state"), Error);

@@ -70,18 +70,21 @@ TEST_CASE("number text: a real number is the whole text") {
     CHECK(std::isinf(parseRealNumber("inf")));  // the options' own checks name the range
     CHECK(std::isnan(parseRealNumber("nan")));
     for (const char* malformed : {"", " 1", "1 ", "1.5x", "fast", "1,5"})
-        CHECK_MESSAGE(errorOf([&] { parseRealNumber(malformed); }) == "'" + std::string(malformed) + "' is not a number",
-                      malformed);
+        CHECK_MESSAGE(
+            errorOf([&] { parseRealNumber(malformed); }) == "'" + std::string(malformed) + "' is not a number",
+            malformed);
 }
 
 TEST_CASE("printable: valid UTF-8 as it is; control characters and invalid bytes escaped") {
-    CHECK(printable("caf\xC3\xA9 \xE6\x97\xA5\xE6\x9C\xAC \xF0\x9F\x8E\xB1") == "caf\xC3\xA9 \xE6\x97\xA5\xE6\x9C\xAC \xF0\x9F\x8E\xB1");
+    CHECK(printable("caf\xC3\xA9 \xE6\x97\xA5\xE6\x9C\xAC \xF0\x9F\x8E\xB1") ==
+          "caf\xC3\xA9 \xE6\x97\xA5\xE6\x9C\xAC \xF0\x9F\x8E\xB1");
     CHECK(printable("a\x1B[31m\x7F") == "a\\x1B[31m\\x7F");
-    CHECK(printable("\xC2\x9B" "1m") == "\\xC2\\x9B1m");         // C1 control (CSI)
-    CHECK(printable("\xC3") == "\\xC3");                        // truncated sequence
-    CHECK(printable("\xA9x") == "\\xA9x");                      // stray continuation byte
-    CHECK(printable("\xC0\xAF") == "\\xC0\\xAF");               // overlong '/'
-    CHECK(printable("\xED\xA0\x80") == "\\xED\\xA0\\x80");      // surrogate
+    CHECK(printable("\xC2\x9B"
+                    "1m") == "\\xC2\\x9B1m");                        // C1 control (CSI)
+    CHECK(printable("\xC3") == "\\xC3");                             // truncated sequence
+    CHECK(printable("\xA9x") == "\\xA9x");                           // stray continuation byte
+    CHECK(printable("\xC0\xAF") == "\\xC0\\xAF");                    // overlong '/'
+    CHECK(printable("\xED\xA0\x80") == "\\xED\\xA0\\x80");           // surrogate
     CHECK(printable("\xF4\x90\x80\x80") == "\\xF4\\x90\\x80\\x80");  // past U+10FFFF
     std::string accents;
     for (int i = 0; i < 50; ++i) accents += "\xC3\xA9";
@@ -91,7 +94,8 @@ TEST_CASE("printable: valid UTF-8 as it is; control characters and invalid bytes
 TEST_CASE("state CSV: a line longer than 4096 bytes is refused as it is read") {
     CHECK(stateCsvError(std::string(1 << 20, '\0')) ==
           "in.csv:1: line longer than 4096 bytes; a state file's lines are at most 4096 bytes (is it a state CSV?)");
-    CHECK(stateCsvError(kHeaderLine + "0,1,1,0,0,1,1\n" + std::string(5000, '1')).find("in.csv:3: line longer than 4096") == 0);
+    CHECK(stateCsvError(kHeaderLine + "0,1,1,0,0,1,1\n" + std::string(5000, '1'))
+              .find("in.csv:3: line longer than 4096") == 0);
     // A line of exactly 4096 bytes is read (trailing spaces are trimmed), with or without its newline.
     std::string row = "0,1,1,0,0,1,1";
     row += std::string(4096 - row.size(), ' ');
@@ -105,7 +109,8 @@ TEST_CASE("state CSV: rows past the memory available are refused before they are
     const std::string threeRows = kHeaderLine + "0,1,1,0,0,1,1\n1,4,1,0,0,1,1\n2,7,1,0,0,1,1\n";
     std::istringstream in(threeRows);
     CHECK(parseStateCsv(in, "in.csv", 3 * kHostBytesPerParticle).size() == 3);
-    CHECK(stateCsvError(threeRows, 2 * kHostBytesPerParticle).find("in.csv: particle rows: 3 particles need about") == 0);
+    CHECK(stateCsvError(threeRows, 2 * kHostBytesPerParticle).find("in.csv: particle rows: 3 particles need about") ==
+          0);
 }
 
 TEST_CASE("checkpoint: the particle count is checked against memory and the checksum before allocating") {
@@ -113,21 +118,18 @@ TEST_CASE("checkpoint: the particle count is checked against memory and the chec
     c.world.width = c.world.height = 100.0f;
     for (int i = 0; i < 10; ++i) c.particles.push_back(disk(5.0f + 9.0f * float(i), 50.0f, 1.0f, 0.0f));
     const std::string bytes = encodeCheckpoint(c);
-    {
-        std::ofstream("inputs.ckpt", std::ios::binary) << bytes;
-    }
+    { std::ofstream("inputs.ckpt", std::ios::binary) << bytes; }
     CHECK(readCheckpoint("inputs.ckpt", 10 * kHostBytesPerParticle).particles.size() == 10);
-    CHECK(errorOf([] { readCheckpoint("inputs.ckpt", 9 * kHostBytesPerParticle); })
-              .find("checkpoint 'inputs.ckpt': 10 particles need about") == 0);
+    CHECK(errorOf([] {
+              readCheckpoint("inputs.ckpt", 9 * kHostBytesPerParticle);
+          }).find("checkpoint 'inputs.ckpt': 10 particles need about") == 0);
 
     // A header forged to claim 10^7 particles, the file grown (sparse) to the
     // size that count needs, and no valid checksum: refused by the checksum.
     std::string forged = bytes.substr(0, 76);
     const std::uint64_t count = 10'000'000;
     for (int i = 0; i < 8; ++i) forged[16 + i] = static_cast<char>(count >> (8 * i));
-    {
-        std::ofstream("forged.ckpt", std::ios::binary) << forged;
-    }
+    { std::ofstream("forged.ckpt", std::ios::binary) << forged; }
     std::filesystem::resize_file("forged.ckpt", 76 + 24 * count + 4);
     CHECK(errorOf([] { readCheckpoint("forged.ckpt"); }).find("checksum mismatch") != std::string::npos);
     std::remove("inputs.ckpt");

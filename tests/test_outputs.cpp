@@ -171,7 +171,8 @@ TEST_CASE("atomic files: a full disk fails the write and keeps the previous file
                 file.append(std::string(1 << 20, 'x'));
                 file.commit();
             }(),
-            doctest::Contains("writing 'full.txt' failed: No space left on device; the previous file, if any, is unchanged"),
+            doctest::Contains(
+                "writing 'full.txt' failed: No space left on device; the previous file, if any, is unchanged"),
             Error);
     }
     CHECK(contents("full.txt") == "old");

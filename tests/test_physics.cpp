@@ -78,8 +78,8 @@ CAROM_BACKEND_TEST_CASE("walls clamp the disk to the boundary and reflect the ve
     WorldDef world = box(40, 20);
     world.collisions = CollisionScheme::Simultaneous;  // the pairwise walls: test_pairwise.cpp
     // Each disk crosses one wall within the step (dt 0.01, speed 1).
-    const std::vector<Particle> start = {disk(1.005f, 10, -1, 0), disk(38.995f, 10, 1, 0),
-                                         disk(20, 1.005f, 0, -1), disk(10, 18.995f, 0, 1)};
+    const std::vector<Particle> start = {disk(1.005f, 10, -1, 0), disk(38.995f, 10, 1, 0), disk(20, 1.005f, 0, -1),
+                                         disk(10, 18.995f, 0, 1)};
     const auto after = simulate(def, world, start, 1);
     CHECK(after[0].position.x == 1.0f);
     CHECK(after[0].velocity.x == 1.0f);

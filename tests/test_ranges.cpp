@@ -109,8 +109,9 @@ TEST_CASE("ranges: disks at rest are judged by the speed gravity gives them, and
 TEST_CASE("ranges: a step that moves the fastest disk across the box is refused unless it is split") {
     WorldDef w = box(100, 100, 1e4f);
     const auto disks = row(2, 50.0f, 1.0f);
-    CHECK(mentions(errorOf([&] { validateStart(disks, w, "s.csv"); }),
-                   "moves the fastest disk (speed up to 1) by 10000, more than the box side 100; the largest dt is 100"));
+    CHECK(
+        mentions(errorOf([&] { validateStart(disks, w, "s.csv"); }),
+                 "moves the fastest disk (speed up to 1) by 10000, more than the box side 100; the largest dt is 100"));
     w.maxTravel = 0.2f;  // substeps of at most 0.2 radii: the step is only a sampling interval
     CHECK(errorOf([&] { validateStart(disks, w, "s.csv"); }).empty());
 }
@@ -118,8 +119,8 @@ TEST_CASE("ranges: a step that moves the fastest disk across the box is refused 
 TEST_CASE("ranges: box diagonal times speed beyond 1e18 is refused, where collision times would overflow") {
     // The scale of 1e19 (box, radius, speed) that went NaN, and 1e17 that overflows the squares.
     std::vector<Particle> disks = {disk(2e16f, 5e16f, 1e17f, 0, 1, 1e16f), disk(6e16f, 5e16f, -1e17f, 0, 1, 1e16f)};
-    CHECK(mentions(errorOf([&] { validateStart(disks, box(1e17f, 1e17f), "s.csv"); }),
-                   "results are valid up to 1e+18"));
+    CHECK(
+        mentions(errorOf([&] { validateStart(disks, box(1e17f, 1e17f), "s.csv"); }), "results are valid up to 1e+18"));
 }
 
 CAROM_BACKEND_TEST_CASE("ranges: results at the edges of the ranges stay finite") {
@@ -164,5 +165,6 @@ TEST_CASE("ranges: the overlap search over a million disks uses the grid") {
     InitialState s = makeInitialState(scene);
     s.particles.back().position = s.particles.front().position;
     const WorldDef w = box(s.width, s.height);
-    CHECK(mentions(errorOf([&] { validateStart(s.particles, w, "big"); }), "particles 0 and 999999 have the same centre"));
+    CHECK(mentions(errorOf([&] { validateStart(s.particles, w, "big"); }),
+                   "particles 0 and 999999 have the same centre"));
 }

@@ -115,17 +115,27 @@ TEST_CASE("initial conditions: impossible or invalid requests are refused with t
     CHECK(with([](SceneDef& s) { s.packing = 0.75f; }).find("packing must be in (0, 0.7], got 0.75") !=
           std::string::npos);
     CHECK(with([](SceneDef& s) { s.packing = NAN; }).find("packing") != std::string::npos);
-    CHECK(with([](SceneDef& s) { s.radiusMin = s.radiusMax = -1; }).find("radius must be a finite number > 0, got -1") !=
-          std::string::npos);
+    CHECK(with([](SceneDef& s) {
+              s.radiusMin = s.radiusMax = -1;
+          }).find("radius must be a finite number > 0, got -1") != std::string::npos);
     CHECK(with([](SceneDef& s) { s.massMin = s.massMax = INFINITY; }).find("mass must be") != std::string::npos);
     CHECK(with([](SceneDef& s) { s.radiusMin = 2; }).find("radius-min (2) must not exceed radius-max (1)") !=
           std::string::npos);
     CHECK(with([](SceneDef& s) { s.speed = -1; }).find("speed must be a finite number >= 0, got -1") !=
           std::string::npos);
-    CHECK(with([](SceneDef& s) { s.width = 1; s.height = 10; }).find("does not fit") != std::string::npos);
-    CHECK(with([](SceneDef& s) { s.width = 10; s.height = 10; }).find("cannot place 1000 disks") != std::string::npos);
+    CHECK(with([](SceneDef& s) {
+              s.width = 1;
+              s.height = 10;
+          }).find("does not fit") != std::string::npos);
+    CHECK(with([](SceneDef& s) {
+              s.width = 10;
+              s.height = 10;
+          }).find("cannot place 1000 disks") != std::string::npos);
     // Polydisperse disks on a lattice cannot reach 0.7: refused, naming what is reachable.
-    CHECK(with([](SceneDef& s) { s.packing = 0.7f; s.radiusMin = 0.5f; }).find("reaches packing") != std::string::npos);
+    CHECK(with([](SceneDef& s) {
+              s.packing = 0.7f;
+              s.radiusMin = 0.5f;
+          }).find("reaches packing") != std::string::npos);
 }
 
 TEST_CASE("world values are validated") {
@@ -204,7 +214,8 @@ TEST_CASE("state CSV: malformed files are refused with file, line and column") {
              Case{"id,x,y,vx,vy,mass,radius\n0,1,1,0,0,1,\n", "column 'radius': '' is not a number"},
              Case{"id,x,y,vx,vy,mass,radius\n0,1,1,0,0,1e999,1\n", "column 'mass': 1e999 is out of float range"},
              Case{"id,x,y,vx,vy,mass,radius\n-1,1,1,0,0,1,1\n", "column 'id': '-1' is not a particle id"},
-             Case{"id,x,y,vx,vy,mass,radius\n0,1,1,0,0,1,1\n0,2,2,0,0,1,1\n", "bad.csv:3: duplicate id 0 (first on line 2)"},
+             Case{"id,x,y,vx,vy,mass,radius\n0,1,1,0,0,1,1\n0,2,2,0,0,1,1\n",
+                  "bad.csv:3: duplicate id 0 (first on line 2)"},
              Case{"id,x,y,vx,vy,mass,radius\n0,1,1,0,0,1,1\n5,2,2,0,0,1,1\n", "bad.csv:3: id 5 is out of range"},
          }) {
         CAPTURE(c.content);

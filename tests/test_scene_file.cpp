@@ -192,7 +192,8 @@ TEST_CASE("scene file: bad input is refused with file, line, key, value and what
              Case{"packing = 0\n", "packing = 0: must be a finite number > 0"},
              Case{"box = [60, 40]\nboundary = \"toroidal\"\n",
                   "s.toml:2: boundary = \"toroidal\": allowed: \"walls\" (reflective) or \"periodic\""},
-             Case{"box = [60, 40]\ndt = \"fast\"\n", "s.toml:2: dt = \"fast\": must be a finite number > 0 or \"auto\""},
+             Case{"box = [60, 40]\ndt = \"fast\"\n",
+                  "s.toml:2: dt = \"fast\": must be a finite number > 0 or \"auto\""},
              Case{"box = [60, 40]\nmax_travel = -1\n", "s.toml:2: max_travel = -1"},
              Case{"box = [60, 40]\nboundary = 3\n", "boundary = 3: must be a non-empty string"},
              Case{"box = [60, 40]\ncollisions = \"elastic\"\n",
@@ -233,11 +234,12 @@ TEST_CASE("scene file: bad input is refused with file, line, key, value and what
                   "s.toml:5: group[2]: region [20, 0, 60, 40] overlaps region [0, 0, 30, 40] of group[1] (line 2)"},
              Case{g + "count = 3000\n", "s.toml:2: group[1]: cannot place 3000 disks"},
              Case{g + "count = 3\nradius = 30\n", "group[1]: a disk of radius 30 does not fit"},
-             Case{"box = [60, 40]\n" + [] {
-                      std::string many;
-                      for (int k = 0; k < 10001; ++k) many += "[[group]]\ncount = 1\n";
-                      return many;
-                  }(),
+             Case{"box = [60, 40]\n" +
+                      [] {
+                          std::string many;
+                          for (int k = 0; k < 10001; ++k) many += "[[group]]\ncount = 1\n";
+                          return many;
+                      }(),
                   "s.toml:2: 10001 [[group]] tables; allowed: at most 10000"},
              // disks
              Case{"box = [60, 40]\n[[disk]]\nvelocity = [1, 0]\n", "s.toml:2: disk[1] needs 'position'"},
@@ -275,9 +277,10 @@ TEST_CASE("scene file: a missing or oversized file is refused") {
 }
 
 TEST_CASE("scene file: one group filling the box is makeInitialState(SceneDef)") {
-    SceneFile file = parseSceneFile("packing = 0.45\n[[group]]\ncount = 700\nradius = [0.5, 1]\nmass = [1, 3]\n"
-                                    "speed = 2\n",
-                                    "s.toml");
+    SceneFile file = parseSceneFile(
+        "packing = 0.45\n[[group]]\ncount = 700\nradius = [0.5, 1]\nmass = [1, 3]\n"
+        "speed = 2\n",
+        "s.toml");
     SceneDef def;
     def.particles = 700;
     def.packing = 0.45f;

@@ -58,10 +58,10 @@ std::string describe(Rgb c) {
            std::to_string(int(c.b * 255)) + ")";
 }
 
-#define CHECK_COLOUR(image, x, y, expected)                                                     \
-    CHECK_MESSAGE(near((image).at(x, y), quantised(expected)),                                  \
-                  "pixel (" << (x) << ", " << (y) << ") is " << describe((image).at(x, y))     \
-                            << ", expected " << describe(quantised(expected)))
+#define CHECK_COLOUR(image, x, y, expected)                                                                 \
+    CHECK_MESSAGE(near((image).at(x, y), quantised(expected)),                                              \
+                  "pixel (" << (x) << ", " << (y) << ") is " << describe((image).at(x, y)) << ", expected " \
+                            << describe(quantised(expected)))
 
 }  // namespace
 
@@ -79,14 +79,14 @@ TEST_CASE("screenshot: disks, empty space and walls are where the camera maps th
     CHECK_COLOUR(image, 128, 96, kBoxInterior);  // (30, 40): empty
 
     // Walls: 2 pixels just outside each box edge; inside is the box, beyond is background.
-    CHECK_COLOUR(image, 18, 150, kWall);   // left edge at x = 20
+    CHECK_COLOUR(image, 18, 150, kWall);  // left edge at x = 20
     CHECK_COLOUR(image, 19, 150, kWall);
     CHECK_COLOUR(image, 22, 150, kBoxInterior);
     CHECK_COLOUR(image, 15, 150, kBackground);
     CHECK_COLOUR(image, 380, 150, kWall);  // right edge at x = 380
     CHECK_COLOUR(image, 377, 150, kBoxInterior);
     CHECK_COLOUR(image, 385, 150, kBackground);
-    CHECK_COLOUR(image, 200, 59, kWall);   // top edge at y = 60
+    CHECK_COLOUR(image, 200, 59, kWall);  // top edge at y = 60
     CHECK_COLOUR(image, 200, 62, kBoxInterior);
     CHECK_COLOUR(image, 200, 55, kBackground);
     CHECK_COLOUR(image, 200, 240, kWall);  // bottom edge at y = 240

@@ -101,9 +101,9 @@ ConvergenceResult convergence(const SuiteOptions& o, std::vector<Check>& checks,
         point.dt = dt;
         point.measured = runBlocks(*backend, blocks, blockTime);
         result.points.push_back(point);
-        progress << "  convergence, dt " << dt << ": Z " << point.measured.z.mean << " +- "
-                 << point.measured.z.error << ", energy change " << point.measured.energyChange
-                 << ", late contacts " << point.measured.lateContacts << std::endl;
+        progress << "  convergence, dt " << dt << ": Z " << point.measured.z.mean << " +- " << point.measured.z.error
+                 << ", energy change " << point.measured.energyChange << ", late contacts "
+                 << point.measured.lateContacts << std::endl;
     }
     // Exact contact times: Z should not depend on dt. Each dt against the smallest.
     const MeanAndError& finest = result.points.back().measured.z;
@@ -112,12 +112,10 @@ ConvergenceResult convergence(const SuiteOptions& o, std::vector<Check>& checks,
         point.differenceError = std::hypot(point.measured.z.error, finest.error);
         if (&point == &result.points.back()) continue;
         const double tolerance = statisticalTolerance(0.0, point.differenceError);
-        checks.push_back(makeCheck("convergence",
-                                   "Z at dt = " + format("%g", point.dt) + " equals Z at dt = " +
-                                       format("%g", dts.back()),
-                                   point.measured.z.mean, finest.mean, std::abs(point.zDifference), tolerance,
-                                   "|Z - Z(dt = " + format("%g", dts.back()) + ")| <= 3 standard errors = " +
-                                       format("%.2g", tolerance)));
+        checks.push_back(makeCheck(
+            "convergence", "Z at dt = " + format("%g", point.dt) + " equals Z at dt = " + format("%g", dts.back()),
+            point.measured.z.mean, finest.mean, std::abs(point.zDifference), tolerance,
+            "|Z - Z(dt = " + format("%g", dts.back()) + ")| <= 3 standard errors = " + format("%.2g", tolerance)));
     }
     return result;
 }
@@ -202,10 +200,10 @@ RelaxationResult relaxation(const SuiteOptions& o, std::vector<Check>& checks, s
     result.hBinningBias = binWidth * binWidth / (12.0 * result.kTFinal);
     result.hTolerance = result.hPluginBias + result.hBinningBias + 3.0 / std::sqrt(double(n));
     const double change = result.hFinal - result.hInitial;
-    checks.push_back(makeCheck("relaxation", "H falls by ln(6/pi) - 1", change, expectedChange,
-                               std::abs(change - expectedChange), result.hTolerance,
-                               "|dH - dH_exact| <= plug-in bias + binning bias + 3 standard errors = " +
-                                   format("%.4f", result.hTolerance)));
+    checks.push_back(makeCheck(
+        "relaxation", "H falls by ln(6/pi) - 1", change, expectedChange, std::abs(change - expectedChange),
+        result.hTolerance,
+        "|dH - dH_exact| <= plug-in bias + binning bias + 3 standard errors = " + format("%.4f", result.hTolerance)));
     const double ks = result.samples.back().ks;
     checks.push_back(makeCheck("relaxation", "KS statistic of the final speeds against Rayleigh", ks, NAN, ks,
                                result.ksCritical, "D < 1.358 / sqrt(n), the 5 % critical value"));
@@ -219,8 +217,8 @@ RelaxationResult relaxation(const SuiteOptions& o, std::vector<Check>& checks, s
         const double bin = std::floor(v / top * bins);
         if (bin >= 0 && bin < bins) result.speedDensity[std::size_t(bin)] += bins / (top * double(n));
     }
-    progress << "  relaxation: dH " << change << " (exact " << expectedChange << "), final KS " << ks
-             << " (critical " << result.ksCritical << ")" << std::endl;
+    progress << "  relaxation: dH " << change << " (exact " << expectedChange << "), final KS " << ks << " (critical "
+             << result.ksCritical << ")" << std::endl;
     return result;
 }
 
@@ -294,8 +292,7 @@ std::array<Vector, 2> simulatePair(const BackendDef& def, const std::array<Parti
         if (backend->collisions() > 0 && distance > 2.1) break;
     }
     if (backend->collisions() != 1)
-        throw Error("exact case: expected one collision, the engine counted " +
-                    std::to_string(backend->collisions()));
+        throw Error("exact case: expected one collision, the engine counted " + std::to_string(backend->collisions()));
     return {velocity(state[0]), velocity(state[1])};
 }
 
@@ -346,11 +343,10 @@ void heavyProjectile(const BackendDef& def, std::vector<Check>& checks) {
         largest = std::max(largest, deflection);
         worst = std::max(worst, std::abs(deflection - exact));
     }
-    checks.push_back(makeCheck("exact cases", "m = 4 on 1: deflections at b = 0.1 ... 0.9 sigma", worst, 0.0,
-                               worst, kAngleTolerance, "largest |angle - exact| <= 1e-3 degrees"));
-    checks.push_back(makeCheck("exact cases", "m = 4 on 1: largest deflection <= asin(1/4) = 14.48 degrees",
-                               largest, bound, largest - bound, kAngleTolerance,
-                               "deflection - asin(m2/m1) <= 1e-3 degrees"));
+    checks.push_back(makeCheck("exact cases", "m = 4 on 1: deflections at b = 0.1 ... 0.9 sigma", worst, 0.0, worst,
+                               kAngleTolerance, "largest |angle - exact| <= 1e-3 degrees"));
+    checks.push_back(makeCheck("exact cases", "m = 4 on 1: largest deflection <= asin(1/4) = 14.48 degrees", largest,
+                               bound, largest - bound, kAngleTolerance, "deflection - asin(m2/m1) <= 1e-3 degrees"));
 }
 
 // One disk between walls: the period of its x motion from the times it
@@ -375,8 +371,7 @@ void wallBounce(const BackendDef& def, std::vector<Check>& checks) {
         if (previous < 0.0f && state[0].velocity.x > 0.0f) bounces.push_back(double(s) * world.dt);
         previous = state[0].velocity.x;
     }
-    const double measured = bounces.size() >= 2 ? (bounces.back() - bounces.front()) / double(bounces.size() - 1)
-                                                : NAN;
+    const double measured = bounces.size() >= 2 ? (bounces.back() - bounces.front()) / double(bounces.size() - 1) : NAN;
     // The wall reflects at the exact contact time; each bounce time is known
     // to the step that contains it, so the mean period is off by less than dt.
     checks.push_back(makeCheck("exact cases", "wall bounce period 2 (L - 2r) / |v_x|", measured, period,
@@ -413,8 +408,7 @@ std::vector<BackendDef> everyBackend(const BackendDef& chosen) {
     return defs;
 }
 
-std::vector<ConservationRun> conservation(const SuiteOptions& o, std::vector<Check>& checks,
-                                          std::ostream& progress) {
+std::vector<ConservationRun> conservation(const SuiteOptions& o, std::vector<Check>& checks, std::ostream& progress) {
     std::vector<ConservationRun> runs;
     const double packing = 0.3, duration = 10.0;
     const std::uint32_t particles = o.quick ? 1024 : 4096;
@@ -441,10 +435,10 @@ std::vector<ConservationRun> conservation(const SuiteOptions& o, std::vector<Che
         runs.push_back(run);
         checks.push_back(makeCheck("conservation", run.backend + ": total momentum", run.momentumError, 0.0,
                                    run.momentumError, kMomentumTolerance, "|P_end - P_start| / sum m|v| <= 1e-5"));
-        checks.push_back(makeCheck("conservation", run.backend + ": kinetic energy", run.energyChange, 0.0,
-                                   std::abs(run.energyChange), energyTolerance,
-                                   "|E_end - E_start| / E_start <= 2^-24 x collisions per disk = " +
-                                       format("%.2g", energyTolerance)));
+        checks.push_back(makeCheck(
+            "conservation", run.backend + ": kinetic energy", run.energyChange, 0.0, std::abs(run.energyChange),
+            energyTolerance,
+            "|E_end - E_start| / E_start <= 2^-24 x collisions per disk = " + format("%.2g", energyTolerance)));
         progress << "  conservation, " << run.backend << ": momentum " << run.momentumError << ", energy "
                  << run.energyChange << std::endl;
     }
@@ -454,7 +448,7 @@ std::vector<ConservationRun> conservation(const SuiteOptions& o, std::vector<Che
 // --- 6. Dense gas -------------------------------------------------------------------
 
 constexpr double kDenseEnergyTolerance = 1e-4;  // relative, over the run
-constexpr double kOverlapTolerance = 2e-3;       // 1e-3 sigma [length]
+constexpr double kOverlapTolerance = 2e-3;      // 1e-3 sigma [length]
 
 DenseResult dense(const SuiteOptions& o, std::vector<Check>& checks, std::ostream& progress) {
     DenseResult result;
@@ -485,8 +479,8 @@ DenseResult dense(const SuiteOptions& o, std::vector<Check>& checks, std::ostrea
     checks.push_back(rateCheck("dense gas", "collision frequency at eta = 0.7", result.measured.rateRatio,
                                result.rateTolerance, kRateTarget));
     progress << "  dense gas: energy change " << result.energyChange << ", Z " << result.measured.z.mean
-             << ", rate ratio " << result.measured.rateRatio.mean << ", late contacts "
-             << result.measured.lateContacts << ", max overlap " << result.maxOverlap << std::endl;
+             << ", rate ratio " << result.measured.rateRatio.mean << ", late contacts " << result.measured.lateContacts
+             << ", max overlap " << result.maxOverlap << std::endl;
     return result;
 }
 
@@ -544,9 +538,9 @@ GravityResult gravity(const SuiteOptions& o, std::vector<Check>& checks, std::os
                                "|(K+U)_end - (K+U)_start| / (K+U)_start <= 1e-3 over the run"));
     checks.push_back(makeCheck("gravity", "every disk finite and in the box", double(result.escaped), 0.0,
                                double(result.escaped), 0.0, "disks outside the box or non-finite = 0"));
-    progress << "  gravity: K " << result.kineticStart << " -> " << result.kineticEnd << ", U "
-             << result.potentialStart << " -> " << result.potentialEnd << ", (K+U) change " << result.energyChange
-             << ", late contacts " << result.lateContacts << std::endl;
+    progress << "  gravity: K " << result.kineticStart << " -> " << result.kineticEnd << ", U " << result.potentialStart
+             << " -> " << result.potentialEnd << ", (K+U) change " << result.energyChange << ", late contacts "
+             << result.lateContacts << std::endl;
     return result;
 }
 
@@ -662,8 +656,7 @@ SuiteResult runSuite(const SuiteOptions& o, std::ostream& progress) {
     runPart("convergence", checks, progress, [&] { result.convergence = convergence(o, checks, progress); });
     runPart("relaxation", checks, progress, [&] { result.relaxation = relaxation(o, checks, progress); });
     runPart("exact cases", checks, progress, [&] { exactCases(o, checks, progress); });
-    runPart("conservation", checks, progress,
-            [&] { result.conservation = conservation(o, checks, progress); });
+    runPart("conservation", checks, progress, [&] { result.conservation = conservation(o, checks, progress); });
     runPart("dense gas", checks, progress, [&] { result.dense = dense(o, checks, progress); });
     runPart("gravity", checks, progress, [&] { result.gravity = gravity(o, checks, progress); });
     runPart("simultaneous scheme", checks, progress, [&] { result.simultaneous = simultaneous(o, progress); });
@@ -674,8 +667,7 @@ SuiteResult runSuite(const SuiteOptions& o, std::ostream& progress) {
     runPart("events: dense", checks, progress, [&] { events.dense = eventsDense(o, checks, progress); });
     runPart("events: trajectories", checks, progress,
             [&] { events.trajectories = stepTrajectories(o, checks, progress); });
-    runPart("events: schemes", checks, progress,
-            [&] { events.schemes = schemeComparison(o, events.eos, progress); });
+    runPart("events: schemes", checks, progress, [&] { events.schemes = schemeComparison(o, events.eos, progress); });
     result.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
 }

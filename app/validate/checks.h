@@ -46,8 +46,8 @@ void validate(const SuiteOptions& options);
 // One comparison with its tolerance: passes when `deviation` <= `limit` (a
 // NaN deviation fails).
 struct Check {
-    std::string section;   // "equation of state", ...
-    std::string name;      // what was checked, e.g. "Z at eta = 0.3"
+    std::string section;  // "equation of state", ...
+    std::string name;     // what was checked, e.g. "Z at eta = 0.3"
     double measured = 0.0;
     double expected = 0.0;   // NaN when the check is a bound, not a comparison with a value
     double deviation = 0.0;  // the quantity held against the limit
@@ -68,9 +68,9 @@ struct BlockStatistics {
     // which counts each pair once) over collisionFrequency(Z, kT) of the
     // block's own Z and kT; 1 for exact hard-disk dynamics.
     MeanAndError rateRatio;
-    double collisionRate = 0.0;  // collisions per disk per unit time, each pair once
-    double kT = 0.0;             // mean of the block temperatures
-    double energyChange = 0.0;   // (E_end - E_start) / E_start over all blocks
+    double collisionRate = 0.0;      // collisions per disk per unit time, each pair once
+    double kT = 0.0;                 // mean of the block temperatures
+    double energyChange = 0.0;       // (E_end - E_start) / E_start over all blocks
     std::uint64_t lateContacts = 0;  // the pairwise scheme's late contacts over all blocks
     std::uint32_t maxRounds = 0;     // the most rounds one step used
 };
@@ -103,8 +103,8 @@ struct EosResult {
 struct ConvergencePoint {
     double dt = 0.0;
     BlockStatistics measured;
-    double zDifference = 0.0;       // Z - Z at the smallest dt
-    double differenceError = 0.0;   // its standard error (the two runs' errors combined)
+    double zDifference = 0.0;      // Z - Z at the smallest dt
+    double differenceError = 0.0;  // its standard error (the two runs' errors combined)
 };
 
 struct ConvergenceResult {
@@ -139,8 +139,8 @@ struct RelaxationResult {
     double hPluginBias = 0.0, hBinningBias = 0.0, hTolerance = 0.0;
     double ksCritical = 0.0;
     double kTFinal = 0.0;
-    std::vector<double> speedBinEdges;   // the final speed histogram
-    std::vector<double> speedDensity;    // per unit speed
+    std::vector<double> speedBinEdges;  // the final speed histogram
+    std::vector<double> speedDensity;   // per unit speed
 };
 
 // --- 5. Conservation per backend ------------------------------------------
@@ -152,8 +152,8 @@ struct ConservationRun {
     double packing = 0.0;
     double dt = 0.0;
     std::uint64_t steps = 0;
-    double momentumError = 0.0;  // |P_end - P_start| / sum m|v|
-    double energyChange = 0.0;   // (E_end - E_start) / E_start
+    double momentumError = 0.0;      // |P_end - P_start| / sum m|v|
+    double energyChange = 0.0;       // (E_end - E_start) / E_start
     double collisionsPerDisk = 0.0;  // over the run
     std::uint64_t lateContacts = 0;
 };
@@ -166,10 +166,10 @@ struct DenseResult {
     double dt = 0.0;
     double equilibrationTime = 0.0;
     BlockStatistics measured;
-    double energyChange = 0.0;     // (E_end - E_start) / E_start over the whole run, from the lattice
-    double momentumError = 0.0;    // |P_end - P_start| / sum m|v|
-    double maxOverlap = 0.0;       // largest r_i + r_j - |x_i - x_j| at the end
-    std::size_t escaped = 0;       // disks outside the box or not finite at the end
+    double energyChange = 0.0;   // (E_end - E_start) / E_start over the whole run, from the lattice
+    double momentumError = 0.0;  // |P_end - P_start| / sum m|v|
+    double maxOverlap = 0.0;     // largest r_i + r_j - |x_i - x_j| at the end
+    std::size_t escaped = 0;     // disks outside the box or not finite at the end
     double rateTolerance = 0.0;
 };
 
@@ -183,7 +183,7 @@ struct GravityResult {
     double duration = 0.0;
     double kineticStart = 0.0, kineticEnd = 0.0;
     double potentialStart = 0.0, potentialEnd = 0.0;  // U = -sum m g.x, zero on the floor
-    double energyChange = 0.0;  // ((K + U)_end - (K + U)_start) / (K + U)_start
+    double energyChange = 0.0;                        // ((K + U)_end - (K + U)_start) / (K + U)_start
     std::uint64_t lateContacts = 0;
     std::uint32_t maxRounds = 0;
     std::size_t escaped = 0;
@@ -202,8 +202,8 @@ struct SimultaneousRun {
 
 struct SimultaneousResult {
     std::uint32_t particles = 0;
-    double duration = 0.0;        // [time] of each run
-    double sampleInterval = 0.0;  // [time] between energy samples
+    double duration = 0.0;                      // [time] of each run
+    double sampleInterval = 0.0;                // [time] between energy samples
     std::vector<SimultaneousRun> dtSweep;       // at one packing, dt descending
     std::vector<SimultaneousRun> packingSweep;  // at one dt
 };
@@ -267,13 +267,13 @@ struct EventsDense {
 // The stepped schemes' final positions against the event-driven ones.
 struct TrajectoryPoint {
     double dt = 0.0;
-    double pairwiseRms = 0.0, pairwiseMax = 0.0;          // over the disks of all starts, of |x - x_events|
+    double pairwiseRms = 0.0, pairwiseMax = 0.0;  // over the disks of all starts, of |x - x_events|
     double simultaneousRms = 0.0, simultaneousMax = 0.0;
     std::uint64_t pairwiseCollisions = 0, simultaneousCollisions = 0;  // all starts
 };
 
 struct TrajectoryResult {
-    std::uint32_t starts = 0;     // independent starts, each of `particles` disks
+    std::uint32_t starts = 0;  // independent starts, each of `particles` disks
     std::uint32_t particles = 0;
     double width = 0.0, height = 0.0;
     double duration = 0.0;
@@ -297,7 +297,7 @@ struct SchemeComparison {
     double packing = 0.0;
     std::uint32_t particles = 0;
     double warmupTime = 0.0;
-    MeanAndError events;  // section 9.1's Z at this packing
+    MeanAndError events;        // section 9.1's Z at this packing
     std::vector<SchemeZ> runs;  // dt descending
 };
 
@@ -320,7 +320,7 @@ struct SuiteResult {
     GravityResult gravity;
     SimultaneousResult simultaneous;
     EventsResult events;
-    std::vector<Check> checks;   // every check of every part, in order
+    std::vector<Check> checks;  // every check of every part, in order
     double wallSeconds = 0.0;
     bool passed() const;
 };

@@ -63,17 +63,17 @@ EventsRun eventsRun(std::uint32_t particles, double packing, std::uint64_t seed,
 std::string at(double packing) { return "eta = " + format("%.2f", packing); }
 
 void energyCheck(const std::string& section, const EventsRun& run, std::vector<Check>& checks) {
-    checks.push_back(makeCheck(section, "energy over the run at " + at(run.packing), run.energyChange, 0.0,
-                               std::abs(run.energyChange), run.energyTolerance,
-                               "|E_end - E_start| / E_start <= 1e-12 per 10^6 collisions = " +
-                                   format("%.2g", run.energyTolerance)));
+    checks.push_back(
+        makeCheck(section, "energy over the run at " + at(run.packing), run.energyChange, 0.0,
+                  std::abs(run.energyChange), run.energyTolerance,
+                  "|E_end - E_start| / E_start <= 1e-12 per 10^6 collisions = " + format("%.2g", run.energyTolerance)));
 }
 
 void progressLine(std::ostream& progress, const std::string& what, const EventsRun& run) {
     const BlockStatistics& m = run.measured;
-    progress << "  " << what << ", eta " << run.packing << ": Z " << m.z.mean << " +- " << m.z.error
-             << ", rate ratio " << m.rateRatio.mean << " +- " << m.rateRatio.error << ", energy change "
-             << run.energyChange << ", " << run.collisions << " collisions in " << run.seconds << " s" << std::endl;
+    progress << "  " << what << ", eta " << run.packing << ": Z " << m.z.mean << " +- " << m.z.error << ", rate ratio "
+             << m.rateRatio.mean << " +- " << m.rateRatio.error << ", energy change " << run.energyChange << ", "
+             << run.collisions << " collisions in " << run.seconds << " s" << std::endl;
 }
 
 // The pressures published at eta = 0.70, beta P sigma^2 with sigma the
@@ -184,10 +184,9 @@ std::vector<EventsEosPoint> eventsEquationOfState(const SuiteOptions& o, std::ve
         point.rateTolerance = statisticalTolerance(0.0, point.run.measured.rateRatio.error);
         points.push_back(point);
         const std::string where = at(reference.packing);
-        checks.push_back(makeCheck(section, "Z at " + where, z.mean, point.zReference,
-                                   std::abs(z.mean - point.zReference), point.zTolerance,
-                                   "|Z - Z_ref| <= 0.1 % of Z_ref + 2 standard errors of Z and Z_ref = " +
-                                       format("%.2g", point.zTolerance)));
+        checks.push_back(makeCheck(
+            section, "Z at " + where, z.mean, point.zReference, std::abs(z.mean - point.zReference), point.zTolerance,
+            "|Z - Z_ref| <= 0.1 % of Z_ref + 2 standard errors of Z and Z_ref = " + format("%.2g", point.zTolerance)));
         checks.push_back(rateCheck(section, "collision-rate identity at " + where, point.run.measured.rateRatio,
                                    point.rateTolerance, 0.0));
         energyCheck(section, point.run, checks);
@@ -201,8 +200,8 @@ EventsDense eventsDense(const SuiteOptions& o, std::vector<Check>& checks, std::
     result.run = eventsRun(kEventsParticles, 0.70, o.seed, denseProtocol(o.quick));
     result.rateTolerance = statisticalTolerance(0.0, result.run.measured.rateRatio.error);
     result.published = publishedAt070();
-    checks.push_back(rateCheck("events: dense", "collision-rate identity at " + at(0.70),
-                               result.run.measured.rateRatio, result.rateTolerance, 0.0));
+    checks.push_back(rateCheck("events: dense", "collision-rate identity at " + at(0.70), result.run.measured.rateRatio,
+                               result.rateTolerance, 0.0));
     energyCheck("events: dense", result.run, checks);
     progressLine(progress, "events, dense", result.run);
     return result;
@@ -254,10 +253,10 @@ TrajectoryResult stepTrajectories(const SuiteOptions& o, std::vector<Check>& che
     const TrajectoryPoint& largest = result.points.front();
     const TrajectoryPoint& resolved = result.points[kTruncationHalvings];
     const double order = std::log2(largest.simultaneousRms / resolved.simultaneousRms) / kTruncationHalvings;
-    checks.push_back(makeCheck(section,
-                               "simultaneous: mean observed order from dt = " + format("%g", largest.dt) + " to " +
-                                   format("%g", resolved.dt),
-                               order, NAN, -order, -0.5, "log2(distance ratio) per halving of dt >= 0.5"));
+    checks.push_back(makeCheck(
+        section,
+        "simultaneous: mean observed order from dt = " + format("%g", largest.dt) + " to " + format("%g", resolved.dt),
+        order, NAN, -order, -0.5, "log2(distance ratio) per halving of dt >= 0.5"));
     checks.push_back(makeCheck(section, "pairwise: rms distance at dt = " + format("%g", largest.dt),
                                largest.pairwiseRms, NAN, largest.pairwiseRms, kPairwiseRoundingBound,
                                "rms |x - x_events| <= 1e-3 (float32 rounding, not dt)"));

@@ -125,8 +125,8 @@ std::string eosDeviationPlot(const EosResult& eos, const EventsResult& events) {
     plot.series.push_back(curve("Luding 2001", "#2ca02c", SeriesStyle::DashedLine, ludingZ, true));
     plot.series.push_back(curve("Santos et al. 1995", "#9467bd", SeriesStyle::DashedLine, santosZ, true));
     for (double sign : {1.0, -1.0})
-        plot.series.push_back(line(sign > 0 ? "target +-0.3 %" : "", "#ff7f0e", SeriesStyle::DashedLine,
-                                   {0.075, 0.625}, {sign * 100 * kZTarget, sign * 100 * kZTarget}));
+        plot.series.push_back(line(sign > 0 ? "target +-0.3 %" : "", "#ff7f0e", SeriesStyle::DashedLine, {0.075, 0.625},
+                                   {sign * 100 * kZTarget, sign * 100 * kZTarget}));
     Series measured = line("carom, pairwise (1 s.e. bars)", kMeasured, SeriesStyle::Points, {}, {});
     for (const EosPoint& p : eos.points) {
         measured.x.push_back(p.packing);
@@ -135,9 +135,8 @@ std::string eosDeviationPlot(const EosResult& eos, const EventsResult& events) {
     }
     plot.series.push_back(measured);
     for (double sign : {1.0, -1.0})
-        plot.series.push_back(line(sign > 0 ? "events target +-0.1 % (+ 2 s.e.)" : "", kEvents,
-                                   SeriesStyle::DashedLine, {0.075, 0.625},
-                                   {sign * 100 * kEventsZTarget, sign * 100 * kEventsZTarget}));
+        plot.series.push_back(line(sign > 0 ? "events target +-0.1 % (+ 2 s.e.)" : "", kEvents, SeriesStyle::DashedLine,
+                                   {0.075, 0.625}, {sign * 100 * kEventsZTarget, sign * 100 * kEventsZTarget}));
     plot.series.push_back(eventsSeries(events.eos, true));
     return renderSvg(plot);
 }
@@ -152,8 +151,8 @@ std::string convergenceZPlot(const ConvergenceResult& c) {
     plot.series.push_back(line("Z_ref", kReference, SeriesStyle::Line, {lo, hi}, {c.zReference, c.zReference}));
     for (double sign : {1.0, -1.0}) {
         const double z = c.zReference * (1.0 + sign * kZTarget);
-        plot.series.push_back(line(sign > 0 ? "Z_ref +-0.3 %" : "", "#ff7f0e", SeriesStyle::DashedLine, {lo, hi},
-                                   {z, z}));
+        plot.series.push_back(
+            line(sign > 0 ? "Z_ref +-0.3 %" : "", "#ff7f0e", SeriesStyle::DashedLine, {lo, hi}, {z, z}));
     }
     Series measured = line("carom (1 s.e. bars)", kMeasured, SeriesStyle::Points, {}, {});
     for (const ConvergencePoint& p : c.points) {
@@ -231,8 +230,8 @@ std::string hPlot(const RelaxationResult& r) {
     const double end = r.samples.back().time;
     const double hUniform = -std::log(4.0 * r.halfWidth * r.halfWidth);
     plot.series.push_back(measured);
-    plot.series.push_back(line("H of the uniform start", "#1f77b4", SeriesStyle::DashedLine, {0, end},
-                               {hUniform, hUniform}));
+    plot.series.push_back(
+        line("H of the uniform start", "#1f77b4", SeriesStyle::DashedLine, {0, end}, {hUniform, hUniform}));
     plot.series.push_back(line("H_eq = ln(m/2pi kT) - 1", kReference, SeriesStyle::DashedLine, {0, end},
                                {hEquilibrium(r.kTFinal), hEquilibrium(r.kTFinal)}));
     const double expectedEstimate = hEquilibrium(r.kTFinal) + r.hPluginBias - r.hBinningBias;
@@ -254,8 +253,8 @@ std::string ksPlot(const RelaxationResult& r) {
     }
     const double end = r.samples.back().time;
     plot.series.push_back(measured);
-    plot.series.push_back(line("5 % critical value", kReference, SeriesStyle::DashedLine, {0, end},
-                               {r.ksCritical, r.ksCritical}));
+    plot.series.push_back(
+        line("5 % critical value", kReference, SeriesStyle::DashedLine, {0, end}, {r.ksCritical, r.ksCritical}));
     return renderSvg(plot);
 }
 
@@ -299,8 +298,8 @@ void markdownHeader(std::ostream& md, const SuiteResult& r, const RunContext& c)
        << "| backend | " << r.device << " |\n"
        << "| host | " << c.host << ", " << c.hostThreads << " OpenMP threads, load " << general(c.hostLoad, 3)
        << " at the start |\n"
-       << "| collisions | pairwise (sections 1–7), simultaneous (section 8), events (section 9; "
-       << r.events.device << ") |\n"
+       << "| collisions | pairwise (sections 1–7), simultaneous (section 8), events (section 9; " << r.events.device
+       << ") |\n"
        << "| dt | " << general(r.options.dt)
        << " (equation of state, relaxation, conservation, dense gas, gravity); convergence: ";
     for (std::size_t k = 0; k < r.convergence.points.size(); ++k)
@@ -326,12 +325,13 @@ void markdownEos(std::ostream& md, const EosResult& e, const SuiteResult& r) {
     md << "## 1. Equation of state and collision frequency\n\n"
        << "N disks in a periodic box at packing fraction η, started from `makeInitialState`'s hexagonal lattice "
           "with Gaussian velocities (zero total momentum, kT = 1), pairwise scheme at dt = "
-       << general(e.dt) << ". The lattice melts (at least 20 collisions per disk), then Z is measured over "
-       << blocks << " blocks (at least 2 collisions per disk each). Nothing rescales the velocities: the scheme "
+       << general(e.dt) << ". The lattice melts (at least 20 collisions per disk), then Z is measured over " << blocks
+       << " blocks (at least 2 collisions per disk each). Nothing rescales the velocities: the scheme "
           "conserves energy, and the table shows by how much it changed. Within a block, from the contacts the "
           "backend counts (`Backend::contacts()`, `thermodynamics()`):\n\n"
        << "- kT = (E_kin − P²/2M) / (N − 1), the mean of its values at the block's start and end\n"
-       << "- P A = E_kin + Σ r_ij · J_ij / (2 t) with E_kin = (N - 1) kT in the periodic box, the collision virial with the centre distance r_ij at which "
+       << "- P A = E_kin + Σ r_ij · J_ij / (2 t) with E_kin = (N - 1) kT in the periodic box, the collision virial "
+          "with the centre distance r_ij at which "
           "each impulse J_ij = 2 μ_ij |v_n| is applied (σ at an exact contact), and Z = P A / (N kT)\n"
        << "- ω, a disk's collision frequency: carom's collision rate counts each colliding pair once per "
           "collision, and every collision involves two disks, so ω = 2 × collisions / (N t). Against "
@@ -358,15 +358,15 @@ void markdownEos(std::ostream& md, const EosResult& e, const SuiteResult& r) {
     for (const EosPoint& p : e.points) {
         const BlockStatistics& m = p.measured;
         const double omega = 2.0 * m.collisionRate;
-        md << "| " << fixed(p.packing, 2) << " | " << p.particles << " | " << general(p.equilibrationTime, 3)
-           << " | " << m.blocks << " × " << general(m.blockTime, 3) << " | " << fixed(m.z.mean, 4) << " ± "
+        md << "| " << fixed(p.packing, 2) << " | " << p.particles << " | " << general(p.equilibrationTime, 3) << " | "
+           << m.blocks << " × " << general(m.blockTime, 3) << " | " << fixed(m.z.mean, 4) << " ± "
            << fixed(m.z.error, 4) << " | " << general(p.zReference, 6)
            << (p.zReferenceError > 0 ? " ± " + general(p.zReferenceError) : std::string()) << " | "
            << fixed(100.0 * (m.z.mean / p.zReference - 1.0), 3) << " % | " << toleranceCell(p.zTolerance, kZTarget)
            << " | " << fixed(omega, 4) << " | " << fixed(m.rateRatio.mean, 4) << " ± " << fixed(m.rateRatio.error, 4)
            << " | " << toleranceCell(p.rateTolerance, kRateTarget) << " | "
-           << fixed(omega / collisionFrequency(p.zReference, m.kT, 2.0, 1.0), 4) << " | " << fixed(m.kT, 4)
-           << " | " << general(m.energyChange, 2) << " | " << m.lateContacts << " | " << m.maxRounds << " |\n";
+           << fixed(omega / collisionFrequency(p.zReference, m.kT, 2.0, 1.0), 4) << " | " << fixed(m.kT, 4) << " | "
+           << general(m.energyChange, 2) << " | " << m.lateContacts << " | " << m.maxRounds << " |\n";
     }
     md << "\n![Z against packing fraction](eos.svg)\n\n![Deviation from the reference](eos-deviation.svg)\n\n";
 }
@@ -387,14 +387,15 @@ void markdownConvergence(std::ostream& md, const ConvergenceResult& c, const Sui
        << " within three standard errors of the difference (the runs share their start, so this is "
           "conservative). Late contacts are pairs found overlapping beyond rounding (the rounds could not "
           "order them in time); they are what could make Z depend on dt.\n\n"
-       << "| dt | Z | Z − Z(dt = " << general(finest) << ") | (Z − Z_ref) / Z_ref | ΔE/E over the blocks | "
+       << "| dt | Z | Z − Z(dt = " << general(finest)
+       << ") | (Z − Z_ref) / Z_ref | ΔE/E over the blocks | "
           "late contacts | max rounds |\n|---|---|---|---|---|---|---|\n";
     for (const ConvergencePoint& p : c.points)
         md << "| " << general(p.dt) << " | " << fixed(p.measured.z.mean, 4) << " ± " << fixed(p.measured.z.error, 4)
            << " | " << fixed(p.zDifference, 4) << " ± " << fixed(p.differenceError, 4) << " | "
            << fixed(100.0 * (p.measured.z.mean / c.zReference - 1.0), 3) << " % | "
-           << general(p.measured.energyChange, 2) << " | " << p.measured.lateContacts << " | "
-           << p.measured.maxRounds << " |\n";
+           << general(p.measured.energyChange, 2) << " | " << p.measured.lateContacts << " | " << p.measured.maxRounds
+           << " |\n";
     double resolution = 0.0;  // the largest tolerance of the comparisons
     for (const ConvergencePoint& p : c.points)
         resolution = std::max(resolution, statisticalTolerance(0.0, p.differenceError));
@@ -414,23 +415,25 @@ void markdownRelaxation(std::ostream& md, const RelaxationResult& r, const Suite
         checkTable(md, s, "relaxation");
         return;
     }
-    md << r.particles << " disks at η = " << fixed(r.packing, 2) << " in a periodic box, pairwise scheme at dt = "
-       << general(r.dt)
+    md << r.particles << " disks at η = " << fixed(r.packing, 2)
+       << " in a periodic box, pairwise scheme at dt = " << general(r.dt)
        << ", start with velocities uniform on the square [−a, a]², a = √3 (kT = a²/3 = 1), minus their mean. "
-          "Every " << general(r.samples[1].time - r.samples[0].time) << " time units: H = ∫ f ln f d²v from a "
+          "Every "
+       << general(r.samples[1].time - r.samples[0].time) << " time units: H = ∫ f ln f d²v from a "
        << r.histogram.binsPerAxis << " × " << r.histogram.binsPerAxis << " histogram over [−3a, 3a]² (bins of "
        << "a/4, so ±a are bin edges), and the Kolmogorov–Smirnov statistic D of the speeds against the "
           "Rayleigh distribution at the state's kT.\n\n"
        << "- H falls by H_eq(kT_end) − H_uniform = ln(6/π) − 1 − ln(kT_end/kT_start) (= −0.3529 with exact "
           "energy conservation, which the pairwise scheme has but for rounding). Measured: H_end − H_start = "
        << fixed(r.hFinal - r.hInitial, 4) << ", with H_end the mean of the last " << r.finalSnapshots
-       << " samples. Tolerance " << fixed(r.hTolerance, 4) << ": the plug-in bias (occupied bins − 1)/(2n) = "
-       << fixed(r.hPluginBias, 4) << " (upwards), plus the binning bias of a Gaussian, w²/(12 kT/m) = "
-       << fixed(r.hBinningBias, 4) << " (downwards, bins of width w), plus three standard errors of one "
+       << " samples. Tolerance " << fixed(r.hTolerance, 4)
+       << ": the plug-in bias (occupied bins − 1)/(2n) = " << fixed(r.hPluginBias, 4)
+       << " (upwards), plus the binning bias of a Gaussian, w²/(12 kT/m) = " << fixed(r.hBinningBias, 4)
+       << " (downwards, bins of width w), plus three standard errors of one "
           "snapshot, 3/√n = "
        << fixed(3 / std::sqrt(double(r.particles)), 4) << ".\n- Final D = " << fixed(r.samples.back().ks, 4)
-       << " against the 5 % critical value 1.358/√n = "
-       << fixed(r.ksCritical, 4) << " (at the start D = " << fixed(r.samples.front().ks, 3) << ").\n\n";
+       << " against the 5 % critical value 1.358/√n = " << fixed(r.ksCritical, 4)
+       << " (at the start D = " << fixed(r.samples.front().ks, 3) << ").\n\n";
     checkTable(md, s, "relaxation");
     md << "![H against time](relaxation-h.svg)\n\n![KS statistic against time](relaxation-ks.svg)\n\n"
        << "![Final speed histogram](relaxation-speeds.svg)\n\n";
@@ -464,10 +467,9 @@ void markdownConservation(std::ostream& md, const SuiteResult& s) {
        << "|---|---|---|---|---|---|---|---|---|---|\n";
     for (const ConservationRun& run : s.conservation) {
         md << "| " << run.backend << " | ";
-        md << cell(run.device) << " | " << run.particles << " | " << fixed(run.packing, 2) << " | "
-           << general(run.dt) << " | " << run.steps << " | " << fixed(run.collisionsPerDisk, 1) << " | "
-           << general(run.momentumError, 3) << " | "
-           << general(run.energyChange, 3) << " | " << run.lateContacts << " |\n";
+        md << cell(run.device) << " | " << run.particles << " | " << fixed(run.packing, 2) << " | " << general(run.dt)
+           << " | " << run.steps << " | " << fixed(run.collisionsPerDisk, 1) << " | " << general(run.momentumError, 3)
+           << " | " << general(run.energyChange, 3) << " | " << run.lateContacts << " |\n";
     }
     md << '\n';
     checkTable(md, s, "conservation");
@@ -500,10 +502,10 @@ void markdownDense(std::ostream& md, const SuiteResult& s) {
 void markdownGravity(std::ostream& md, const SuiteResult& s) {
     const GravityResult& g = s.gravity;
     md << "## 7. Gravity\n\n"
-       << "`scenes/gravity_settle.toml` at dt = " << general(g.dt) << " with the pairwise scheme: "
-       << g.particles << " disks (radius 0.5–1, mass 0.5–2) released in the upper part of a walled "
-       << general(g.width) << " × " << general(g.height) << " box fall under g = " << general(g.gravity)
-       << " and pile up on the floor; " << general(g.duration)
+       << "`scenes/gravity_settle.toml` at dt = " << general(g.dt) << " with the pairwise scheme: " << g.particles
+       << " disks (radius 0.5–1, mass 0.5–2) released in the upper part of a walled " << general(g.width) << " × "
+       << general(g.height) << " box fall under g = " << general(g.gravity) << " and pile up on the floor; "
+       << general(g.duration)
        << " time units. Between events every disk flies on its exact parabola, and disks falling alike keep "
           "their relative motion linear, so K + U is conserved but for rounding. U = Σ m g y is measured from "
           "the floor, so K + U is the energy the disks can turn into motion. Held within 1e-3.\n\n"
@@ -520,8 +522,8 @@ void simultaneousTable(std::ostream& md, const std::vector<SimultaneousRun>& run
           "|---|---|---|---|---|---|---|\n";
     for (const SimultaneousRun& run : runs)
         md << "| " << fixed(run.packing, 2) << " | " << general(run.dt) << " | " << general(run.energyChange, 3)
-           << " | " << general(run.driftRate, 3) << " | " << general(run.wander, 2) << " | " << fixed(run.z, 4)
-           << " | " << general(referenceZ(run.packing), 6) << " |\n";
+           << " | " << general(run.driftRate, 3) << " | " << general(run.wander, 2) << " | " << fixed(run.z, 4) << " | "
+           << general(referenceZ(run.packing), 6) << " |\n";
     md << '\n';
 }
 
@@ -616,8 +618,8 @@ void markdownEventsEos(std::ostream& md, const SuiteResult& s) {
     const EventsRun& first = points.front().run;
     md << first.particles << " disks in a periodic box at each η, from the same hexagonal lattice and Gaussian "
        << "velocities (kT = 1, seed " << s.options.seed << ") as section 1: a warm-up of "
-       << general(first.warmupCollisions) << " collisions per disk, then " << first.measured.blocks
-       << " blocks of " << general(first.measured.blockTime / (first.warmupTime / first.warmupCollisions))
+       << general(first.warmupCollisions) << " collisions per disk, then " << first.measured.blocks << " blocks of "
+       << general(first.measured.blockTime / (first.warmupTime / first.warmupCollisions))
        << " collisions per disk (times from the reference Z), measured as in section 1 from the contacts the "
           "backend counts. The collision virial uses r_ij = σ exactly (`ContactTotals::virial` sums σ_ij J_ij); "
           "kT = (E_kin − P²/2M)/(N − 1). Held: Z within 0.1 % of the reference plus two standard errors "
@@ -633,11 +635,10 @@ void markdownEventsEos(std::ostream& md, const SuiteResult& s) {
         md << "| " << fixed(run.packing, 2) << " | " << run.particles << " | " << fixed(m.z.mean, 4) << " ± "
            << fixed(m.z.error, 4) << " | " << general(p.zReference, 6)
            << (p.zReferenceError > 0 ? " ± " + general(p.zReferenceError) : std::string()) << " | "
-           << fixed(m.z.mean - p.zReference, 4) << " | " << fixed(100.0 * (m.z.mean / p.zReference - 1.0), 3)
-           << " % | " << fixed(p.zTolerance, 4) << " | " << fixed(m.rateRatio.mean, 4) << " ± "
-           << fixed(m.rateRatio.error, 4) << " | " << general(run.energyChange, 2) << " | " << run.collisions
-           << " | " << run.overlapping << " | " << fixed(run.seconds, 1) << " s | "
-           << general(double(run.collisions) / run.seconds, 3) << " |\n";
+           << fixed(m.z.mean - p.zReference, 4) << " | " << fixed(100.0 * (m.z.mean / p.zReference - 1.0), 3) << " % | "
+           << fixed(p.zTolerance, 4) << " | " << fixed(m.rateRatio.mean, 4) << " ± " << fixed(m.rateRatio.error, 4)
+           << " | " << general(run.energyChange, 2) << " | " << run.collisions << " | " << run.overlapping << " | "
+           << fixed(run.seconds, 1) << " s | " << general(double(run.collisions) / run.seconds, 3) << " |\n";
     }
     md << "\nThe event-driven points are in the equation-of-state plots of section 1. Wall time and "
           "collisions per second are of this run on this host, for scale (they include the warm-up).\n\n";
@@ -655,7 +656,8 @@ void markdownEventsDense(std::ostream& md, const SuiteResult& s) {
     }
     const BlockStatistics& m = run.measured;
     md << run.particles << " disks, periodic, from the lattice: a warm-up of " << general(run.warmupCollisions)
-       << " collisions per disk, then " << m.blocks << " blocks as in 9.1. Here the fluid meets the "
+       << " collisions per disk, then " << m.blocks
+       << " blocks as in 9.1. Here the fluid meets the "
           "first-order liquid–hexatic transition (coexistence from η ≈ 0.700 to 0.716 for large N) and the "
           "pressure depends strongly on N (a Mayer–Wood loop at small N), so Z is reported beside published "
           "values, not checked; the collision-rate identity, exact at any density, is checked. Published "
@@ -686,7 +688,8 @@ void markdownTrajectories(std::ostream& md, const SuiteResult& s) {
        << "jittered; thermal velocities; seeds from " << s.options.seed << ") between walls in a " << general(t.width)
        << " × " << general(t.height) << " box, each run for " << general(t.duration)
        << " time units from the same start by `events` (" << t.eventCollisions << " collisions and "
-       << t.eventWallBounces << " wall bounces in all: short enough that the stepped runs collide in the same "
+       << t.eventWallBounces
+       << " wall bounces in all: short enough that the stepped runs collide in the same "
           "sequence, before chaos separates the trajectories) and by the stepped schemes at halving dt, on the CPU. "
           "The distance is between each stepped scheme's final positions (float32) and the event-driven ones "
           "(double), over the disks of all starts; the observed order is log2 of the ratio of successive "
@@ -726,9 +729,10 @@ void markdownSchemes(std::ostream& md, const SuiteResult& s) {
     const SchemeComparison& first = schemes.front();
     const BlockStatistics& m = first.runs.front().pairwise;
     md << "The pairwise and simultaneous schemes on the suite's backend (" << s.device << ") from the same "
-       << "lattice, N = " << first.particles << " and seed as the event-driven runs of 9.1, at each dt: "
-       << general(first.warmupTime) << " time units of warm-up, then " << m.blocks << " blocks of "
-       << general(m.blockTime) << " time units, measured as in section 1 (kT per block from the state, no "
+       << "lattice, N = " << first.particles
+       << " and seed as the event-driven runs of 9.1, at each dt: " << general(first.warmupTime)
+       << " time units of warm-up, then " << m.blocks << " blocks of " << general(m.blockTime)
+       << " time units, measured as in section 1 (kT per block from the state, no "
           "rescaling). Z_events is 9.1's. The pairwise scheme applies impulses at exact contact times, so its "
           "difference should vanish within the errors at every dt; the simultaneous scheme resolves overlaps "
           "after the step (r_ij < σ) and heats the gas, a dt-dependent bias; in a dense gas at a large dt it can heat "
@@ -749,12 +753,11 @@ void markdownSchemes(std::ostream& md, const SuiteResult& s) {
     for (const SchemeComparison& c : schemes)
         for (const SchemeZ& run : c.runs) {
             const std::string where = "η = " + fixed(c.packing, 2) + ", dt = " + general(run.dt);
-            md << "| " << fixed(c.packing, 2) << " | " << general(run.dt) << " | " << fixed(c.events.mean, 4)
-               << " ± " << fixed(c.events.error, 4) << " | "
+            md << "| " << fixed(c.packing, 2) << " | " << general(run.dt) << " | " << fixed(c.events.mean, 4) << " ± "
+               << fixed(c.events.error, 4) << " | "
                << schemeCells(run.pairwise.z, c.events, run.pairwiseFailure, where + ", pairwise") << " | "
-               << schemeCells(run.simultaneous.z, c.events, run.simultaneousFailure, where + ", simultaneous")
-               << " | " << (run.simultaneousFailure.empty() ? general(run.simultaneous.energyChange, 3) : "—")
-               << " |\n";
+               << schemeCells(run.simultaneous.z, c.events, run.simultaneousFailure, where + ", simultaneous") << " | "
+               << (run.simultaneousFailure.empty() ? general(run.simultaneous.energyChange, 3) : "—") << " |\n";
         }
     md << '\n';
     for (std::size_t k = 0; k < failures.size(); ++k) md << "(" << k + 1 << ") " << cell(failures[k]) << "\n\n";
@@ -765,7 +768,8 @@ void markdownEvents(std::ostream& md, const SuiteResult& s) {
     md << "## 9. Exact event-driven dynamics (`--collisions events`)\n\n"
        << "The event-driven scheme moves every disk on its exact free flight between instantaneous binary "
           "collisions, wall bounces and cell crossings taken one at a time in time order: "
-       << s.events.device << ". It runs on the CPU whatever `--backend` says, since it has no other backend; "
+       << s.events.device
+       << ". It runs on the CPU whatever `--backend` says, since it has no other backend; "
           "only the stepped runs of 9.4 use `--backend`. dt only sets when its state is sampled.\n\n";
     markdownEventsEos(md, s);
     markdownEventsDense(md, s);
@@ -776,10 +780,17 @@ void markdownEvents(std::ostream& md, const SuiteResult& s) {
 }  // namespace
 
 const std::vector<std::string>& reportFileNames() {
-    static const std::vector<std::string> names = {
-        "README.md",        "eos.svg",           "eos-deviation.svg",     "convergence-z.svg",
-        "convergence-energy.svg", "relaxation-h.svg", "relaxation-ks.svg", "relaxation-speeds.svg",
-        "energy-density.svg", "trajectories.svg", "schemes-z.svg"};
+    static const std::vector<std::string> names = {"README.md",
+                                                   "eos.svg",
+                                                   "eos-deviation.svg",
+                                                   "convergence-z.svg",
+                                                   "convergence-energy.svg",
+                                                   "relaxation-h.svg",
+                                                   "relaxation-ks.svg",
+                                                   "relaxation-speeds.svg",
+                                                   "energy-density.svg",
+                                                   "trajectories.svg",
+                                                   "schemes-z.svg"};
     return names;
 }
 
@@ -875,11 +886,11 @@ nlohmann::ordered_json eventsJson(const EventsResult& e) {
                              {"z", compressibility(p, e.dense.run.packing)}});
     json trajectories = json::array();
     for (const TrajectoryPoint& p : e.trajectories.points)
-        trajectories.push_back({{"dt", p.dt},
-                                {"pairwise", {{"rms", p.pairwiseRms}, {"max", p.pairwiseMax},
-                                              {"collisions", p.pairwiseCollisions}}},
-                                {"simultaneous", {{"rms", p.simultaneousRms}, {"max", p.simultaneousMax},
-                                                  {"collisions", p.simultaneousCollisions}}}});
+        trajectories.push_back(
+            {{"dt", p.dt},
+             {"pairwise", {{"rms", p.pairwiseRms}, {"max", p.pairwiseMax}, {"collisions", p.pairwiseCollisions}}},
+             {"simultaneous",
+              {{"rms", p.simultaneousRms}, {"max", p.simultaneousMax}, {"collisions", p.simultaneousCollisions}}}});
     json schemes = json::array();
     for (const SchemeComparison& c : e.schemes) {
         json runs = json::array();
@@ -896,18 +907,19 @@ nlohmann::ordered_json eventsJson(const EventsResult& e) {
                            {"runs", runs}});
     }
     const TrajectoryResult& t = e.trajectories;
-    return {{"device", e.device},
-            {"equation_of_state", eos},
-            {"dense", {{"run", eventsRun(e.dense.run)},
-                       {"frequency_tolerance", e.dense.rateTolerance},
-                       {"published", published}}},
-            {"trajectories", {{"particles", t.particles},
-                              {"box", {t.width, t.height}},
-                              {"duration", t.duration},
-                              {"event_collisions", t.eventCollisions},
-                              {"event_wall_bounces", t.eventWallBounces},
-                              {"points", trajectories}}},
-            {"schemes", schemes}};
+    return {
+        {"device", e.device},
+        {"equation_of_state", eos},
+        {"dense",
+         {{"run", eventsRun(e.dense.run)}, {"frequency_tolerance", e.dense.rateTolerance}, {"published", published}}},
+        {"trajectories",
+         {{"particles", t.particles},
+          {"box", {t.width, t.height}},
+          {"duration", t.duration},
+          {"event_collisions", t.eventCollisions},
+          {"event_wall_bounces", t.eventWallBounces},
+          {"points", trajectories}}},
+        {"schemes", schemes}};
 }
 
 }  // namespace
@@ -959,78 +971,78 @@ nlohmann::ordered_json toJson(const SuiteResult& r, const RunContext& c) {
     const DenseResult& d = r.dense;
     const GravityResult& g = r.gravity;
     const SimultaneousResult& sim = r.simultaneous;
-    return {{"suite", r.options.quick ? "quick" : "full"},
-            {"passed", r.passed()},
-            {"checks_failed", failures(r)},
-            {"command", c.command},
-            {"date", c.date},
-            {"host", {{"cpu", c.host}, {"threads", c.hostThreads}, {"load", c.hostLoad}}},
-            {"backend", {{"kind", r.options.backend.kind}, {"pipeline", r.options.backend.pipeline},
-                         {"device", r.device}}},
-            {"collisions", {{"sections_1_to_7", "pairwise"}, {"section_8", "simultaneous"}, {"section_9", "events"}}},
-            {"dt", r.options.dt},
-            {"seed", r.options.seed},
-            {"wall_seconds", r.wallSeconds},
-            {"checks", checks},
-            {"equation_of_state", {{"dt", r.eos.dt}, {"points", eos}}},
-            {"convergence",
-             {{"packing", r.convergence.packing},
-              {"particles", r.convergence.particles},
-              {"z_reference", r.convergence.zReference},
-              {"equilibration_time", r.convergence.equilibrationTime},
-              {"points", convergence}}},
-            {"relaxation",
-             {{"packing", rx.packing},
-              {"particles", rx.particles},
-              {"dt", rx.dt},
-              {"half_width", rx.halfWidth},
-              {"histogram", {{"range", rx.histogram.range}, {"bins_per_axis", rx.histogram.binsPerAxis}}},
-              {"h_initial", rx.hInitial},
-              {"h_final", rx.hFinal},
-              {"h_plugin_bias", rx.hPluginBias},
-              {"h_binning_bias", rx.hBinningBias},
-              {"h_tolerance", rx.hTolerance},
-              {"ks_critical", rx.ksCritical},
-              {"kT_final", rx.kTFinal},
-              {"samples", samples},
-              {"speed_histogram", {{"edges", rx.speedBinEdges}, {"density", rx.speedDensity}}}}},
-            {"conservation", conservation},
-            {"dense_gas",
-             {{"packing", d.packing},
-              {"particles", d.particles},
-              {"dt", d.dt},
-              {"equilibration_time", d.equilibrationTime},
-              {"measured", blockStatistics(d.measured)},
-              {"energy_change", d.energyChange},
-              {"momentum_error", d.momentumError},
-              {"max_overlap", d.maxOverlap},
-              {"escaped", d.escaped},
-              {"frequency_tolerance", d.rateTolerance}}},
-            {"gravity",
-             {{"particles", g.particles},
-              {"box", {g.width, g.height}},
-              {"gravity", g.gravity},
-              {"dt", g.dt},
-              {"duration", g.duration},
-              {"kinetic", {{"start", g.kineticStart}, {"end", g.kineticEnd}}},
-              {"potential", {{"start", g.potentialStart}, {"end", g.potentialEnd}}},
-              {"energy_change", g.energyChange},
-              {"late_contacts", g.lateContacts},
-              {"max_rounds", g.maxRounds},
-              {"escaped", g.escaped}}},
-            {"simultaneous_scheme",
-             {{"particles", sim.particles},
-              {"duration", sim.duration},
-              {"sample_interval", sim.sampleInterval},
-              {"dt_sweep", simultaneousRuns(sim.dtSweep)},
-              {"packing_sweep", simultaneousRuns(sim.packingSweep)}}},
-            {"events", eventsJson(r.events)}};
+    return {
+        {"suite", r.options.quick ? "quick" : "full"},
+        {"passed", r.passed()},
+        {"checks_failed", failures(r)},
+        {"command", c.command},
+        {"date", c.date},
+        {"host", {{"cpu", c.host}, {"threads", c.hostThreads}, {"load", c.hostLoad}}},
+        {"backend", {{"kind", r.options.backend.kind}, {"pipeline", r.options.backend.pipeline}, {"device", r.device}}},
+        {"collisions", {{"sections_1_to_7", "pairwise"}, {"section_8", "simultaneous"}, {"section_9", "events"}}},
+        {"dt", r.options.dt},
+        {"seed", r.options.seed},
+        {"wall_seconds", r.wallSeconds},
+        {"checks", checks},
+        {"equation_of_state", {{"dt", r.eos.dt}, {"points", eos}}},
+        {"convergence",
+         {{"packing", r.convergence.packing},
+          {"particles", r.convergence.particles},
+          {"z_reference", r.convergence.zReference},
+          {"equilibration_time", r.convergence.equilibrationTime},
+          {"points", convergence}}},
+        {"relaxation",
+         {{"packing", rx.packing},
+          {"particles", rx.particles},
+          {"dt", rx.dt},
+          {"half_width", rx.halfWidth},
+          {"histogram", {{"range", rx.histogram.range}, {"bins_per_axis", rx.histogram.binsPerAxis}}},
+          {"h_initial", rx.hInitial},
+          {"h_final", rx.hFinal},
+          {"h_plugin_bias", rx.hPluginBias},
+          {"h_binning_bias", rx.hBinningBias},
+          {"h_tolerance", rx.hTolerance},
+          {"ks_critical", rx.ksCritical},
+          {"kT_final", rx.kTFinal},
+          {"samples", samples},
+          {"speed_histogram", {{"edges", rx.speedBinEdges}, {"density", rx.speedDensity}}}}},
+        {"conservation", conservation},
+        {"dense_gas",
+         {{"packing", d.packing},
+          {"particles", d.particles},
+          {"dt", d.dt},
+          {"equilibration_time", d.equilibrationTime},
+          {"measured", blockStatistics(d.measured)},
+          {"energy_change", d.energyChange},
+          {"momentum_error", d.momentumError},
+          {"max_overlap", d.maxOverlap},
+          {"escaped", d.escaped},
+          {"frequency_tolerance", d.rateTolerance}}},
+        {"gravity",
+         {{"particles", g.particles},
+          {"box", {g.width, g.height}},
+          {"gravity", g.gravity},
+          {"dt", g.dt},
+          {"duration", g.duration},
+          {"kinetic", {{"start", g.kineticStart}, {"end", g.kineticEnd}}},
+          {"potential", {{"start", g.potentialStart}, {"end", g.potentialEnd}}},
+          {"energy_change", g.energyChange},
+          {"late_contacts", g.lateContacts},
+          {"max_rounds", g.maxRounds},
+          {"escaped", g.escaped}}},
+        {"simultaneous_scheme",
+         {{"particles", sim.particles},
+          {"duration", sim.duration},
+          {"sample_interval", sim.sampleInterval},
+          {"dt_sweep", simultaneousRuns(sim.dtSweep)},
+          {"packing_sweep", simultaneousRuns(sim.packingSweep)}}},
+        {"events", eventsJson(r.events)}};
 }
 
 void printSummary(std::ostream& out, const SuiteResult& r) {
     for (const Check& c : r.checks)
-        out << (c.passed ? "PASS  " : "FAIL  ") << c.section << ": " << c.name << ": " << general(c.measured, 6)
-            << " (" << c.criterion << ")\n";
+        out << (c.passed ? "PASS  " : "FAIL  ") << c.section << ": " << c.name << ": " << general(c.measured, 6) << " ("
+            << c.criterion << ")\n";
     const std::size_t failed = failures(r);
     out << "validate: " << (failed == 0 ? "PASS" : "FAIL") << ", " << r.checks.size() - failed << " of "
         << r.checks.size() << " checks pass";

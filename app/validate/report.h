@@ -15,8 +15,8 @@ namespace carom::validation {
 
 // Where and when the run was made, and how it was asked for.
 struct RunContext {
-    std::string date;     // UTC, ISO 8601
-    std::string host;     // CPU model
+    std::string date;  // UTC, ISO 8601
+    std::string host;  // CPU model
     int hostThreads = 1;
     double hostLoad = -1;  // 1-minute load average at the start, -1 if unknown
     std::string command;   // the command line

@@ -31,8 +31,8 @@ std::string format(const char* pattern, double value) {
     return text;
 }
 
-Check makeCheck(const std::string& section, const std::string& name, double measured, double expected,
-                double deviation, double limit, const std::string& criterion) {
+Check makeCheck(const std::string& section, const std::string& name, double measured, double expected, double deviation,
+                double limit, const std::string& criterion) {
     Check c{section, name, measured, expected, deviation, limit, criterion, false};
     c.passed = deviation <= limit;  // false for NaN
     return c;
@@ -132,9 +132,9 @@ Check rateCheck(const std::string& section, const std::string& name, const MeanA
                 double target) {
     const std::string bound = target > 0 ? "max(" + format("%.2g", 100 * target) + " %, 3 standard errors)"
                                          : std::string("3 standard errors");
-    return makeCheck(section, name, ratio.mean, 1.0, std::abs(ratio.mean - 1.0), tolerance,
-                     "|omega / (4 Z_c/sigma sqrt(kT/pi m)) - 1| <= " + bound + " = " +
-                         format("%.2g", 100 * tolerance) + " %");
+    return makeCheck(
+        section, name, ratio.mean, 1.0, std::abs(ratio.mean - 1.0), tolerance,
+        "|omega / (4 Z_c/sigma sqrt(kT/pi m)) - 1| <= " + bound + " = " + format("%.2g", 100 * tolerance) + " %");
 }
 
 double collisionTime(double packing) { return 1.0 / collisionFrequency(referenceZ(packing), 1.0, 2.0, 1.0); }

@@ -18,8 +18,8 @@ namespace carom::validation {
 std::string format(const char* pattern, double value);
 
 // A check that passes when deviation <= limit (false for a NaN deviation).
-Check makeCheck(const std::string& section, const std::string& name, double measured, double expected,
-                double deviation, double limit, const std::string& criterion);
+Check makeCheck(const std::string& section, const std::string& name, double measured, double expected, double deviation,
+                double limit, const std::string& criterion);
 
 // Removes the centre-of-mass velocity (a periodic box conserves it, so it
 // would carry energy that is not heat).

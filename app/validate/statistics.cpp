@@ -35,9 +35,7 @@ MeanAndError blockingAverage(std::vector<double> blockMeans, std::size_t minBloc
 
 double statisticalTolerance(double target, double error) { return std::max(target, 3.0 * error); }
 
-double rayleighCdf(double speed, double kTOverMass) {
-    return -std::expm1(-speed * speed / (2.0 * kTOverMass));
-}
+double rayleighCdf(double speed, double kTOverMass) { return -std::expm1(-speed * speed / (2.0 * kTOverMass)); }
 
 double rayleighPdf(double speed, double kTOverMass) {
     return speed / kTOverMass * std::exp(-speed * speed / (2.0 * kTOverMass));
@@ -142,7 +140,7 @@ double collisionFrequency(double z, double kT, double diameter, double mass) {
 }
 
 const std::vector<ReferenceZ>& referenceTable() {
-    static const std::vector<ReferenceZ> table = {{0.1, 1.23614, 0.0}, {0.2, 1.57037, 0.0},  {0.3, 2.0633, 0.0},
+    static const std::vector<ReferenceZ> table = {{0.1, 1.23614, 0.0},  {0.2, 1.57037, 0.0}, {0.3, 2.0633, 0.0},
                                                   {0.4, 2.8293, 0.001}, {0.5, 4.106, 0.003}, {0.6, 6.452, 0.005}};
     return table;
 }

@@ -63,10 +63,10 @@ struct HEstimate {
     // H = integral of f ln f d^2v, from the histogram density (the plug-in
     // estimate): biased high by about (occupied bins - 1) / (2 n).
     double value = 0.0;
-    std::size_t samples = 0;       // n
+    std::size_t samples = 0;  // n
     std::size_t occupiedBins = 0;
-    std::size_t outside = 0;       // samples outside the square: counted in n, in no bin
-    double bias() const;           // (occupiedBins - 1) / (2 n), the expected bias of `value`
+    std::size_t outside = 0;  // samples outside the square: counted in n, in no bin
+    double bias() const;      // (occupiedBins - 1) / (2 n), the expected bias of `value`
 };
 
 // The Boltzmann H-function of the velocities (vx[i], vy[i]), i < n.

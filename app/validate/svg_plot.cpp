@@ -22,10 +22,14 @@ std::string number(double value, const char* format = "%.1f") {
 std::string escaped(const std::string& text) {
     std::string out;
     for (char c : text) {
-        if (c == '<') out += "&lt;";
-        else if (c == '>') out += "&gt;";
-        else if (c == '&') out += "&amp;";
-        else out += c;
+        if (c == '<')
+            out += "&lt;";
+        else if (c == '>')
+            out += "&gt;";
+        else if (c == '&')
+            out += "&amp;";
+        else
+            out += c;
     }
     return out;
 }
@@ -155,12 +159,12 @@ std::string renderSvg(const Plot& plot) {
     for (double t : ticksFor(sy)) {
         const std::string y = number(py(t));
         svg << "<line x1=\"" << kLeft << "\" y1=\"" << y << "\" x2=\"" << kLeft + kPlotWidth << "\" y2=\"" << y
-            << "\" stroke=\"#e6e6e6\"/><line x1=\"" << kLeft - 5 << "\" y1=\"" << y << "\" x2=\"" << kLeft
-            << "\" y2=\"" << y << "\" stroke=\"black\"/>\n";
+            << "\" stroke=\"#e6e6e6\"/><line x1=\"" << kLeft - 5 << "\" y1=\"" << y << "\" x2=\"" << kLeft << "\" y2=\""
+            << y << "\" stroke=\"black\"/>\n";
     }
     for (double t : labelledTicks(ticksFor(sy), py, 0.0))
-        svg << "<text x=\"" << kLeft - 8 << "\" y=\"" << number(py(t) + 4) << "\" text-anchor=\"end\">"
-            << tickLabel(t) << "</text>\n";
+        svg << "<text x=\"" << kLeft - 8 << "\" y=\"" << number(py(t) + 4) << "\" text-anchor=\"end\">" << tickLabel(t)
+            << "</text>\n";
     svg << "<rect x=\"" << kLeft << "\" y=\"" << kTop << "\" width=\"" << kPlotWidth << "\" height=\"" << kPlotHeight
         << "\" fill=\"none\" stroke=\"black\"/>\n"
         << "<text x=\"" << kLeft + kPlotWidth / 2 << "\" y=\"" << kHeight - 14 << "\" text-anchor=\"middle\">"
@@ -198,9 +202,9 @@ std::string renderSvg(const Plot& plot) {
                 const std::string y0 = number(sy.shows(low) ? py(low) : kTop + kPlotHeight), y1 = number(py(high));
                 svg << "<line x1=\"" << x << "\" y1=\"" << y0 << "\" x2=\"" << x << "\" y2=\"" << y1 << "\" stroke=\""
                     << s.colour << "\"/><line x1=\"" << number(px(s.x[i]) - 4) << "\" y1=\"" << y0 << "\" x2=\""
-                    << number(px(s.x[i]) + 4) << "\" y2=\"" << y0 << "\" stroke=\"" << s.colour
-                    << "\"/><line x1=\"" << number(px(s.x[i]) - 4) << "\" y1=\"" << y1 << "\" x2=\""
-                    << number(px(s.x[i]) + 4) << "\" y2=\"" << y1 << "\" stroke=\"" << s.colour << "\"/>\n";
+                    << number(px(s.x[i]) + 4) << "\" y2=\"" << y0 << "\" stroke=\"" << s.colour << "\"/><line x1=\""
+                    << number(px(s.x[i]) - 4) << "\" y1=\"" << y1 << "\" x2=\"" << number(px(s.x[i]) + 4) << "\" y2=\""
+                    << y1 << "\" stroke=\"" << s.colour << "\"/>\n";
             }
             svg << "<circle cx=\"" << x << "\" cy=\"" << number(py(s.y[i])) << "\" r=\"3.5\" fill=\"" << s.colour
                 << "\"/>\n";
@@ -216,8 +220,8 @@ std::string renderSvg(const Plot& plot) {
             svg << "<circle cx=\"" << x + 10 << "\" cy=\"" << legendY - 4 << "\" r=\"3.5\" fill=\"" << s.colour
                 << "\"/>\n";
         else
-            svg << "<line x1=\"" << x << "\" y1=\"" << legendY - 4 << "\" x2=\"" << x + 20 << "\" y2=\""
-                << legendY - 4 << "\" stroke=\"" << s.colour << "\" stroke-width=\"1.8\""
+            svg << "<line x1=\"" << x << "\" y1=\"" << legendY - 4 << "\" x2=\"" << x + 20 << "\" y2=\"" << legendY - 4
+                << "\" stroke=\"" << s.colour << "\" stroke-width=\"1.8\""
                 << (s.style == SeriesStyle::DashedLine ? " stroke-dasharray=\"6,4\"" : "") << "/>\n";
         svg << "<text x=\"" << x + 26 << "\" y=\"" << legendY << "\">" << escaped(s.label) << "</text>\n";
         legendY += 18;

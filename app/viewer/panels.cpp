@@ -38,8 +38,7 @@ void speedHistogram(const std::vector<Disk>& particles, double kineticEnergy) {
         if (bin >= 0 && bin < kBins) density[bin] += 1.0 / (n * binWidth);
     }
     auto rayleigh = [&](double v) { return meanMass * v / kT * std::exp(-meanMass * v * v / (2 * kT)); };
-    const double peak = std::max(*std::max_element(density.begin(), density.end()),
-                                 rayleigh(std::sqrt(kT / meanMass)));
+    const double peak = std::max(*std::max_element(density.begin(), density.end()), rayleigh(std::sqrt(kT / meanMass)));
 
     const ImVec2 size(ImGui::GetContentRegionAvail().x, 120);
     const ImVec2 origin = canvas(size);
@@ -149,9 +148,10 @@ void Viewer::drawPanels() {
         energyPlot(energyHistory_, gravityOn_);
         ImGui::Text("total energy %.6g, drift %+.2e", world_->totalEnergy(), relativeEnergyDrift());
         ImGui::PushTextWrapPos(0.0f);
-        ImGui::TextDisabled("drift: the relative change%s over the last %.4g time units, since the scene, a grab, a "
-                            "burst or gravity last changed the energy",
-                            events ? " of the engine's double state" : "", driftTime_);
+        ImGui::TextDisabled(
+            "drift: the relative change%s over the last %.4g time units, since the scene, a grab, a "
+            "burst or gravity last changed the energy",
+            events ? " of the engine's double state" : "", driftTime_);
         ImGui::PopTextWrapPos();
         ImGui::Text("momentum (%.4g, %.4g)", motion_.momentum[0], motion_.momentum[1]);
         plot("##momentum", momentumHistory_);

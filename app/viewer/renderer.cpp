@@ -171,10 +171,10 @@ void Renderer::draw(const Camera& camera, float boxWidth, float boxHeight, const
 
     const float w = float(kWallPixels / camera.pixelsPerUnit());
     corners.clear();
-    appendRectangle(corners, -w, -w, boxWidth + w, 0);                   // bottom
+    appendRectangle(corners, -w, -w, boxWidth + w, 0);                     // bottom
     appendRectangle(corners, -w, boxHeight, boxWidth + w, boxHeight + w);  // top
-    appendRectangle(corners, -w, 0, 0, boxHeight);                       // left
-    appendRectangle(corners, boxWidth, 0, boxWidth + w, boxHeight);      // right
+    appendRectangle(corners, -w, 0, 0, boxHeight);                         // left
+    appendRectangle(corners, boxWidth, 0, boxWidth + w, boxHeight);        // right
     drawRectangles(camera, corners, packColour(kWall.r, kWall.g, kWall.b));
 
     glUseProgram(diskProgram_);

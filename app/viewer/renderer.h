@@ -12,9 +12,9 @@
 namespace carom::viewer {
 
 struct DiskInstance {
-    float x, y;           // centre [world]
-    float radius;         // [world]
-    std::uint32_t rgba;   // colour, bytes R, G, B, A in memory order
+    float x, y;          // centre [world]
+    float radius;        // [world]
+    std::uint32_t rgba;  // colour, bytes R, G, B, A in memory order
 };
 
 std::uint32_t packColour(float r, float g, float b);

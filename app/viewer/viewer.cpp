@@ -33,9 +33,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double secondsSince(Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-}
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 double median(std::vector<double> values) {
     if (values.empty()) return 0.0;
@@ -64,8 +62,9 @@ void addViewOptions(CLI::App& command, ViewOptions& o) {
         ->expected(2)
         ->transform(app::wholeNumber(0, std::numeric_limits<int>::max()))  // the constructor checks the range
         ->capture_default_str();
-    command.add_option("--steps-per-frame", o.stepsPerFrame,
-                       "Simulation steps per 1/60 s frame (the speed of the animation)")
+    command
+        .add_option("--steps-per-frame", o.stepsPerFrame,
+                    "Simulation steps per 1/60 s frame (the speed of the animation)")
         ->transform(app::wholeNumber(0, std::numeric_limits<int>::max()))  // the constructor checks the range
         ->capture_default_str();
     command.add_option("--color", o.colouring, "Colouring: speed, mass, radius or id")->capture_default_str();
@@ -77,8 +76,7 @@ void addViewOptions(CLI::App& command, ViewOptions& o) {
 }
 
 Viewer::Viewer(const ViewOptions& options) : options_(options) {
-    if (options_.window[0] < 64 || options_.window[1] < 64 || options_.window[0] > 16384 ||
-        options_.window[1] > 16384)
+    if (options_.window[0] < 64 || options_.window[1] < 64 || options_.window[0] > 16384 || options_.window[1] > 16384)
         throw Error("--window " + std::to_string(options_.window[0]) + " " + std::to_string(options_.window[1]) +
                     ": each side must be in [64, 16384] pixels");
     if (options_.stepsPerFrame < 0 || options_.stepsPerFrame > 100000)
@@ -135,8 +133,7 @@ void Viewer::openWindow() {
                                options_.window[1], SDL_WINDOW_OPENGL | SDL_WINDOW_RESIZABLE | SDL_WINDOW_ALLOW_HIGHDPI);
     if (!window_) throw Error(std::string("carom view could not open a window: ") + SDL_GetError());
     glContext_ = SDL_GL_CreateContext(window_);
-    if (!glContext_)
-        throw Error(std::string("carom view needs OpenGL 3.3 (core profile): ") + SDL_GetError());
+    if (!glContext_) throw Error(std::string("carom view needs OpenGL 3.3 (core profile): ") + SDL_GetError());
     SDL_GL_MakeCurrent(window_, glContext_);
     SDL_GL_SetSwapInterval(headless_ ? 0 : 1);  // vsync when a person watches
 
@@ -214,9 +211,7 @@ void Viewer::setMotion(float dt, bool gravityOn) {
     }
 }
 
-double Viewer::simulatedSecondsPerSecond() const {
-    return paused_ ? 0.0 : stepsPerFrame_ * double(dt_) / kTickSeconds;
-}
+double Viewer::simulatedSecondsPerSecond() const { return paused_ ? 0.0 : stepsPerFrame_ * double(dt_) / kTickSeconds; }
 
 Vec2 Viewer::cursorPixel() const {
     int x = 0, y = 0;
@@ -288,9 +283,7 @@ void Viewer::handleEvent(const SDL_Event& event) {
     ImGui_ImplSDL2_ProcessEvent(&event);
     const ImGuiIO& io = ImGui::GetIO();
     switch (event.type) {
-        case SDL_QUIT:
-            running_ = false;
-            break;
+        case SDL_QUIT: running_ = false; break;
         case SDL_WINDOWEVENT:
             if (event.window.event == SDL_WINDOWEVENT_SIZE_CHANGED) {
                 SDL_GL_GetDrawableSize(window_, &drawableWidth_, &drawableHeight_);
@@ -303,7 +296,9 @@ void Viewer::handleEvent(const SDL_Event& event) {
                 case SDLK_ESCAPE: running_ = false; break;
                 case SDLK_SPACE:
                 case SDLK_p: paused_ = !paused_; break;
-                case SDLK_n: if (paused_) stepOnce_ = true; break;
+                case SDLK_n:
+                    if (paused_) stepOnce_ = true;
+                    break;
                 case SDLK_r: reset(); break;
                 case SDLK_g: setMotion(dt_, !gravityOn_); break;
                 case SDLK_c: colouring_ = Colouring((int(colouring_) + 1) % kColouringCount); break;
@@ -342,8 +337,7 @@ void Viewer::handleEvent(const SDL_Event& event) {
             if (io.WantCaptureMouse) break;
             camera_.zoomAbout(cursorPixel(), std::pow(1.15, event.wheel.y));
             break;
-        default:
-            break;
+        default: break;
     }
 }
 
@@ -472,10 +466,11 @@ int Viewer::run() {
         if (signal != 0) break;
     }
     if (headless_)
-        std::printf("carom view: %llu frames of %zu disks, %s collisions, total energy drift %+.3g over %.4g time "
-                    "units; median frame %.2f ms (simulation %.2f ms, drawing %.2f ms)\n",
-                    static_cast<unsigned long long>(rendered), disks_.size(), scheme, relativeEnergyDrift(),
-                    driftTime_, median(frameMs), median(simulationMs), median(drawingMs));
+        std::printf(
+            "carom view: %llu frames of %zu disks, %s collisions, total energy drift %+.3g over %.4g time "
+            "units; median frame %.2f ms (simulation %.2f ms, drawing %.2f ms)\n",
+            static_cast<unsigned long long>(rendered), disks_.size(), scheme, relativeEnergyDrift(), driftTime_,
+            median(frameMs), median(simulationMs), median(drawingMs));
     if (signal == 0) return 0;
     std::fprintf(stderr, "carom view: interrupted by %s", app::signalName(signal));
     if (headless_) {

@@ -34,7 +34,7 @@ public:
 
 private:
     static constexpr double kTickSeconds = 1.0 / 60.0;  // one batch of stepsPerFrame steps
-    static constexpr int kMaxTicksPerFrame = 4;          // a slow frame drops time instead of stalling
+    static constexpr int kMaxTicksPerFrame = 4;         // a slow frame drops time instead of stalling
     static constexpr std::size_t kHistoryLength = 300;
 
     // Setup.
@@ -93,8 +93,8 @@ private:
     bool gravityOn_ = false;
     carom::Vec2 gravity_{0.0f, -1.0f};  // used while gravity is on
 
-    int grabbed_ = -1;           // id of the disk held by the mouse
-    Vec2 cursorVelocity_;        // [world units per real second], smoothed
+    int grabbed_ = -1;     // id of the disk held by the mouse
+    Vec2 cursorVelocity_;  // [world units per real second], smoothed
     Vec2 lastCursorWorld_;
     bool rightDown_ = false, rightDragged_ = false, middleDown_ = false;
 
@@ -103,9 +103,9 @@ private:
     double secondsSinceReadout_ = 0.0;
     double collisionsPerSecond_ = 0.0;
     double simMsPerStep_ = 0.0;
-    Motion motion_;                     // of disks_, once per frame
-    double energyAtDriftStart_ = 0.0;   // total energy when the drift started being measured
-    double driftTime_ = 0.0;            // simulated time since then
+    Motion motion_;                    // of disks_, once per frame
+    double energyAtDriftStart_ = 0.0;  // total energy when the drift started being measured
+    double driftTime_ = 0.0;           // simulated time since then
     std::deque<EnergySample> energyHistory_;
     std::deque<float> momentumHistory_;
     std::string message_;  // the last error or notice, shown in the panels

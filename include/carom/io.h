@@ -21,7 +21,7 @@ namespace carom::io {
 // A scene file read, validated and placed: the world it defines and its
 // disks in id order (the groups' disks, then the [[disk]]s).
 struct SceneFile {
-    WorldDef world;              // box, dt, gravity, boundary, collisions (engine: Cpu)
+    WorldDef world;  // box, dt, gravity, boundary, collisions (engine: Cpu)
     std::vector<Disk> disks;
     std::uint64_t steps = 1000;  // the steps `carom run` would take
 };

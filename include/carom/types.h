@@ -99,9 +99,9 @@ const char* computeEngineName(ComputeEngine engine);
 // and virial tallies (m v and m r v summed over up to 1024 substeps) finite.
 constexpr float kMinLength = 1e-18f;  // box sides and radii [length]
 constexpr float kMaxLength = 1e18f;
-constexpr float kMinMass = 1e-15f;    // [mass]
+constexpr float kMinMass = 1e-15f;  // [mass]
 constexpr float kMaxMass = 1e15f;
-constexpr float kMinDt = 1e-18f;      // [time]
+constexpr float kMinDt = 1e-18f;  // [time]
 constexpr float kMaxDt = 1e18f;
 constexpr float kMaxAcceleration = 1e18f;  // |gravity| [length/time^2]
 constexpr float kMaxSpeed = 1e18f;         // [length/time]: (v_i - v_j)^2 stays finite
@@ -118,12 +118,12 @@ constexpr double kWarnStepSpacings = 10.0;
 // The box, the rules of motion and where they run. The box is [0, width] x
 // [0, height].
 struct WorldDef {
-    float width = 0.0f;    // box width [length], in [kMinLength, kMaxLength]; no default: set it
-    float height = 0.0f;   // box height [length], in [kMinLength, kMaxLength]; no default: set it
-    float dt = 0.01f;      // time step [time], in [kMinDt, kMaxDt]; with the disks' speeds it must
-                           //   move a typical disk by >= kMinStepSpacings float spacings, and the
-                           //   fastest by at most the smaller box side (unless maxTravel > 0)
-    Vec2 gravity{0, 0};    // constant acceleration [length/time^2], |g| <= kMaxAcceleration; off by default
+    float width = 0.0f;   // box width [length], in [kMinLength, kMaxLength]; no default: set it
+    float height = 0.0f;  // box height [length], in [kMinLength, kMaxLength]; no default: set it
+    float dt = 0.01f;     // time step [time], in [kMinDt, kMaxDt]; with the disks' speeds it must
+                          //   move a typical disk by >= kMinStepSpacings float spacings, and the
+                          //   fastest by at most the smaller box side (unless maxTravel > 0)
+    Vec2 gravity{0, 0};   // constant acceleration [length/time^2], |g| <= kMaxAcceleration; off by default
     // A periodic box is at least 3 largest disk diameters wide and high, so
     // that a disk meets each neighbour once, at its nearest image.
     Boundary boundary = Boundary::Walls;
@@ -157,7 +157,7 @@ struct SceneDef {
     float height = 0.0f;     //   are used instead of packing
     float radiusMin = 1.0f;  // radius drawn uniformly in [radiusMin, radiusMax] [length], in [kMinLength, kMaxLength]
     float radiusMax = 1.0f;
-    float massMin = 1.0f;    // mass drawn uniformly in [massMin, massMax] [mass], in [kMinMass, kMaxMass]
+    float massMin = 1.0f;  // mass drawn uniformly in [massMin, massMax] [mass], in [kMinMass, kMaxMass]
     float massMax = 1.0f;
     float speed = 1.0f;      // initial speed of every disk [length/time], in [0, kMaxSpeed]
     std::uint64_t seed = 1;  // random seed; the same seed gives the same disks wherever the C library

@@ -39,21 +39,21 @@ Scene makeScene(const SceneDef& def);
 // What the collisions and the walls did over an interval of simulated time:
 // since World::setDisks, or since the last World::resetMeasurements.
 struct Measurements {
-    double time = 0.0;              // simulated time covered [time]
-    std::uint64_t steps = 0;        // steps taken
-    std::uint64_t collisions = 0;   // pairs that received an impulse, each pair once
-    double collisionRate = 0.0;     // collisions per disk per unit time [1/time] (a disk's own rate
-                                    //   is twice this); 0 while no time has passed
-    double temperature = 0.0;       // kT (k = 1), the mean of the interval's first and last
-                                    //   [mass length^2/time^2]
+    double time = 0.0;             // simulated time covered [time]
+    std::uint64_t steps = 0;       // steps taken
+    std::uint64_t collisions = 0;  // pairs that received an impulse, each pair once
+    double collisionRate = 0.0;    // collisions per disk per unit time [1/time] (a disk's own rate
+                                   //   is twice this); 0 while no time has passed
+    double temperature = 0.0;      // kT (k = 1), the mean of the interval's first and last
+                                   //   [mass length^2/time^2]
     // Pressure [mass/time^2] and Z = P A / (N kT). In a periodic box from the
     // collision virial (exact); with walls from the momentum the walls
     // received over the perimeter. 0 while no time has passed.
     double pressure = 0.0;
     double compressibility = 0.0;
     std::array<double, 4> wallPressure{};  // walls only: left, right, bottom, top [mass/time^2]
-    std::uint64_t substeps = 0;     // substeps taken: more than steps with maxTravel > 0, or where the
-                                    //   pairwise scheme splits a step to keep its grid valid
+    std::uint64_t substeps = 0;            // substeps taken: more than steps with maxTravel > 0, or where the
+                                           //   pairwise scheme splits a step to keep its grid valid
     // Pairwise scheme only: pairs resolved while overlapping beyond rounding and
     // disks found past a wall (contacts the rounds could not order in time),
     // and the most collision rounds one substep used.
@@ -128,11 +128,11 @@ public:
 
     // Observables of the current state, summed in double in id order
     // (energies in [mass length^2/time^2]).
-    double kineticEnergy() const;                 // sum of m v^2 / 2
+    double kineticEnergy() const;  // sum of m v^2 / 2
     // -sum of m g.x in the world's gravity (0 without). In a periodic box
     // under gravity, positions wrap and this is not a potential energy.
     double potentialEnergy() const;
-    std::array<double, 2> momentum() const;       // sum of m v [mass length/time]
+    std::array<double, 2> momentum() const;  // sum of m v [mass length/time]
     // kineticEnergy() + potentialEnergy(); with CollisionScheme::Events, of
     // the engine's exact double state, whose drift the float disks would hide.
     double totalEnergy() const;
