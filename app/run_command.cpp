@@ -694,7 +694,7 @@ int runCommand(const RunOptions& o) {
          validateStart(start.particles, start.world, source.empty() ? "the scene" : source))
         std::cerr << "carom: warning: " << warning << '\n';
     Outputs outputs(start);
-    std::unique_ptr<Backend> backend = makeBackend(backendFor(o.scene, start.world.collisions), start.world);
+    std::unique_ptr<Backend> backend = makeBackend(withEngine(start.world, o.scene));
     backend->setParticles(start.particles, start.step);
     // The events scheme's engine (makeBackend gives it for that scheme only)
     // continues from its exact state, and its checkpoints keep that state.

@@ -216,25 +216,19 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
         tracked(overriding, o.given);
 }
 
-BackendDef backendFor(const SceneOptions& o, CollisionScheme scheme) {
-    BackendDef def = o.backend;
+WorldDef withEngine(WorldDef world, const SceneOptions& o) {
+    BackendOptions def = o.backend;
     const bool openclAsked = o.given.count("--backend") || !def.device.empty() || def.pipeline != "seed";
-    if (scheme == CollisionScheme::Events && !openclAsked) def.kind = "cpu";
-    if (scheme == CollisionScheme::Events && def.kind != "cpu")
+    if (world.collisions == CollisionScheme::Events && !openclAsked) def.kind = "cpu";
+    if (world.collisions == CollisionScheme::Events && def.kind != "cpu")
         throw Error(
             "--collisions events runs on the CPU only (one thread, double precision): use --backend cpu "
             "with it, or --collisions pairwise on --backend " +
             def.kind);
-    return def;
-}
-
-WorldDef withEngine(WorldDef world, const SceneOptions& o) {
-    const BackendDef def = backendFor(o, world.collisions);
-    world.engine = def.kind == "cpu"            ? ComputeEngine::Cpu
-                   : def.pipeline == "resident" ? ComputeEngine::OpenClResident
-                                                : ComputeEngine::OpenClHostGrid;
-    world.device = def.device;
-    return world;
+    if (def.kind == "cpu") return onEngine(world, EngineDef{});
+    const bool resident = def.pipeline == "resident";
+    return onEngine(world,
+                    EngineDef{resident ? ComputeEngine::OpenClResident : ComputeEngine::OpenClHostGrid, def.device});
 }
 
 void refuseSubstepsWithEvents(const WorldDef& world, const std::string& asked) {

@@ -15,10 +15,19 @@
 
 namespace carom::app {
 
+// --backend, --device and --pipeline as given.
+struct BackendOptions {
+    std::string kind = "cpu";       // "cpu" (OpenMP) or "opencl"
+    std::string device;             // OpenCL only: index from `carom devices` or part of the
+                                    //   device name; empty = first GPU, else first device
+    std::string pipeline = "seed";  // OpenCL only: "seed" (host grid, state read back each
+                                    //   step) or "resident" (grid and state stay on the device)
+};
+
 struct SceneOptions {
     SceneDef scene;
     WorldDef world;
-    BackendDef backend;
+    BackendOptions backend;
     std::vector<float> box;      // W H, when given
     std::vector<float> gravity;  // GX GY, when given
     bool dtAuto = false;         // --dt auto: substeps of at most --max-travel (default 0.2) radii
@@ -49,11 +58,10 @@ struct Setup {
 // and for requests that cannot fit in memory, before allocating them.
 Setup makeSetup(const SceneOptions& options);
 
-// The backend to run `scheme` on: the options' (--backend, default OpenCL
-// where this build has it), but the CPU for the events scheme; refuses an
-// OpenCL --backend, --device or --pipeline given with it.
-BackendDef backendFor(const SceneOptions& options, CollisionScheme scheme);
-// `world` with the compute engine and device of backendFor.
+// `world` with the compute engine and device the options ask for
+// (--backend, default OpenCL where this build has it; --pipeline), but on
+// the CPU for the events scheme; refuses an OpenCL --backend, --device or
+// --pipeline given with that scheme.
 WorldDef withEngine(WorldDef world, const SceneOptions& options);
 
 // The events scheme has no steps to split: throws Error, naming `asked` (what

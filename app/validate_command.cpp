@@ -75,7 +75,11 @@ void addValidateOptions(CLI::App& command, ValidateOptions& o) {
 int validateCommand(const ValidateOptions& o) {
     validation::SuiteOptions suite;
     suite.quick = o.quick;
-    suite.backend = BackendDef{o.backend, o.device, o.pipeline};
+    if (o.backend == "cpu" && o.pipeline != "seed")
+        throw Error("--pipeline " + o.pipeline + " needs --backend opencl; the CPU backend has one pipeline");
+    if (o.backend == "opencl")
+        suite.backend = EngineDef{
+            o.pipeline == "resident" ? ComputeEngine::OpenClResident : ComputeEngine::OpenClHostGrid, o.device};
     suite.seed = o.seed;
     suite.dt = o.dt;
     suite.eosParticles = o.particles;

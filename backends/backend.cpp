@@ -92,7 +92,7 @@ void Backend::step(std::uint64_t steps) {
                 " would need " + (std::isfinite(needed) ? std::to_string(needed) : std::string("unbounded")) +
                 " substeps to keep each move within " +
                 (allowed == double(world_.maxTravel) * minRadius_
-                     ? "max-travel " + std::to_string(world_.maxTravel) + " x radius " + std::to_string(minRadius_)
+                     ? "maxTravel " + std::to_string(world_.maxTravel) + " x radius " + std::to_string(minRadius_)
                      : "the pairwise grid's allowance " + std::to_string(allowed)) +
                 "; at most " + std::to_string(kMaxSubsteps) +
                 " are allowed (the state may have blown up, or use a smaller dt)");
@@ -209,31 +209,29 @@ std::vector<std::string> availableBackends() {
 #endif
 }
 
-std::unique_ptr<Backend> makeBackend(const BackendDef& def, const WorldDef& world) {
-    if (world.collisions == CollisionScheme::Events && def.kind != "cpu")
-        throw Error(
-            "--collisions events runs on the CPU only (one thread, double precision): use --backend cpu "
-            "with it, or --collisions pairwise on --backend " +
-            def.kind);
-    if (def.kind == "cpu") {
-        if (def.pipeline != "seed")
-            throw Error("--pipeline " + def.pipeline + " needs --backend opencl; the CPU backend has one pipeline");
-        if (world.collisions == CollisionScheme::Events) return std::make_unique<EventDrivenBackend>(world);
-        return std::make_unique<CpuBackend>(world);
-    }
+std::unique_ptr<Backend> makeBackend(const WorldDef& world) {
+    if (world.engine != ComputeEngine::Cpu && world.collisions == CollisionScheme::Events)
+        throw Error(std::string("CollisionScheme::Events runs on ComputeEngine::Cpu only (one thread, double "
+                                "precision); got ComputeEngine ") +
+                    computeEngineName(world.engine));
+    switch (world.engine) {
+        case ComputeEngine::Cpu:
+            if (world.collisions == CollisionScheme::Events) return std::make_unique<EventDrivenBackend>(world);
+            return std::make_unique<CpuBackend>(world);
+        case ComputeEngine::OpenClHostGrid:
+        case ComputeEngine::OpenClResident:
 #ifdef CAROM_HAVE_OPENCL
-    if (def.kind == "opencl") {
-        if (def.pipeline == "seed") return std::make_unique<OpenClHostGridBackend>(world, def.device);
-        if (def.pipeline == "resident") return std::make_unique<OpenClResidentBackend>(world, def.device);
-        throw Error("unknown pipeline '" + def.pipeline + "'; allowed: seed, resident");
-    }
+            if (world.engine == ComputeEngine::OpenClResident)
+                return std::make_unique<OpenClResidentBackend>(world, world.device);
+            return std::make_unique<OpenClHostGridBackend>(world, world.device);
 #else
-    if (def.kind == "opencl")
-        throw Error(
-            "this carom was built without OpenCL (no OpenCL headers or loader were found); "
-            "use --backend cpu");
+            throw Error(std::string("ComputeEngine ") + computeEngineName(world.engine) +
+                        " needs OpenCL, which this carom was built without (no OpenCL headers or loader were "
+                        "found); allowed: ComputeEngine::Cpu");
 #endif
-    throw Error("unknown backend '" + def.kind + "'; allowed: cpu, opencl");
+    }
+    throw Error("WorldDef::engine " + std::to_string(static_cast<int>(world.engine)) +
+                " is not a ComputeEngine; allowed: Cpu, OpenClHostGrid, OpenClResident");
 }
 
 }  // namespace carom

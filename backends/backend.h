@@ -166,7 +166,11 @@ float maxSpeedSquaredOf(const Particle* particles, std::size_t count);
 
 // Creates the backend `def.kind` for the world; throws Error for an unknown
 // kind or device, or when OpenCL is unavailable.
-std::unique_ptr<Backend> makeBackend(const BackendDef& def, const WorldDef& world);
+std::unique_ptr<Backend> makeBackend(const WorldDef& world);
+// The same on `engine`, whatever world.engine says.
+inline std::unique_ptr<Backend> makeBackend(const EngineDef& engine, const WorldDef& world) {
+    return makeBackend(onEngine(world, engine));
+}
 
 // The backend kinds this build offers, for messages and tests.
 std::vector<std::string> availableBackends();

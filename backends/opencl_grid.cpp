@@ -29,7 +29,8 @@ DeviceGrid::DeviceGrid(cl_context context, const DeviceInfo& device, cl_program 
     const std::size_t cellCount = std::size_t(geometry.cols) * geometry.rows;
     if (cellCount >= std::numeric_limits<cl_uint>::max())
         throw Error("the resident pipeline supports fewer than 2^32 grid cells, this scene needs " +
-                    std::to_string(cellCount) + "; use --pipeline seed");
+                    std::to_string(cellCount) +
+                    "; use the host-grid pipeline (ComputeEngine::OpenClHostGrid, --pipeline seed)");
 
     countKernel_ = createKernel(program, "countCells");
     scanCountsKernel_ = createKernel(program, "scanCountsIntoCells");

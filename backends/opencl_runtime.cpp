@@ -113,7 +113,7 @@ std::string lowercase(std::string s) {
 
 const char* const kNoOpenCl =
     "install an OpenCL driver (on Debian: pocl-opencl-icd for CPUs, or your GPU vendor's), "
-    "or run with --backend cpu";
+    "or run on the CPU (ComputeEngine::Cpu; on the command line --backend cpu)";
 
 }  // namespace
 
@@ -173,7 +173,7 @@ DeviceInfo selectDevice(const std::string& selector) {
     if (selector.find_first_not_of("0123456789") == std::string::npos && selector.size() < 10) {
         const std::size_t index = std::stoul(selector);
         if (index < devices.size()) return devices[index];
-        throw Error("--device " + selector + ": no such device index; allowed: 0.." +
+        throw Error("device " + selector + " (WorldDef::device, --device): no such device index; allowed: 0.." +
                     std::to_string(devices.size() - 1) + " (see `carom devices`)");
     }
     const std::string wanted = lowercase(selector);
@@ -183,7 +183,9 @@ DeviceInfo selectDevice(const std::string& selector) {
             return d;
     std::string names;
     for (const DeviceInfo& d : devices) names += "\n  [" + std::to_string(d.index) + "] " + d.name;
-    throw Error("--device '" + selector + "' matches no OpenCL device; allowed: an index or part of a name:" + names);
+    throw Error(
+        "device '" + selector +
+        "' (WorldDef::device, --device) matches no OpenCL device; allowed: an index or part of a name:" + names);
 }
 
 Program buildProgram(cl_context context, const DeviceInfo& device, const char* source, bool exactArithmetic) {

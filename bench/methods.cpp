@@ -91,7 +91,7 @@ std::unique_ptr<Backend> makeMethodBackend(const Method& method, const WorldDef&
         throw Error("method " + method.name + " does not run the " + collisionSchemeName(world.collisions) + " scheme");
     if (!method.opencl) {
         if (method.allPairs) return std::make_unique<AllPairsCpuBackend>(world);
-        return makeBackend(BackendDef{"cpu", "", "seed"}, world);
+        return makeBackend(EngineDef{}, world);
     }
 #ifdef CAROM_HAVE_OPENCL
     return makeOpenClBackend(method, world, device, false);

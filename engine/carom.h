@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <carom/types.h>
@@ -21,14 +22,20 @@ struct InitialState {
     std::vector<Particle> particles;
 };
 
-// Which backend runs the step.
-struct BackendDef {
-    std::string kind = "cpu";       // "cpu" (OpenMP) or "opencl"
-    std::string device;             // OpenCL only: index from `carom devices` or part of the
-                                    //   device name; empty = first GPU, else first device
-    std::string pipeline = "seed";  // OpenCL only: "seed" (host grid, state read back each
-                                    //   step) or "resident" (grid and state stay on the device)
+// A compute engine and, for OpenCL, its device: WorldDef::engine and
+// WorldDef::device apart from a world, for code that runs one world on
+// several engines (the tests, `carom validate`).
+struct EngineDef {
+    ComputeEngine engine = ComputeEngine::Cpu;
+    std::string device;  // OpenCL only: as WorldDef::device
 };
+
+// `world` to run on `engine`.
+inline WorldDef onEngine(WorldDef world, const EngineDef& engine) {
+    world.engine = engine.engine;
+    world.device = engine.device;
+    return world;
+}
 
 // Throws Error unless every field of the world is finite and in range.
 void validate(const WorldDef& world);

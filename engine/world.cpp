@@ -10,22 +10,11 @@
 #include "engine/disk_conversion.h"
 #include "engine/observables.h"
 #include "engine/world_impl.h"
+#ifdef CAROM_HAVE_OPENCL
+#include "backends/opencl_runtime.h"
+#endif
 
 namespace carom {
-
-namespace {
-
-BackendDef backendFor(const WorldDef& def) {
-    switch (def.engine) {
-        case ComputeEngine::Cpu: return BackendDef{"cpu", "", "seed"};
-        case ComputeEngine::OpenClHostGrid: return BackendDef{"opencl", def.device, "seed"};
-        case ComputeEngine::OpenClResident: return BackendDef{"opencl", def.device, "resident"};
-    }
-    throw Error("WorldDef::engine " + std::to_string(static_cast<int>(def.engine)) +
-                " is not a ComputeEngine; allowed: Cpu, OpenClHostGrid, OpenClResident");
-}
-
-}  // namespace
 
 Scene makeScene(const SceneDef& def) {
     if (def.particles > kMaxParticles)
@@ -44,6 +33,18 @@ ComputeEngine parseComputeEngine(const std::string& name) {
 bool engineAvailable(ComputeEngine engine) {
     const std::vector<std::string> built = availableBackends();
     return engine == ComputeEngine::Cpu || std::find(built.begin(), built.end(), "opencl") != built.end();
+}
+
+std::vector<Device> listDevices() {
+#ifdef CAROM_HAVE_OPENCL
+    std::vector<Device> devices;
+    for (const opencl::DeviceInfo& d : opencl::listDevices())
+        devices.push_back(Device{d.index, d.name, d.platformName, d.type, d.version, d.globalMemoryBytes,
+                                 d.correctlyRoundedDivideSqrt});
+    return devices;
+#else
+    throw Error("listDevices: this carom was built without OpenCL; allowed: ComputeEngine::Cpu");
+#endif
 }
 
 const char* computeEngineName(ComputeEngine engine) {
@@ -78,18 +79,11 @@ void World::Impl::edit(std::vector<Particle> particles) {
 }
 
 World::World(const WorldDef& def) : impl_(std::make_unique<Impl>()) {
-    if (def.engine != ComputeEngine::Cpu && def.collisions == CollisionScheme::Events)
-        throw Error(std::string("CollisionScheme::Events runs on ComputeEngine::Cpu only (one thread, double "
-                                "precision); got ComputeEngine ") +
-                    computeEngineName(def.engine));
-    if (!engineAvailable(def.engine))
-        throw Error(std::string("ComputeEngine ") + computeEngineName(def.engine) +
-                    " needs OpenCL, which this carom was built without; allowed: ComputeEngine::Cpu");
     if (def.collisions == CollisionScheme::Events && def.maxTravel != 0.0f)
         throw Error("WorldDef::maxTravel must be 0 with CollisionScheme::Events, which has no steps to split; got " +
                     std::to_string(def.maxTravel));
     impl_->def = def;
-    impl_->backend = makeBackend(backendFor(def), def);
+    impl_->backend = makeBackend(def);
 }
 
 World::~World() = default;

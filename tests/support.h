@@ -11,45 +11,42 @@
 
 #include <doctest/doctest.h>
 
+#include <carom/world.h>
+
 #include "backends/backend.h"
 
 namespace carom::test {
 
-// Backend `kind` (and OpenCL `pipeline`) on the device under test. OpenCL
-// uses the device named by CAROM_TEST_DEVICE (as --device), read when the
-// test runs, else the default device; PoCL stands in for a GPU on machines
-// without one.
-inline BackendDef testBackendDef(const std::string& kind, const std::string& pipeline = "seed") {
+// `engine` on the device under test. OpenCL uses the device named by
+// CAROM_TEST_DEVICE (as --device), read when the test runs, else the
+// default device; PoCL stands in for a GPU on machines without one.
+inline EngineDef testEngine(ComputeEngine engine) {
     const char* device = std::getenv("CAROM_TEST_DEVICE");
-    return BackendDef{kind, device ? device : "", pipeline};
-}
-
-inline std::unique_ptr<Backend> makeTestBackend(const std::string& kind, const WorldDef& world) {
-    return makeBackend(testBackendDef(kind), world);
+    return EngineDef{engine, engine != ComputeEngine::Cpu && device ? device : ""};
 }
 
 // The backends and pipelines a test can be registered for; `label` ends the
 // name of the test case that runs on it. A build without OpenCL registers
 // the CPU only.
 struct TestPipeline {
-    const char* kind;
-    const char* pipeline;
+    ComputeEngine engine;
     const char* label;
 };
-inline constexpr TestPipeline kTestPipelines[] = {
-    {"cpu", "seed", "cpu"}, {"opencl", "seed", "opencl seed"}, {"opencl", "resident", "opencl resident"}};
+inline constexpr TestPipeline kTestPipelines[] = {{ComputeEngine::Cpu, "cpu"},
+                                                  {ComputeEngine::OpenClHostGrid, "opencl seed"},
+                                                  {ComputeEngine::OpenClResident, "opencl resident"}};
 
 // Which of kTestPipelines a test case is registered for.
 enum class Registered { EveryPipeline, OpenClPipelines };
 
 namespace registration {
 
-using Body = void (*)(const BackendDef&);
+using Body = void (*)(const EngineDef&);
 
 // doctest's test case is a function without arguments: one per body and pipeline.
 template <Body body, std::size_t slot>
 void runOn() {
-    body(testBackendDef(kTestPipelines[slot].kind, kTestPipelines[slot].pipeline));
+    body(testEngine(kTestPipelines[slot].engine));
 }
 
 // What doctest's TEST_CASE expands to, once for each pipeline of this build
@@ -59,11 +56,10 @@ void runOn() {
 template <Body body, std::size_t... slots>
 int registerCases(Registered which, const char* name, const char* file, unsigned line,
                   const doctest::detail::TestSuite& suite, std::index_sequence<slots...>) {
-    const std::vector<std::string> built = availableBackends();
     const auto add = [&](std::size_t slot, doctest::detail::funcType test) {
         const TestPipeline& p = kTestPipelines[slot];
-        const bool selected = which == Registered::EveryPipeline || std::string(p.kind) == "opencl";
-        if (!selected || std::find(built.begin(), built.end(), p.kind) == built.end()) return;
+        const bool selected = which == Registered::EveryPipeline || p.engine != ComputeEngine::Cpu;
+        if (!selected || !engineAvailable(p.engine)) return;
         doctest::detail::TestCase testCase(test, file, line, suite, doctest::String(), static_cast<int>(slot));
         testCase.m_full_name = (std::string(name) + " [" + p.label + "]").c_str();
         testCase.m_name = testCase.m_full_name.c_str();
@@ -79,20 +75,20 @@ int registerCases(Registered which, const char* name, const char* file, unsigned
 
 // A test case registered once per backend and pipeline ("name [cpu]", "name
 // [opencl seed]", "name [opencl resident]"), so a failure names the one that
-// failed; the body gets the pipeline's BackendDef as `def`:
+// failed; the body gets the pipeline's EngineDef as `def`:
 //     CAROM_BACKEND_TEST_CASE("periodic: ...") { const Run r = run(def, world, particles, 100); ... }
 #define CAROM_BACKEND_TEST_CASE(name) CAROM_REGISTERED_TEST_CASE_(EveryPipeline, name, DOCTEST_ANONYMOUS(CAROM_CASE_))
 // The same for the OpenCL pipelines only: comparisons of OpenCL against the CPU.
 #define CAROM_OPENCL_TEST_CASE(name) CAROM_REGISTERED_TEST_CASE_(OpenClPipelines, name, DOCTEST_ANONYMOUS(CAROM_CASE_))
 
 #define CAROM_REGISTERED_TEST_CASE_(which, name, body)                                                    \
-    static void body(const ::carom::BackendDef& def);                                                     \
+    static void body(const ::carom::EngineDef& def);                                                      \
     DOCTEST_GLOBAL_NO_WARNINGS(DOCTEST_ANONYMOUS(CAROM_REGISTRATION_),                                    \
                                ::carom::test::registration::registerCases<body>(                          \
                                    ::carom::test::Registered::which, name, __FILE__, __LINE__,            \
                                    doctest_detail_test_suite_ns::getCurrentTestSuite(),                   \
                                    std::make_index_sequence<std::size(::carom::test::kTestPipelines)>())) \
-    static void body(const ::carom::BackendDef& def)
+    static void body(const ::carom::EngineDef& def)
 
 namespace carom::test {
 
@@ -120,7 +116,7 @@ struct Run {
 };
 
 // Runs `steps` steps of `particles` on a fresh backend `def`.
-inline Run run(const BackendDef& def, const WorldDef& world, const std::vector<Particle>& particles,
+inline Run run(const EngineDef& def, const WorldDef& world, const std::vector<Particle>& particles,
                std::uint64_t steps) {
     auto backend = makeBackend(def, world);
     backend->setParticles(particles);
@@ -132,7 +128,7 @@ inline Run run(const BackendDef& def, const WorldDef& world, const std::vector<P
 }
 
 // Runs `steps` steps of `particles` on a fresh backend and returns the result.
-inline std::vector<Particle> simulate(const BackendDef& def, const WorldDef& world,
+inline std::vector<Particle> simulate(const EngineDef& def, const WorldDef& world,
                                       const std::vector<Particle>& particles, std::uint64_t steps,
                                       std::uint64_t* collisions = nullptr, ContactTotals* contacts = nullptr) {
     Run r = run(def, world, particles, steps);

@@ -19,7 +19,7 @@ constexpr std::uint64_t kFirstStep = 1000;
 // The reference: one step at a time on the CPU backend, each state read back
 // and scanned, the first step with a non-finite disk and its lowest id.
 NonFiniteState scanOneStepAtATime(const WorldDef& world, const std::vector<Particle>& particles, std::uint64_t limit) {
-    auto cpu = makeBackend(testBackendDef("cpu"), world);
+    auto cpu = makeBackend(testEngine(ComputeEngine::Cpu), world);
     cpu->setParticles(particles);
     std::vector<Particle> state;
     for (std::uint64_t step = 1; step <= limit; ++step) {
@@ -36,7 +36,7 @@ NonFiniteState scanOneStepAtATime(const WorldDef& world, const std::vector<Parti
     return {};
 }
 
-void checkReported(const BackendDef& def, const WorldDef& world, const std::vector<Particle>& particles,
+void checkReported(const EngineDef& def, const WorldDef& world, const std::vector<Particle>& particles,
                    std::uint64_t steps) {
     const NonFiniteState expected = scanOneStepAtATime(world, particles, steps);
     const std::string message = "the state went non-finite at step " + std::to_string(expected.step) + ": particle " +

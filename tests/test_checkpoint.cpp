@@ -27,7 +27,7 @@ bool sameBits(const std::vector<Particle>& a, const std::vector<Particle>& b) {
 }
 
 // Runs `steps` steps of `start` on backend `def` and checkpoints the result.
-Checkpoint runAndCheckpoint(const BackendDef& def, const Checkpoint& start, std::uint64_t steps) {
+Checkpoint runAndCheckpoint(const EngineDef& def, const Checkpoint& start, std::uint64_t steps) {
     auto backend = makeBackend(def, start.world);
     backend->setParticles(start.particles);
     backend->step(steps);
@@ -51,7 +51,7 @@ std::string small() {
 }
 
 // 2N steps in one run equal N steps, a checkpoint and N resumed, on backend `def`.
-void checkResumeBitForBit(const BackendDef& def, const Scenario& scenario, std::uint64_t half) {
+void checkResumeBitForBit(const EngineDef& def, const Scenario& scenario, std::uint64_t half) {
     const Checkpoint start{scenario.world, 0, 0.0, 0, scenario.particles, std::nullopt};
     const Checkpoint whole = runAndCheckpoint(def, start, 2 * half);
     writeCheckpoint("half.ckpt", runAndCheckpoint(def, start, half));
@@ -102,7 +102,7 @@ CAROM_BACKEND_TEST_CASE("checkpoint: 2000 steps in one run equal 1000, a checkpo
 TEST_CASE("checkpoint: 400 pairwise steps equal 200, a checkpoint and 200 resumed with the same scheme (CPU)") {
     Scenario scenario = polydisperseScenario();
     scenario.world.collisions = CollisionScheme::Pairwise;
-    checkResumeBitForBit(testBackendDef("cpu"), scenario, 200);
+    checkResumeBitForBit(testEngine(ComputeEngine::Cpu), scenario, 200);
 }
 
 TEST_CASE("checkpoint: a version-1 file (before the collision schemes) reads as the simultaneous scheme") {
@@ -161,11 +161,11 @@ CAROM_OPENCL_TEST_CASE("checkpoint: a run resumed on another backend continues b
         MESSAGE("the OpenCL device lacks correctly rounded divide/sqrt: the backends do not agree bitwise");
         return;
     }
-    const BackendDef cpu = testBackendDef("cpu");
+    const EngineDef cpu = testEngine(ComputeEngine::Cpu);
     const Checkpoint start{scenario.world, 0, 0.0, 0, scenario.particles, std::nullopt};
     const Checkpoint whole = runAndCheckpoint(cpu, start, 2000);
     for (const auto& [first, second] : {std::pair{cpu, def}, std::pair{def, cpu}}) {
-        CAPTURE(first.kind);
+        CAPTURE(computeEngineName(first.engine));
         writeCheckpoint("cross.ckpt", runAndCheckpoint(first, start, 1000));
         const Checkpoint resumed = runAndCheckpoint(second, readCheckpoint("cross.ckpt"), 1000);
         CHECK(resumed.collisions == whole.collisions);

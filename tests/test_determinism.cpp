@@ -1,7 +1,7 @@
 // Pinned trajectories (Box2D's determinism test): a fixed scene of 300
 // polydisperse disks, stepped 500 steps with each collision scheme, in a
 // walled box under gravity and in a periodic one, hashed (the final state and
-// the collision count), and the hash compared with a constant written below.
+// the contact totals), and the hash compared with a constant written below.
 // The differential tests catch a backend that drifts from the CPU; these
 // catch a change of results on all backends alike.
 //
@@ -37,12 +37,12 @@ struct Pinned {
 
 // The CPU's hashes, which an OpenCL device with exact arithmetic must equal.
 constexpr Pinned kPinned[] = {
-    {CollisionScheme::Simultaneous, Boundary::Walls, 0x9c33f09f862dc424ull},
-    {CollisionScheme::Simultaneous, Boundary::Periodic, 0x6b52853fe91ab2dbull},
-    {CollisionScheme::Pairwise, Boundary::Walls, 0xa83ec04bd4ec1410ull},
-    {CollisionScheme::Pairwise, Boundary::Periodic, 0x49f84afe2ddcad44ull},
-    {CollisionScheme::Events, Boundary::Walls, 0x4231cf9619d74831ull},
-    {CollisionScheme::Events, Boundary::Periodic, 0x56a69bcd5f84f46full},
+    {CollisionScheme::Simultaneous, Boundary::Walls, 0xf9c06c893c95a36eull},
+    {CollisionScheme::Simultaneous, Boundary::Periodic, 0x608e930d47e1d23full},
+    {CollisionScheme::Pairwise, Boundary::Walls, 0xf53183987e64d6d5ull},
+    {CollisionScheme::Pairwise, Boundary::Periodic, 0x21dda79dbc0237d0ull},
+    {CollisionScheme::Events, Boundary::Walls, 0x75c5b5bb854b73c3ull},
+    {CollisionScheme::Events, Boundary::Periodic, 0xf3aa5687efa1d189ull},
 };
 
 constexpr std::uint64_t kSteps = 500;
@@ -62,6 +62,11 @@ public:
         std::uint32_t bits = 0;
         std::memcpy(&bits, &value, sizeof bits);
         add(bits, 4);
+    }
+    void add(double value) {
+        std::uint64_t bits = 0;
+        std::memcpy(&bits, &value, sizeof bits);
+        add(bits, 8);
     }
     std::uint64_t value() const { return hash_; }
 
@@ -100,7 +105,8 @@ std::string hex(std::uint64_t value) {
 }
 
 // The hash of the disks' positions, velocities, masses and radii in id order
-// and the collision count, after kSteps steps of the fixed scene.
+// and of the contact totals (collisions, virial, wall impulses, substeps,
+// late contacts, rounds), after kSteps steps of the fixed scene.
 std::uint64_t trajectoryHash(Backend& backend) {
     backend.setParticles(fixedScene());
     backend.step(kSteps);
@@ -112,11 +118,17 @@ std::uint64_t trajectoryHash(Backend& backend) {
     for (const Particle& p : disks) {
         for (float value : {p.position.x, p.position.y, p.velocity.x, p.velocity.y, p.mass, p.radius}) hash.add(value);
     }
+    const ContactTotals& totals = backend.contacts();
     hash.add(collisions, 8);
+    hash.add(totals.virial);
+    for (double impulse : totals.wallImpulse) hash.add(impulse);
+    hash.add(totals.substeps, 8);
+    hash.add(totals.lateContacts, 8);
+    hash.add(totals.maxRounds, 4);
     return hash.value();
 }
 
-void checkPinned(const BackendDef& def, CollisionScheme scheme) {
+void checkPinned(const EngineDef& def, CollisionScheme scheme) {
     for (const Pinned& pinned : kPinned) {
         if (pinned.scheme != scheme) continue;
         CAPTURE(std::string(boundaryName(pinned.boundary)));
@@ -145,7 +157,7 @@ CAROM_BACKEND_TEST_CASE("determinism: the pairwise scheme's trajectory of a fixe
 }
 
 TEST_CASE("determinism: the events scheme's trajectory of a fixed scene has the pinned hash (CPU)") {
-    checkPinned(testBackendDef("cpu"), CollisionScheme::Events);
+    checkPinned(testEngine(ComputeEngine::Cpu), CollisionScheme::Events);
 }
 
 TEST_CASE("determinism: the hash is FNV-1a 64") {

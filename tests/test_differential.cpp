@@ -22,7 +22,7 @@ namespace {
 
 // The scene on the CPU and on OpenCL pipeline `def`, compared. `rules` gives
 // dt, gravity, boundary and maxTravel; the box comes from the scene.
-void compareWithCpu(const BackendDef& def, const SceneDef& scene, WorldDef rules, std::uint64_t steps) {
+void compareWithCpu(const EngineDef& def, const SceneDef& scene, WorldDef rules, std::uint64_t steps) {
     const InitialState s = makeInitialState(scene);
     WorldDef world = rules;
     world.width = s.width;
@@ -34,7 +34,8 @@ void compareWithCpu(const BackendDef& def, const SceneDef& scene, WorldDef rules
         steps = 20;
     }
     ContactTotals cpuContacts;
-    const std::vector<Particle> cpu = simulate(testBackendDef("cpu"), world, s.particles, steps, nullptr, &cpuContacts);
+    const std::vector<Particle> cpu =
+        simulate(testEngine(ComputeEngine::Cpu), world, s.particles, steps, nullptr, &cpuContacts);
     REQUIRE_MESSAGE(measure(cpu, world).escaped == 0,
                     "the CPU run itself went unstable: nothing meaningful to compare");
 
@@ -48,7 +49,7 @@ void compareWithCpu(const BackendDef& def, const SceneDef& scene, WorldDef rules
         for (std::size_t i = 0; i < cpu.size(); ++i)
             if (std::memcmp(&cpu[i], &gpu[i], sizeof(Particle)) != 0) ++differing;
         CHECK_MESSAGE(differing == 0, differing << " of " << cpu.size() << " particles differ after " << steps
-                                                << " steps on the " << def.pipeline << " pipeline");
+                                                << " steps on " << computeEngineName(def.engine));
         // Each particle's float tally sums in the same order on both, and the
         // host adds them up in id order: the totals agree exactly.
         const ContactTotals& contacts = opencl->contacts();

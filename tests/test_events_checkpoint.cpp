@@ -63,7 +63,7 @@ Scenario eventsScenario(Boundary boundary, float2 gravity) {
 }
 
 std::unique_ptr<EventDrivenBackend> makeEngine(const WorldDef& world) {
-    std::unique_ptr<Backend> backend = makeTestBackend("cpu", world);
+    std::unique_ptr<Backend> backend = makeBackend(EngineDef{}, world);
     REQUIRE(dynamic_cast<EventDrivenBackend*>(backend.get()) != nullptr);
     return std::unique_ptr<EventDrivenBackend>(static_cast<EventDrivenBackend*>(backend.release()));
 }

@@ -184,7 +184,7 @@ TEST_CASE("pairwise: momentum is conserved to rounding in a periodic box") {
     scene.seed = 4;
     const InitialState s = makeInitialState(scene);
     const WorldDef world = pairwiseWorld(s.width, s.height, 0.01f, {0, 0}, Boundary::Periodic);
-    const Run r = run(testBackendDef("cpu"), world, s.particles, 500);
+    const Run r = run(testEngine(ComputeEngine::Cpu), world, s.particles, 500);
     const Diagnostics before = measure(s.particles, world), after = measure(r.particles, world);
     double scale = 0;  // sum of m |v|: the momentum a rounding error is relative to
     for (const Particle& p : s.particles) scale += p.mass * speed(p);
@@ -247,7 +247,7 @@ TEST_CASE("pairwise: the backend's rounds equal a naive reference bit for bit") 
         CAPTURE(std::string(boundaryName(boundary)));
         const float2 gravity = boundary == Boundary::Walls ? float2{0.0f, -1.0f} : float2{0.0f, 0.0f};
         const WorldDef world = pairwiseWorld(s.width, s.height, 0.01f, gravity, boundary);
-        const Run r = run(testBackendDef("cpu"), world, s.particles, 200);
+        const Run r = run(testEngine(ComputeEngine::Cpu), world, s.particles, 200);
         REQUIRE(r.contacts.substeps == 200);  // the reference takes no substeps
         ContactTotals reference;
         const std::vector<Particle> expected = naivePairwise(s.particles, world, 200, reference);

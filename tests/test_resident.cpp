@@ -169,7 +169,7 @@ TEST_CASE("resident pipeline: steps in several calls, with reads between, equal 
         MESSAGE("the device lacks correctly rounded divide/sqrt: no bitwise comparison");
         return;
     }
-    auto cpu = makeBackend(BackendDef{"cpu", "", "seed"}, world);
+    auto cpu = makeBackend(EngineDef{}, world);
     resident->setParticles(s.particles);
     cpu->setParticles(s.particles);
     for (std::uint64_t steps : {1, 63, 64, 65, 7}) {  // around the backend's sync interval
@@ -188,12 +188,11 @@ TEST_CASE("resident pipeline: steps in several calls, with reads between, equal 
     CHECK(resident->collisions() == cpu->collisions());
 }
 
-TEST_CASE("pipelines: resident needs the OpenCL backend, unknown names are refused") {
+TEST_CASE("pipelines: a value that is not a ComputeEngine is refused") {
     const WorldDef world = box(10, 10);
-    CHECK_THROWS_WITH_AS(makeBackend(BackendDef{"cpu", "", "resident"}, world),
-                         doctest::Contains("--pipeline resident needs --backend opencl"), Error);
-    CHECK_THROWS_WITH_AS(makeBackend(BackendDef{"opencl", "", "fast"}, world),
-                         doctest::Contains("unknown pipeline 'fast'; allowed: seed, resident"), Error);
+    CHECK_THROWS_WITH_AS(makeBackend(EngineDef{static_cast<ComputeEngine>(7), ""}, world),
+                         "WorldDef::engine 7 is not a ComputeEngine; allowed: Cpu, OpenClHostGrid, OpenClResident",
+                         Error);
 }
 
 #endif  // CAROM_HAVE_OPENCL
@@ -210,7 +209,7 @@ TEST_CASE("all pairs: the naive baselines find the grid search's collisions") {
 #ifdef CAROM_HAVE_OPENCL
     naive.push_back(makeOpenCl<bench::AllPairsOpenClBackend>(world));
 #endif
-    auto grid = makeBackend(BackendDef{"cpu", "", "seed"}, world);
+    auto grid = makeBackend(EngineDef{}, world);
     grid->setParticles(ps);
     grid->step(1);
     const std::vector<Particle> expected = read(*grid);

@@ -378,7 +378,7 @@ TEST_CASE("scenes/: every shipped scene runs on the CPU and stays in its box") {
     for (const ShippedScene& scene : scenes) {
         CAPTURE(scene.file.path);
         const std::vector<Particle> end =
-            simulate(testBackendDef("cpu"), scene.world, scene.initial.particles, scene.file.steps);
+            simulate(testEngine(ComputeEngine::Cpu), scene.world, scene.initial.particles, scene.file.steps);
         const Diagnostics d = measure(end, scene.world);
         CHECK(d.escaped == 0);
         CHECK(std::isfinite(d.kineticEnergy));
@@ -396,7 +396,7 @@ CAROM_OPENCL_TEST_CASE("scenes/: every shipped scene agrees with the CPU bit for
             return;
         }
         const std::uint64_t steps = std::min<std::uint64_t>(scene.file.steps, 200);
-        const auto a = simulate(testBackendDef("cpu"), scene.world, scene.initial.particles, steps);
+        const auto a = simulate(testEngine(ComputeEngine::Cpu), scene.world, scene.initial.particles, steps);
         const auto b = simulate(def, scene.world, scene.initial.particles, steps);
         CHECK(std::memcmp(a.data(), b.data(), a.size() * sizeof(Particle)) == 0);
     }

@@ -52,12 +52,6 @@ std::vector<Particle> particlesOf(const std::vector<Disk>& disks) {
     return particles;
 }
 
-// The compute engine that runs what `def` names.
-ComputeEngine engineOf(const BackendDef& def) {
-    if (def.kind == "cpu") return ComputeEngine::Cpu;
-    return def.pipeline == "resident" ? ComputeEngine::OpenClResident : ComputeEngine::OpenClHostGrid;
-}
-
 bool sameBits(const Disk& a, const Particle& b) {
     return std::memcmp(&a.position, &b.position, 8) == 0 && std::memcmp(&a.velocity, &b.velocity, 8) == 0 &&
            a.mass == b.mass && a.radius == b.radius;
@@ -68,7 +62,7 @@ bool sameBits(const Disk& a, const Particle& b) {
 // Both schemes that step, both boundaries: the World's disks, collisions and
 // observables equal a backend's run of the same particles, bit for bit.
 CAROM_BACKEND_TEST_CASE("world: steps bit for bit as its backend, with the same observables") {
-    const ComputeEngine engine = engineOf(def);
+    const ComputeEngine engine = def.engine;
     const Scene scene = gas(2000, 0.45f);
     for (CollisionScheme scheme : {CollisionScheme::Pairwise, CollisionScheme::Simultaneous}) {
         for (Boundary boundary : {Boundary::Walls, Boundary::Periodic}) {

@@ -23,7 +23,7 @@ carom_cli_test(validate_unwritable_json fail "cannot write '/nonexistent-dir/val
 carom_cli_test(validate_report_not_a_folder fail "cannot create the report folder '/dev/null/report'"
                "validate|--quick|--report|/dev/null/report|--json|${out}")
 if(OpenCL_FOUND)
-    carom_cli_test(validate_device_out_of_range fail "--device 99: no such device index"
+    carom_cli_test(validate_device_out_of_range fail "device 99 \\(WorldDef::device, --device\\): no such device index"
                    "${validate}|--backend|opencl|--device|99")
 endif()
 

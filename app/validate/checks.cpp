@@ -8,6 +8,8 @@
 #include <ostream>
 #include <sstream>
 
+#include <carom/world.h>
+
 #include "app/validate/events.h"
 #include "app/validate/runs.h"
 #include "backends/backend.h"
@@ -276,7 +278,7 @@ std::array<Particle, 2> approachingPair(double projectileMass, double targetMass
 
 // Two disks in a box far larger than their paths, stepped until they have
 // collided and moved apart.
-std::array<Vector, 2> simulatePair(const BackendDef& def, const std::array<Particle, 2>& pair) {
+std::array<Vector, 2> simulatePair(const EngineDef& def, const std::array<Particle, 2>& pair) {
     WorldDef world;
     world.width = world.height = 100.0f;
     world.dt = kExactDt;
@@ -309,7 +311,7 @@ void addAngleCheck(std::vector<Check>& checks, const std::string& name, double m
                                "|angle - exact| <= 1e-3 degrees"));
 }
 
-void headOn(const BackendDef& def, double m1, double m2, double v1, double expected1, double expected2,
+void headOn(const EngineDef& def, double m1, double m2, double v1, double expected1, double expected2,
             std::vector<Check>& checks) {
     const auto out = simulatePair(def, approachingPair(m1, m2, v1, 0));
     const std::string name = "head-on, m = " + format("%g", m1) + " and " + format("%g", m2) + ": v";
@@ -318,7 +320,7 @@ void headOn(const BackendDef& def, double m1, double m2, double v1, double expec
 }
 
 // Equal masses, target at rest, impact parameter sigma / 2.
-void glancing(const BackendDef& def, std::vector<Check>& checks) {
+void glancing(const EngineDef& def, std::vector<Check>& checks) {
     const double v = 1.0;
     const auto out = simulatePair(def, approachingPair(1, 1, v, 1));
     const double projectileAngle = angleOf(out[0]) / kDegree, targetAngle = angleOf(out[1]) / kDegree;
@@ -332,7 +334,7 @@ void glancing(const BackendDef& def, std::vector<Check>& checks) {
 // A projectile of mass 4 on a target of mass 1 at impact parameters across
 // the disk: each deflection against the formula, and the largest against
 // the bound asin(m2 / m1).
-void heavyProjectile(const BackendDef& def, std::vector<Check>& checks) {
+void heavyProjectile(const EngineDef& def, std::vector<Check>& checks) {
     const double m1 = 4.0, m2 = 1.0, bound = std::asin(m2 / m1) / kDegree;
     double largest = 0.0, worst = 0.0;
     for (int k = 1; k <= 9; ++k) {
@@ -351,7 +353,7 @@ void heavyProjectile(const BackendDef& def, std::vector<Check>& checks) {
 
 // One disk between walls: the period of its x motion from the times it
 // leaves the left wall (vx turning positive), against 2 (L - 2r) / |v_x|.
-void wallBounce(const BackendDef& def, std::vector<Check>& checks) {
+void wallBounce(const EngineDef& def, std::vector<Check>& checks) {
     WorldDef world;
     world.width = 10.0f;
     world.height = 7.0f;
@@ -396,15 +398,11 @@ constexpr double kMomentumTolerance = 1e-5;  // of sum m|v|
 // collision of every disk. (Random signs would give far less.)
 constexpr double kRoundingPerCollision = 0x1.0p-24;
 
-std::vector<BackendDef> everyBackend(const BackendDef& chosen) {
-    std::vector<BackendDef> defs;
-    for (const std::string& kind : availableBackends()) {
-        if (kind != "opencl") {
-            defs.push_back(BackendDef{kind, "", "seed"});
-            continue;
-        }
-        for (const char* pipeline : {"seed", "resident"}) defs.push_back(BackendDef{kind, chosen.device, pipeline});
-    }
+std::vector<EngineDef> everyBackend(const EngineDef& chosen) {
+    std::vector<EngineDef> defs;
+    for (ComputeEngine engine : {ComputeEngine::Cpu, ComputeEngine::OpenClHostGrid, ComputeEngine::OpenClResident})
+        if (engineAvailable(engine))
+            defs.push_back(EngineDef{engine, engine == ComputeEngine::Cpu ? "" : chosen.device});
     return defs;
 }
 
@@ -414,9 +412,9 @@ std::vector<ConservationRun> conservation(const SuiteOptions& o, std::vector<Che
     const std::uint32_t particles = o.quick ? 1024 : 4096;
     const Box box = periodicBox(particles, packing, o.dt, o.seed);
     const Diagnostics start = measure(box.particles, box.world);
-    for (const BackendDef& def : everyBackend(o.backend)) {
+    for (const EngineDef& def : everyBackend(o.backend)) {
         ConservationRun run;
-        run.backend = def.kind == "opencl" ? "opencl " + def.pipeline : def.kind;
+        run.backend = engineLabel(def.engine);
         run.particles = particles;
         run.packing = packing;
         run.dt = o.dt;
@@ -618,13 +616,23 @@ bool SuiteResult::passed() const {
     return std::all_of(checks.begin(), checks.end(), [](const Check& c) { return c.passed; });
 }
 
-std::string describeBackend(const BackendDef& def) {
+std::string describeBackend(const EngineDef& def) {
     WorldDef world;
     world.width = world.height = 10.0f;
     world.collisions = CollisionScheme::Pairwise;  // refuses a backend that cannot run the suite
     const std::unique_ptr<Backend> backend = makeBackend(def, world);
-    return backend->name() + (def.kind == "opencl" ? " (" + def.pipeline + " pipeline)" : "") + ": " +
+    const std::string pipeline = def.engine == ComputeEngine::OpenClResident ? "resident" : "seed";
+    return backend->name() + (def.engine != ComputeEngine::Cpu ? " (" + pipeline + " pipeline)" : "") + ": " +
            backend->device();
+}
+
+std::string engineLabel(ComputeEngine engine) {
+    switch (engine) {
+        case ComputeEngine::Cpu: return "cpu";
+        case ComputeEngine::OpenClHostGrid: return "opencl seed";
+        case ComputeEngine::OpenClResident: return "opencl resident";
+    }
+    return "unknown";
 }
 
 namespace {

@@ -34,7 +34,7 @@ constexpr std::uint32_t kMaxEosParticles = 1'000'000;
 
 struct SuiteOptions {
     bool quick = false;      // the reduced suite for CI
-    BackendDef backend;      // runs every section but the per-backend conservation runs
+    EngineDef backend;       // runs every section but the per-backend conservation runs
     std::uint64_t seed = 1;  // initial positions and velocities
     float dt = kDefaultDt;   // the step of the equation-of-state, relaxation, conservation, dense and gravity runs
     std::uint32_t eosParticles = 0;  // N of the equation-of-state runs; 0 = the suite's default
@@ -327,7 +327,10 @@ struct SuiteResult {
 
 // The backend and device `def` selects, in words; throws Error for a bad
 // kind, device or pipeline, so a run can refuse them before any work.
-std::string describeBackend(const BackendDef& def);
+std::string describeBackend(const EngineDef& def);
+
+// "cpu", "opencl seed" or "opencl resident": the command line's names of an engine.
+std::string engineLabel(ComputeEngine engine);
 
 // Runs the whole suite, printing one progress line per run to `progress`.
 SuiteResult runSuite(const SuiteOptions& options, std::ostream& progress);

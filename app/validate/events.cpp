@@ -224,7 +224,7 @@ TrajectoryResult stepTrajectories(const SuiteOptions& o, std::vector<Check>& che
         result.eventCollisions += backend.eventCounts().collisions;
         result.eventWallBounces += backend.eventCounts().wallBounces;
     }
-    const BackendDef cpu{"cpu", "", "seed"};
+    const EngineDef cpu;
     double dt = kLargestDt;
     for (int k = 0; k <= kHalvings; ++k, dt /= 2) {
         TrajectoryPoint point;

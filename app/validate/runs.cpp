@@ -81,7 +81,7 @@ Box periodicBox(std::uint32_t particles, double packing, float dt, std::uint64_t
 
 std::uint64_t stepsFor(double time, double dt) { return std::max<std::uint64_t>(1, std::llround(time / dt)); }
 
-std::unique_ptr<Backend> loaded(const BackendDef& def, const Box& box) {
+std::unique_ptr<Backend> loaded(const EngineDef& def, const Box& box) {
     std::unique_ptr<Backend> backend = makeBackend(def, box.world);
     backend->setParticles(box.particles);
     return backend;

@@ -43,7 +43,7 @@ Box periodicBox(std::uint32_t particles, double packing, float dt, std::uint64_t
 std::uint64_t stepsFor(double time, double dt);
 
 // The backend `def` on a box, loaded with its particles.
-std::unique_ptr<Backend> loaded(const BackendDef& def, const Box& box);
+std::unique_ptr<Backend> loaded(const EngineDef& def, const Box& box);
 
 // Continues the backend's run (a periodic box of equal disks) for `blocks`
 // blocks of `blockTime`, measuring each from the contacts the backend

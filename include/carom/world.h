@@ -75,6 +75,21 @@ struct EventCounts {
 // engines when carom was built with OpenCL, whatever devices there are).
 bool engineAvailable(ComputeEngine engine);
 
+// An OpenCL device the OpenCL engines can run on.
+struct Device {
+    int index = 0;                            // its position in listDevices(), across all platforms: a WorldDef::device
+    std::string name;                         // the device's name (part of it is a WorldDef::device too)
+    std::string platform;                     // the OpenCL platform's name
+    std::string type;                         // "GPU", "CPU", "accelerator", ...
+    std::string version;                      // the device's OpenCL version
+    std::uint64_t memoryBytes = 0;            // global memory [bytes]
+    bool correctlyRoundedDivideSqrt = false;  // whether results are bitwise the CPU engine's there
+};
+
+// Every OpenCL device of every platform. Throws Error when this build has no
+// OpenCL, or the machine no OpenCL platform or device.
+std::vector<Device> listDevices();
+
 class World {
 public:
     // Checks every field of `def` (finite, in range, an engine this build
