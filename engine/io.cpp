@@ -1,11 +1,16 @@
 // carom::io (include/carom/io.h): the file readers and writers, on the public types.
 #include <carom/io.h>
 
+#include <utility>
+
 #include "backends/event_driven_backend.h"
 #include "engine/checkpoint.h"
 #include "engine/disk_conversion.h"
 #include "engine/scene_file.h"
+#include "engine/diagnostics.h"
 #include "engine/state_csv.h"
+#include "engine/stats.h"
+#include "engine/trajectory.h"
 #include "engine/world_impl.h"
 
 namespace carom::io {
@@ -60,5 +65,49 @@ World loadCheckpoint(const std::string& path, const WorldDef& def) {
     }
     return world;
 }
+
+// The engine's writers, built in place (they own an open file and do not move).
+template <class Writer>
+struct Owned {
+    template <class... Arguments>
+    explicit Owned(Arguments&&... arguments) : file(std::forward<Arguments>(arguments)...) {}
+    Writer file;
+};
+
+struct TrajectoryWriter::Impl : Owned<carom::TrajectoryWriter> {
+    using Owned::Owned;
+};
+
+TrajectoryWriter::TrajectoryWriter(const std::string& path) : impl_(std::make_unique<Impl>(path)) {}
+TrajectoryWriter::TrajectoryWriter(const std::string& path, const World& resumed)
+    : impl_(std::make_unique<Impl>(path, resumed.stepCount(), resumed.diskCount())) {}
+TrajectoryWriter::~TrajectoryWriter() = default;
+TrajectoryWriter::TrajectoryWriter(TrajectoryWriter&&) noexcept = default;
+TrajectoryWriter& TrajectoryWriter::operator=(TrajectoryWriter&&) noexcept = default;
+
+void TrajectoryWriter::write(const World& world) {
+    auto& state = WorldAccess::of(world);
+    impl_->file.write(state.current(), state.def, world.stepCount(), world.time());
+}
+std::size_t TrajectoryWriter::frames() const { return impl_->file.frames(); }
+void TrajectoryWriter::close() { impl_->file.commit(); }
+
+struct StatisticsWriter::Impl : Owned<StatsWriter> {
+    using Owned::Owned;
+};
+
+StatisticsWriter::StatisticsWriter(const std::string& path) : impl_(std::make_unique<Impl>(path)) {}
+StatisticsWriter::StatisticsWriter(const std::string& path, const World& resumed)
+    : impl_(std::make_unique<Impl>(path, resumed.stepCount())) {}
+StatisticsWriter::~StatisticsWriter() = default;
+StatisticsWriter::StatisticsWriter(StatisticsWriter&&) noexcept = default;
+StatisticsWriter& StatisticsWriter::operator=(StatisticsWriter&&) noexcept = default;
+
+void StatisticsWriter::write(const World& world) {
+    auto& state = WorldAccess::of(world);
+    impl_->file.write(world.stepCount(), world.time(), measure(state.current(), state.def), world.collisionCount());
+}
+std::size_t StatisticsWriter::rows() const { return impl_->file.rows(); }
+void StatisticsWriter::close() { impl_->file.commit(); }
 
 }  // namespace carom::io

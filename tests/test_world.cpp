@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include <carom/carom.h>
 #include <carom/io.h>
@@ -315,4 +317,76 @@ TEST_CASE("world: compute engines by name, and which this build has") {
     World empty(def);
     CHECK(empty.disks().empty());
     CHECK(empty.kineticEnergy() == 0.0);
+}
+
+namespace {
+
+std::string fileText(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+}  // namespace
+
+TEST_CASE("io: trajectories and statistics of a resumed world continue the files bit for bit") {
+    const Scene scene = gas(200, 0.3f);
+    const auto folder = std::filesystem::temp_directory_path() / "carom_world_outputs";
+    std::filesystem::remove_all(folder);
+    std::filesystem::create_directories(folder);
+    const auto path = [&](const char* name) { return (folder / name).string(); };
+    const WorldDef def = worldFor(scene, ComputeEngine::Cpu, Boundary::Walls);
+
+    // One run of 100 steps, sampled every 25.
+    World whole(def);
+    whole.setDisks(scene.disks);
+    io::TrajectoryWriter trajectory(path("whole.xyz"));
+    io::StatisticsWriter statistics(path("whole.csv"));
+    for (int sample = 0; sample <= 4; ++sample) {
+        if (sample > 0) whole.step(25);
+        trajectory.write(whole);
+        statistics.write(whole);
+    }
+    CHECK(trajectory.frames() == 5);
+    CHECK(statistics.rows() == 5);
+    CHECK_FALSE(std::filesystem::exists(path("whole.xyz")));  // not before close()
+    trajectory.close();
+    statistics.close();
+
+    // The same in two runs, the second resumed from the first's checkpoint.
+    {
+        World first(def);
+        first.setDisks(scene.disks);
+        io::TrajectoryWriter t(path("split.xyz"));
+        io::StatisticsWriter s(path("split.csv"));
+        for (int sample = 0; sample <= 2; ++sample) {
+            if (sample > 0) first.step(25);
+            t.write(first);
+            s.write(first);
+        }
+        io::saveCheckpoint(path("split.ckpt"), first);
+        t.close();
+        s.close();
+    }
+    World second = io::loadCheckpoint(path("split.ckpt"));
+    io::TrajectoryWriter t(path("split.xyz"), second);
+    io::StatisticsWriter s(path("split.csv"), second);
+    for (int sample = 3; sample <= 4; ++sample) {
+        second.step(25);
+        t.write(second);
+        s.write(second);
+    }
+    t.close();
+    s.close();
+    CHECK(fileText(path("split.xyz")) == fileText(path("whole.xyz")));
+    CHECK(fileText(path("split.csv")) == fileText(path("whole.csv")));
+    CHECK(fileText(path("whole.xyz")).rfind("200\n", 0) == 0);
+
+    // A writer dropped without close() leaves no file; a trajectory that ran
+    // past the resumed step is refused.
+    { io::TrajectoryWriter dropped(path("dropped.xyz")); }
+    CHECK_FALSE(std::filesystem::exists(path("dropped.xyz")));
+    World early(def);
+    early.setDisks(scene.disks);
+    CHECK_THROWS_AS(io::TrajectoryWriter(path("whole.xyz"), early), Error);
+    std::filesystem::remove_all(folder);
 }

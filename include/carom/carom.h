@@ -1,8 +1,8 @@
 // carom: 2D elastic disk collisions, on the CPU or an OpenCL device.
 //
 // The whole public API: carom/types.h (definitions and limits) and
-// carom/world.h (World). Files (scene files, state CSV, checkpoints) are in
-// carom/io.h, a separate library (carom::io).
+// carom/world.h (World). Files (scene files, state CSV, checkpoints,
+// trajectories, statistics) are in carom/io.h, a separate library (carom::io).
 #pragma once
 
 #include <carom/types.h>

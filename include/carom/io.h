@@ -2,14 +2,16 @@
 // public types. The formats are the README's: scene files ("Scene files"),
 // state CSV (`id,x,y,vx,vy,mass,radius`, floats as the shortest text that
 // reads back bit for bit), checkpoints ("Checkpoints": a versioned binary
-// file with a checksum).
+// file with a checksum), trajectories (extended XYZ) and statistics (CSV).
 //
 // Files are written whole or not at all: through a temporary file renamed
 // into place, so a failure leaves the old file as it was. Every refusal is a
 // carom::Error naming the file, the line and what is allowed.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -41,5 +43,52 @@ void writeState(const std::string& path, const std::vector<Disk>& disks);
 // or out of range, naming what is wrong.
 void saveCheckpoint(const std::string& path, const World& world);
 World loadCheckpoint(const std::string& path, const WorldDef& def = WorldDef{});
+
+// Trajectories as extended XYZ (README, "Output files"), which OVITO and ASE
+// read: write() adds a frame of the world's disks at its stepCount() and
+// time(). The frames stream into a temporary file beside `path`, renamed
+// into place by close(); a writer destroyed without close() leaves `path`
+// as it was. Throws Error, naming the file, when it cannot be opened or a
+// write fails (a full disk).
+class TrajectoryWriter {
+public:
+    explicit TrajectoryWriter(const std::string& path);
+    // Continues the trajectory at `path` that a run wrote up to the step
+    // `resumed` holds (a world loaded from that run's checkpoint); refuses a
+    // file whose last frame is after that step or has another disk count.
+    TrajectoryWriter(const std::string& path, const World& resumed);
+    ~TrajectoryWriter();
+    TrajectoryWriter(TrajectoryWriter&&) noexcept;
+    TrajectoryWriter& operator=(TrajectoryWriter&&) noexcept;
+
+    void write(const World& world);
+    std::size_t frames() const;  // written by this writer
+    void close();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+// Statistics as CSV, a row per write(): step, time, kinetic energy,
+// momentum, collisionCount(), the deepest overlap and the disks outside the
+// box (README, "Output files"). Written and closed as TrajectoryWriter.
+class StatisticsWriter {
+public:
+    explicit StatisticsWriter(const std::string& path);
+    // Continues the statistics at `path` up to the step `resumed` holds.
+    StatisticsWriter(const std::string& path, const World& resumed);
+    ~StatisticsWriter();
+    StatisticsWriter(StatisticsWriter&&) noexcept;
+    StatisticsWriter& operator=(StatisticsWriter&&) noexcept;
+
+    void write(const World& world);
+    std::size_t rows() const;  // written by this writer
+    void close();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace carom::io
