@@ -225,10 +225,13 @@ WorldDef withEngine(WorldDef world, const SceneOptions& o) {
             "--collisions events runs on the CPU only (one thread, double precision): use --backend cpu "
             "with it, or --collisions pairwise on --backend " +
             def.kind);
-    if (def.kind == "cpu") return onEngine(world, EngineDef{});
-    const bool resident = def.pipeline == "resident";
-    return onEngine(world,
-                    EngineDef{resident ? ComputeEngine::OpenClResident : ComputeEngine::OpenClHostGrid, def.device});
+    return onEngine(world, engineOf(def));
+}
+
+EngineDef engineOf(const BackendOptions& backend) {
+    if (backend.kind == "cpu") return EngineDef{};
+    const bool resident = backend.pipeline == "resident";
+    return EngineDef{resident ? ComputeEngine::OpenClResident : ComputeEngine::OpenClHostGrid, backend.device};
 }
 
 void refuseSubstepsWithEvents(const WorldDef& world, const std::string& asked) {

@@ -58,6 +58,10 @@ struct Setup {
 // and for requests that cannot fit in memory, before allocating them.
 Setup makeSetup(const SceneOptions& options);
 
+// The engine --backend KIND --pipeline PIPELINE --device DEVICE name
+// (the values CLI11 has already checked).
+EngineDef engineOf(const BackendOptions& backend);
+
 // `world` with the compute engine and device the options ask for
 // (--backend, default OpenCL where this build has it; --pipeline), but on
 // the CPU for the events scheme; refuses an OpenCL --backend, --device or

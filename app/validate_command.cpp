@@ -77,9 +77,7 @@ int validateCommand(const ValidateOptions& o) {
     suite.quick = o.quick;
     if (o.backend == "cpu" && o.pipeline != "seed")
         throw Error("--pipeline " + o.pipeline + " needs --backend opencl; the CPU backend has one pipeline");
-    if (o.backend == "opencl")
-        suite.backend = EngineDef{
-            o.pipeline == "resident" ? ComputeEngine::OpenClResident : ComputeEngine::OpenClHostGrid, o.device};
+    suite.backend = engineOf(BackendOptions{o.backend, o.device, o.pipeline});
     suite.seed = o.seed;
     suite.dt = o.dt;
     suite.eosParticles = o.particles;

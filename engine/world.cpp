@@ -60,21 +60,22 @@ void World::Impl::start(std::vector<Particle> particles, std::uint64_t startStep
                         std::uint64_t collisions) {
     warnings = validateStart(particles, def, "disks");
     if (std::string slow = gridCostWarning(particles, def); !slow.empty()) warnings.push_back(std::move(slow));
-    backend->setParticles(particles, startStep);
-    step = motionStep = startStep;
+    load(std::move(particles), startStep, collisions);
+    motionStep = startStep;
     motionTime = startTime;
-    collisionsBefore = collisions;
-    state = std::move(particles);
-    stateCurrent = true;
-    intervalStartTemperature = carom::temperature(state, def.boundary);
 }
 
 void World::Impl::edit(std::vector<Particle> particles) {
-    const std::uint64_t collisions = collisionsBefore + backend->contacts().collisions;
-    backend->setParticles(particles, step);
+    load(std::move(particles), step, collisionsBefore + backend->contacts().collisions);
+}
+
+void World::Impl::load(std::vector<Particle> particles, std::uint64_t atStep, std::uint64_t collisions) {
+    backend->setParticles(particles, atStep);
+    step = atStep;
     collisionsBefore = collisions;
     state = std::move(particles);
     stateCurrent = true;
+    motionCurrent = false;
     intervalStartTemperature = carom::temperature(state, def.boundary);
 }
 
@@ -157,21 +158,22 @@ void World::setMotion(float dt, Vec2 gravity) {
     impl_->backend->setMotion(dt, gravity);
     impl_->def.dt = dt;
     impl_->def.gravity = gravity;
+    impl_->motionCurrent = false;  // the potential energy depends on gravity
 }
 
 const WorldDef& World::def() const { return impl_->def; }
 
 const std::vector<std::string>& World::warnings() const { return impl_->warnings; }
 
-double World::kineticEnergy() const { return measureMotion(impl_->current(), impl_->def).kineticEnergy; }
+double World::kineticEnergy() const { return impl_->motion().kineticEnergy; }
 
-double World::potentialEnergy() const { return measureMotion(impl_->current(), impl_->def).potentialEnergy; }
+double World::potentialEnergy() const { return impl_->motion().potentialEnergy; }
 
-std::array<double, 2> World::momentum() const { return measureMotion(impl_->current(), impl_->def).momentum; }
+std::array<double, 2> World::momentum() const { return impl_->motion().momentum; }
 
 double World::totalEnergy() const {
     if (auto* events = dynamic_cast<const EventDrivenBackend*>(impl_->backend.get())) return events->totalEnergy();
-    return measureMotion(impl_->current(), impl_->def).totalEnergy();
+    return impl_->motion().totalEnergy();
 }
 
 EventCounts World::eventCounts() const {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "backends/backend.h"
+#include "engine/diagnostics.h"
 
 namespace carom {
 
@@ -23,23 +24,38 @@ struct World::Impl {
     std::uint64_t collisionsBefore = 0;     // since the scene began, before the measurements' interval
     std::vector<std::string> warnings;      // the last start's (validateStart)
     double intervalStartTemperature = 0.0;  // kT when the measurements' interval began
-    // The state as last read from the backend, while it is current.
+    // The state as last read from the backend, and its energies and
+    // momentum, while they are current (one read and one pass per state,
+    // however many observables a caller asks for).
     std::vector<Particle> state;
     bool stateCurrent = false;
+    Diagnostics stateMotion;
+    bool motionCurrent = false;
 
     double time() const { return motionTime + double(step - motionStep) * def.dt; }
     const std::vector<Particle>& current() {
         if (!stateCurrent && backend->particleCount() > 0) {
             backend->readParticles(state);
             stateCurrent = true;
+            motionCurrent = false;
         }
         return state;
+    }
+    const Diagnostics& motion() {
+        current();
+        if (!motionCurrent) {
+            stateMotion = measureMotion(state, def);
+            motionCurrent = true;
+        }
+        return stateMotion;
     }
     // Starts from `particles`, which hold step `step` of a scene in which
     // `collisions` pairs collided so far.
     void start(std::vector<Particle> particles, std::uint64_t step, double time, std::uint64_t collisions);
     // Replaces the state with an edited one, at the same step and collision count.
     void edit(std::vector<Particle> particles);
+    // Loads `particles` as the state at `step`, with `collisions` so far.
+    void load(std::vector<Particle> particles, std::uint64_t step, std::uint64_t collisions);
 };
 
 struct WorldAccess {

@@ -14,6 +14,7 @@
 #include <carom/io.h>
 
 #include "engine/diagnostics.h"
+#include "engine/disk_conversion.h"
 #include "engine/observables.h"
 #include "engine/scene_file.h"
 #include "support.h"
@@ -47,13 +48,6 @@ WorldDef worldFor(const Scene& scene, ComputeEngine engine, Boundary boundary) {
     return def;
 }
 
-std::vector<Particle> particlesOf(const std::vector<Disk>& disks) {
-    std::vector<Particle> particles;
-    for (const Disk& d : disks)
-        particles.push_back(disk(d.position.x, d.position.y, d.velocity.x, d.velocity.y, d.mass, d.radius));
-    return particles;
-}
-
 bool sameBits(const Disk& a, const Particle& b) {
     return std::memcmp(&a.position, &b.position, 8) == 0 && std::memcmp(&a.velocity, &b.velocity, 8) == 0 &&
            a.mass == b.mass && a.radius == b.radius;
@@ -75,7 +69,7 @@ CAROM_BACKEND_TEST_CASE("world: steps bit for bit as its backend, with the same 
             World world(spec);
             world.setDisks(scene.disks);
             world.step(60);
-            const Run expected = run(def, spec, particlesOf(scene.disks), 60);
+            const Run expected = run(def, spec, particlesOf(scene.disks.data(), scene.disks.size()), 60);
 
             const std::vector<Disk> disks = world.disks();
             REQUIRE(disks.size() == expected.particles.size());
@@ -93,7 +87,7 @@ CAROM_BACKEND_TEST_CASE("world: steps bit for bit as its backend, with the same 
             CHECK(world.kineticEnergy() == d.kineticEnergy);
             CHECK(world.potentialEnergy() == d.potentialEnergy);
             CHECK(world.momentum() == d.momentum);
-            const double startT = temperature(particlesOf(scene.disks), boundary);
+            const double startT = temperature(particlesOf(scene.disks.data(), scene.disks.size()), boundary);
             const double endT = temperature(expected.particles, boundary);
             CHECK(world.temperature() == endT);
             const Thermodynamics t = thermodynamics(expected.contacts, 0.5 * (startT + endT), disks.size(), spec);
