@@ -7,16 +7,14 @@
 #include <optional>
 #include <sstream>
 
-#include "app/available_memory.h"
+#include <carom/io.h>
 #include "app/commands.h"
 #include "app/host_info.h"
 #include "app/number_options.h"
 #include "bench/report.h"
-#include "engine/atomic_file.h"
+#include <carom/files.h>
 #include "engine/grid.h"
-#include "engine/number_text.h"
-#include "engine/resources.h"
-#include "engine/text_format.h"
+#include <carom/world.h>
 
 namespace carom::app {
 
@@ -42,15 +40,15 @@ constexpr std::size_t kQuickBandwidthBytes = std::size_t(16) << 20;
 std::uint32_t parseSize(const std::string& text, std::uint64_t availableBytes) {
     double value = NAN;
     try {
-        value = parseRealNumber(text);
+        value = io::parseRealNumber(text);
     } catch (const Error&) {  // refused below, with the range
     }
-    const std::string allowed = wholeNumbersAllowed(1, kMaxParticles) + ", such as 1000 or 1.6e7";
+    const std::string allowed = io::wholeNumbersAllowed(1, kMaxParticles) + ", such as 1000 or 1.6e7";
     if (!(value >= 1) || value != std::floor(value))
-        throw Error("--sizes: '" + printable(text) + "' is not a number of particles; " + allowed);
+        throw Error("--sizes: '" + io::printable(text) + "' is not a number of particles; " + allowed);
     if (value > double(kMaxParticles))
-        throw Error("--sizes: '" + printable(text) + "' is too many particles; " + allowed);
-    requireRoomFor(std::uint64_t(value), availableBytes, ("--sizes " + text).c_str());
+        throw Error("--sizes: '" + io::printable(text) + "' is too many particles; " + allowed);
+    requireRoomFor(std::uint64_t(value), "--sizes " + text, availableBytes);
     return static_cast<std::uint32_t>(value);
 }
 
@@ -111,9 +109,7 @@ std::vector<Variant> chosenVariants(const BenchOptions& o) {
     const bool events =
         std::any_of(variants.begin(), variants.end(), [](const Variant& v) { return v.method.eventDriven; });
     if (events && !(o.speed > 0)) {
-        std::string speed;
-        appendNumber(speed, o.speed);
-        throw Error("--speed " + speed +
+        throw Error("--speed " + io::shortestText(o.speed) +
                     ": the events method times collisions, and disks at rest never collide; give --speed > 0 "
                     "(or leave events out of --methods)");
     }
@@ -261,7 +257,7 @@ int benchCommand(const BenchOptions& o) {
         throw Error(message.str());
     }
     // Refuse unwritable outputs before the sweep, not after it.
-    std::optional<AtomicFile> json, csv, plot;
+    std::optional<io::AtomicFile> json, csv, plot;
     if (!o.json.empty()) json.emplace(o.json);
     if (!o.csv.empty()) csv.emplace(o.csv);
     if (!o.plot.empty()) plot.emplace(o.plot);

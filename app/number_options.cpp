@@ -1,7 +1,8 @@
 #include "app/number_options.h"
 
-#include "engine/carom.h"
-#include "engine/number_text.h"
+#include <carom/io.h>
+
+#include <carom/types.h>
 
 namespace carom::app {
 namespace {
@@ -26,12 +27,12 @@ CLI::Validator refusingErrors(Check check) {
 
 CLI::Validator wholeNumber(std::uint64_t min, std::uint64_t max) {
     return refusingErrors([min, max](std::string& text) {
-        text = std::to_string(parseWholeNumber(text, min, max));  // no leading 0 for CLI11 to read as octal
+        text = std::to_string(io::parseWholeNumber(text, min, max));  // no leading 0 for CLI11 to read as octal
     });
 }
 
 CLI::Validator realNumber() {
-    return refusingErrors([](std::string& text) { parseRealNumber(text); });
+    return refusingErrors([](std::string& text) { io::parseRealNumber(text); });
 }
 
 }  // namespace carom::app

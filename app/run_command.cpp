@@ -23,19 +23,17 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/available_memory.h"
 #include "app/commands.h"
 #include "app/number_options.h"
 #include "app/stop_signals.h"
 #include "backends/backend.h"
 #include "backends/event_driven_backend.h"
-#include "engine/atomic_file.h"
+#include <carom/files.h>
 #include "engine/checkpoint.h"
 #include "engine/diagnostics.h"
 #include "engine/output_paths.h"
 #include "engine/state_csv.h"
 #include "engine/stats.h"
-#include "engine/text_format.h"
 #include "engine/trajectory.h"
 
 namespace carom::app {
@@ -168,7 +166,7 @@ public:
         if (!def_.stats.empty()) stats_.emplace(def_.stats, resumedAt);
         // Opening a FIFO would wait for its reader, and closing it would end the reader's input.
         for (const std::string& path : {def_.checkpoint, def_.state})
-            if (!path.empty() && !isSpecialFile(path)) AtomicFile probe(path);
+            if (!path.empty() && !io::isSpecialFile(path)) io::AtomicFile probe(path);
     }
 
     // Writes the checkpoint, a frame and a row at `step`. An output whose
@@ -301,21 +299,21 @@ private:
     static void requireDistinctPaths(const Start& start) {
         const std::vector<NamedFile>& outputs = start.outputFiles;
         for (const NamedFile& a : outputs) {
-            const std::string temporary = temporaryPath(a.path);
+            const std::string temporary = io::temporaryPath(a.path);
             std::error_code unknown;
-            const bool device = std::filesystem::is_character_file(followSymlinks(a.path), unknown);
+            const bool device = std::filesystem::is_character_file(io::followSymlinks(a.path), unknown);
             for (const NamedFile& b : outputs) {
-                if (&a < &b && !device && sameFile(a.path, b.path))
+                if (&a < &b && !device && io::sameFile(a.path, b.path))
                     throw Error(a.name + " and " + b.name + " name the same file ('" + a.path + "' and '" + b.path +
                                 "'); give each output its own file");
-                if (&a != &b && !temporary.empty() && sameFile(temporary, b.path))
+                if (&a != &b && !temporary.empty() && io::sameFile(temporary, b.path))
                     throw Error(b.name + " '" + b.path + "' is the temporary name of " + a.name + " '" + a.path +
                                 "' (written there first, then renamed); give " + b.name + " another name");
             }
             for (const NamedFile& input : start.inputFiles) {
                 const bool replacesResumed = input.name == "--resume" && a.name == "--checkpoint";
-                if ((!replacesResumed && sameFile(a.path, input.path)) ||
-                    (!temporary.empty() && sameFile(temporary, input.path)))
+                if ((!replacesResumed && io::sameFile(a.path, input.path)) ||
+                    (!temporary.empty() && io::sameFile(temporary, input.path)))
                     throw Error(a.name + " '" + a.path + "' would overwrite the input " + input.name + " '" +
                                 input.path + "'; write the output to another file");
             }

@@ -1,14 +1,14 @@
 #include "app/scene_options.h"
 
+#include <carom/io.h>
+
 #include <cctype>
 #include <cstdlib>
 
-#include "app/available_memory.h"
 #include "app/number_options.h"
 #include "backends/backend.h"
-#include "engine/resources.h"
+#include <carom/world.h>
 #include "engine/state_csv.h"
-#include "engine/text_format.h"
 
 namespace carom::app {
 namespace {
@@ -62,7 +62,7 @@ Setup setupFromSceneFile(const SceneOptions& o) {
     applyOverrides(o, scene);
     std::uint64_t particles = scene.disks.size();
     for (const GroupDef& group : scene.groups) particles += group.count;
-    requireRoomFor(particles, availableMemoryBytes(), o.sceneFile.c_str());
+    requireRoomFor(particles, o.sceneFile);
 
     InitialState initial = makeInitialState(scene);
     Setup setup;
@@ -242,11 +242,7 @@ void refuseSubstepsWithEvents(const WorldDef& world, const std::string& asked) {
                 "out, or use --collisions pairwise");
 }
 
-std::string maxTravelOption(float maxTravel) {
-    std::string option = "--max-travel ";
-    appendNumber(option, maxTravel);
-    return option;
-}
+std::string maxTravelOption(float maxTravel) { return "--max-travel " + io::shortestText(maxTravel); }
 
 namespace {
 
@@ -259,11 +255,10 @@ std::string substepsSource(const SceneOptions& o) {
 
 Setup makeSetupOf(const SceneOptions& o) {
     if (o.dtAuto && o.given.count("--max-travel") && o.world.maxTravel == 0.0f) {
-        std::string message =
+        throw Error(
             "--dt auto splits each step so that no disk moves more than --max-travel radii; "
-            "--max-travel 0 turns that off: give --max-travel > 0 (without it, ";
-        appendNumber(message, kDefaultMaxTravel);
-        throw Error(message + ") or a fixed --dt");
+            "--max-travel 0 turns that off: give --max-travel > 0 (without it, " +
+            io::shortestText(kDefaultMaxTravel) + ") or a fixed --dt");
     }
     if (!o.sceneFile.empty()) return setupFromSceneFile(o);
     Setup setup;
@@ -287,7 +282,7 @@ Setup makeSetupOf(const SceneOptions& o) {
             throw Error("--box must be two finite numbers > 0, got " + std::to_string(o.box[0]) + " " +
                         std::to_string(o.box[1]));
     }
-    requireRoomFor(scene.particles, availableMemoryBytes(), "--particles");
+    requireRoomFor(scene.particles, "--particles");
     InitialState initial = makeInitialState(scene);
     setup.world.width = initial.width;
     setup.world.height = initial.height;

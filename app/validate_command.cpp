@@ -13,7 +13,7 @@
 #include "app/validate/checks.h"
 #include "app/validate/report.h"
 #include "backends/backend.h"
-#include "engine/atomic_file.h"
+#include <carom/files.h>
 
 namespace carom::app {
 
@@ -85,7 +85,7 @@ int validateCommand(const ValidateOptions& o) {
     validation::describeBackend(suite.backend);  // refuses a bad --device or --pipeline at once
 
     // Refuse unwritable outputs before the runs, not after them.
-    std::optional<AtomicFile> json;
+    std::optional<io::AtomicFile> json;
     if (!o.json.empty()) json.emplace(o.json);
     std::error_code error;
     std::filesystem::create_directories(o.report, error);
@@ -93,9 +93,9 @@ int validateCommand(const ValidateOptions& o) {
         throw Error("cannot create the report folder '" + o.report +
                     "': " + (error ? error.message() : "a file of that name exists"));
     const std::filesystem::path folder(o.report);
-    std::map<std::string, std::unique_ptr<AtomicFile>> reportOutputs;
+    std::map<std::string, std::unique_ptr<io::AtomicFile>> reportOutputs;
     for (const std::string& name : validation::reportFileNames())
-        reportOutputs[name] = std::make_unique<AtomicFile>((folder / name).string());
+        reportOutputs[name] = std::make_unique<io::AtomicFile>((folder / name).string());
 
     validation::RunContext context;
     context.date = utcNow();
@@ -107,7 +107,7 @@ int validateCommand(const ValidateOptions& o) {
     const validation::SuiteResult result = validation::runSuite(suite, std::cerr);
 
     for (const auto& [name, contents] : validation::reportFiles(result, context)) {
-        AtomicFile& file = *reportOutputs.at(name);
+        io::AtomicFile& file = *reportOutputs.at(name);
         file.append(contents);
         file.commit();
     }

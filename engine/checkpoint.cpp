@@ -9,9 +9,8 @@
 #include <fstream>
 #include <utility>
 
-#include "engine/atomic_file.h"
-#include "engine/resources.h"
-#include "engine/text_format.h"
+#include <carom/files.h>
+#include <carom/world.h>
 
 namespace carom {
 namespace {
@@ -278,7 +277,7 @@ Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& what) {
 
 void writeCheckpoint(const std::string& path, const Checkpoint& checkpoint) {
     const std::string bytes = encodeCheckpoint(checkpoint);
-    AtomicFile file(path);
+    io::AtomicFile file(path);
     file.append(bytes);
     file.commit();
 }
@@ -299,7 +298,7 @@ Checkpoint readCheckpoint(const std::string& path, std::uint64_t availableBytes)
     // The count is held against the file size (checkHeader) and the memory
     // available before the file is read; decodeCheckpoint checks the
     // checksum before it decodes a particle.
-    requireRoomFor(checked.count, availableBytes, ("checkpoint '" + path + "'").c_str());
+    requireRoomFor(checked.count, "checkpoint '" + path + "'", availableBytes);
     in.clear();
 
     std::string bytes(static_cast<std::size_t>(size), '\0');

@@ -27,7 +27,7 @@ SceneFile loadScene(const std::string& path) {
     return loaded;
 }
 
-std::vector<Disk> readState(const std::string& path) { return disksOf(readStateCsv(path)); }
+std::vector<Disk> readState(const std::string& path) { return disksOf(readStateCsv(path, availableMemoryBytes())); }
 
 void writeState(const std::string& path, const std::vector<Disk>& disks) {
     writeStateCsv(path, particlesOf(disks.data(), disks.size()));
@@ -47,7 +47,7 @@ void saveCheckpoint(const std::string& path, const World& world) {
 }
 
 World loadCheckpoint(const std::string& path, const WorldDef& def) {
-    Checkpoint c = readCheckpoint(path);
+    Checkpoint c = readCheckpoint(path, availableMemoryBytes());
     WorldDef resumed = c.world;
     resumed.engine = def.engine;
     resumed.device = def.device;

@@ -2,6 +2,7 @@
 // it is read, with its line. The only file that sees toml++; the checks of
 // the whole scene are in scene_file_validate.cpp, its placement in
 // scene_placement.cpp.
+#include <carom/io.h>
 #include "engine/scene_file.h"
 
 #include <algorithm>
@@ -136,7 +137,7 @@ private:
 
     // "scene.toml:7: dt = -0.01: must be a finite number > 0"
     [[noreturn]] void fail(const toml::node& node, const std::string& key, const std::string& problem) const {
-        failAt(line(node), key + " = " + printable(shown(node)) + ": " + problem);
+        failAt(line(node), key + " = " + io::printable(shown(node)) + ": " + problem);
     }
 
     void requireKnownKeys(const toml::table& table, const std::string& prefix,
@@ -148,7 +149,7 @@ private:
             if (known) continue;
             std::string list;
             for (const char* allowedName : allowed) list += (list.empty() ? "" : ", ") + std::string(allowedName);
-            failAt(line(node), "unknown key '" + prefix + printable(name) + "'; allowed" +
+            failAt(line(node), "unknown key '" + prefix + io::printable(name) + "'; allowed" +
                                    (prefix.empty() ? "" : " in " + prefix.substr(0, prefix.size() - 1)) + ": " + list);
         }
     }
@@ -243,7 +244,8 @@ private:
         GroupDef g;
         g.line = line(t);
         g.name = key;
-        if (const toml::node* name = t.get("name")) g.name = key + " '" + printable(text(*name, key + ".name")) + "'";
+        if (const toml::node* name = t.get("name"))
+            g.name = key + " '" + io::printable(text(*name, key + ".name")) + "'";
         g.count = static_cast<std::uint32_t>(integer(required(t, key, "count", "the number of disks, an integer >= 1"),
                                                      key + ".count", 1, kMaxParticles));
         if (const toml::node* radius = t.get("radius")) range(*radius, key + ".radius", g.radiusMin, g.radiusMax);

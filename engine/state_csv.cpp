@@ -1,3 +1,4 @@
+#include <carom/io.h>
 #include "engine/state_csv.h"
 
 #include <cerrno>
@@ -16,8 +17,8 @@
 #include <unistd.h>
 #endif
 
-#include "engine/atomic_file.h"
-#include "engine/resources.h"
+#include <carom/files.h>
+#include <carom/world.h>
 #include "engine/text_format.h"
 
 namespace carom {
@@ -55,11 +56,12 @@ public:
         errno = 0;
         const float value = std::strtof(text.c_str(), &end);
         if (text.empty() || end != text.c_str() + text.size())
-            fail(line, std::string("column '") + kColumns[column] + "': '" + printable(text) + "' is not a number");
+            fail(line, std::string("column '") + kColumns[column] + "': '" + io::printable(text) + "' is not a number");
         if (errno == ERANGE && std::isinf(value))
-            fail(line, std::string("column '") + kColumns[column] + "': " + printable(text) + " is out of float range");
+            fail(line,
+                 std::string("column '") + kColumns[column] + "': " + io::printable(text) + " is out of float range");
         if (errno == ERANGE && value == 0.0f)  // it would read as 0 without a word
-            fail(line, std::string("column '") + kColumns[column] + "': " + printable(text) +
+            fail(line, std::string("column '") + kColumns[column] + "': " + io::printable(text) +
                            " is too small for a float (the smallest above 0 is 1.4e-45); write 0 for zero");
         return value;
     }
@@ -81,7 +83,7 @@ public:
 
     std::uint64_t id(std::size_t line, const std::string& text) const {
         if (text.empty() || text.size() > 10 || text.find_first_not_of("0123456789") != std::string::npos)
-            fail(line, "column 'id': '" + printable(text) + "' is not a particle id (an integer >= 0)");
+            fail(line, "column 'id': '" + io::printable(text) + "' is not a particle id (an integer >= 0)");
         return std::stoull(text);
     }
 
@@ -165,7 +167,8 @@ std::vector<Particle> parseStateCsv(std::istream& in, const std::string& path, s
     if (!reader.nextLine(in, line, lineNumber))
         reader.fail(1, std::string("empty file; expected the header '") + kHeader + "'");
     skipByteOrderMark(line);
-    if (trim(line) != kHeader) reader.fail(1, "header is '" + printable(trim(line)) + "'; expected '" + kHeader + "'");
+    if (trim(line) != kHeader)
+        reader.fail(1, "header is '" + io::printable(trim(line)) + "'; expected '" + kHeader + "'");
 
     struct Row {
         std::uint64_t id;
@@ -184,7 +187,7 @@ std::vector<Particle> parseStateCsv(std::istream& in, const std::string& path, s
         if (fields.size() != kColumnCount)
             reader.fail(lineNumber, "expected " + std::to_string(kColumnCount) + " columns (" + kHeader + "), found " +
                                         std::to_string(fields.size()));
-        requireRoomFor(rows.size() + 1, availableBytes, where.c_str());  // before the row is stored
+        requireRoomFor(rows.size() + 1, where, availableBytes);  // before the row is stored
         Row row{reader.id(lineNumber, fields[0]), lineNumber, Particle{}};
         Particle& p = row.particle;
         p.position.x = reader.number(lineNumber, 1, fields[1]);
@@ -215,7 +218,7 @@ std::vector<Particle> parseStateCsv(std::istream& in, const std::string& path, s
 }
 
 void writeStateCsv(const std::string& path, const std::vector<Particle>& particles) {
-    AtomicFile file(path);
+    io::AtomicFile file(path);
     file.append(std::string(kHeader) + '\n');
     std::string row;
     for (std::size_t i = 0; i < particles.size(); ++i) {

@@ -1,3 +1,4 @@
+#include <carom/io.h>
 #include "engine/stats.h"
 
 #include <fstream>
@@ -13,22 +14,22 @@ const std::string kHeader = "step,time,kinetic_energy,momentum_x,momentum_y,coll
 // How a run resumed at `resumedAt` (if it is) opens `path`: appending, once
 // the rows already there are found to have this header and to end at or
 // before that step.
-Existing continuation(const std::string& path, std::optional<std::uint64_t> resumedAt) {
-    if (!resumedAt) return Existing::Replace;
-    if (!hasContent(path)) return Existing::Append;
+io::Existing continuation(const std::string& path, std::optional<std::uint64_t> resumedAt) {
+    if (!resumedAt) return io::Existing::Replace;
+    if (!hasContent(path)) return io::Existing::Append;
     std::ifstream in(path, std::ios::binary);
     std::string header;
     std::getline(in, header);
-    if (header != kHeader) refuseToAppend(path, "its header is '" + printable(header) + "', not '" + kHeader + "'");
+    if (header != kHeader) refuseToAppend(path, "its header is '" + io::printable(header) + "', not '" + kHeader + "'");
     LinesFromEnd lines(path);
     std::string last;
     lines.previous(last);
-    if (last == kHeader) return Existing::Append;  // no rows yet
+    if (last == kHeader) return io::Existing::Append;  // no rows yet
     std::uint64_t step = 0;
     if (!parseStep(last.substr(0, last.find(',')), step))
-        refuseToAppend(path, "its last row '" + printable(last) + "' does not start with a step");
+        refuseToAppend(path, "its last row '" + io::printable(last) + "' does not start with a step");
     requireAppendable(path, "row", step, *resumedAt);
-    return Existing::Append;
+    return io::Existing::Append;
 }
 
 }  // namespace

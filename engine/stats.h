@@ -12,7 +12,7 @@
 #include <optional>
 #include <string>
 
-#include "engine/atomic_file.h"
+#include <carom/files.h>
 #include "engine/diagnostics.h"
 
 namespace carom {
@@ -34,7 +34,7 @@ public:
     void commit() { file_.commit(); }
 
 private:
-    AtomicFile file_;
+    io::AtomicFile file_;
     std::size_t rows_ = 0;
 };
 

@@ -11,9 +11,9 @@ namespace {
 // How a run of `particles` disks resumed at `resumedAt` (if it is) opens
 // `path`: appending, once the frames already there are found to end at or
 // before that step, with as many disks.
-Existing continuation(const std::string& path, std::optional<std::uint64_t> resumedAt, std::size_t particles) {
-    if (!resumedAt) return Existing::Replace;
-    if (!hasContent(path)) return Existing::Append;
+io::Existing continuation(const std::string& path, std::optional<std::uint64_t> resumedAt, std::size_t particles) {
+    if (!resumedAt) return io::Existing::Replace;
+    if (!hasContent(path)) return io::Existing::Append;
     LinesFromEnd lines(path);
     for (std::string line; lines.previous(line);) {
         if (line.rfind("Lattice=", 0) != 0) continue;
@@ -27,7 +27,7 @@ Existing continuation(const std::string& path, std::optional<std::uint64_t> resu
         if (lines.previous(count) && count != std::to_string(particles))
             refuseToAppend(path, "its last frame has " + count + " disks, the checkpoint " + std::to_string(particles) +
                                      ", so it is another simulation's trajectory");
-        return Existing::Append;
+        return io::Existing::Append;
     }
     refuseToAppend(path, "it has no frame header with a step=, so it is no carom trajectory");
 }

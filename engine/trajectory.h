@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/atomic_file.h"
+#include <carom/files.h>
 #include "engine/carom.h"
 
 namespace carom {
@@ -39,7 +39,7 @@ public:
     void commit() { file_.commit(); }
 
 private:
-    AtomicFile file_;
+    io::AtomicFile file_;
     std::string frame_;  // reused from frame to frame
     std::size_t frames_ = 0;
 };

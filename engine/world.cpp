@@ -171,6 +171,10 @@ double World::potentialEnergy() const { return impl_->motion().potentialEnergy; 
 
 std::array<double, 2> World::momentum() const { return impl_->motion().momentum; }
 
+double World::maxOverlap() const { return findOverlaps(impl_->current(), impl_->def).deepest; }
+
+std::size_t World::escapedCount() const { return impl_->motion().escaped; }
+
 double World::totalEnergy() const {
     if (auto* events = dynamic_cast<const EventDrivenBackend*>(impl_->backend.get())) return events->totalEnergy();
     return impl_->motion().totalEnergy();

@@ -11,11 +11,10 @@
 #include <limits>
 #include <sstream>
 
+#include <carom/io.h>
 #include "engine/checkpoint.h"
-#include "engine/number_text.h"
-#include "engine/resources.h"
+#include <carom/world.h>
 #include "engine/state_csv.h"
-#include "engine/text_format.h"
 #include "support.h"
 
 using namespace carom;
@@ -46,13 +45,13 @@ const std::string kHeaderLine = "id,x,y,vx,vy,mass,radius\n";
 }  // namespace
 
 TEST_CASE("number text: whole numbers never wrap, and an empty text is not 0") {
-    CHECK(parseWholeNumber("0", 0, kU64Max) == 0);
-    CHECK(parseWholeNumber("18446744073709551615", 0, kU64Max) == kU64Max);
-    CHECK(parseWholeNumber("010", 0, kU64Max) == 10);  // decimal, not octal
-    CHECK(parseWholeNumber("-0", 0, 5) == 0);
+    CHECK(io::parseWholeNumber("0", 0, kU64Max) == 0);
+    CHECK(io::parseWholeNumber("18446744073709551615", 0, kU64Max) == kU64Max);
+    CHECK(io::parseWholeNumber("010", 0, kU64Max) == 10);  // decimal, not octal
+    CHECK(io::parseWholeNumber("-0", 0, 5) == 0);
     const std::string allowed = "allowed: whole numbers from 0 to 18446744073709551615";
     auto refusal = [](const char* text, std::uint64_t min, std::uint64_t max) {
-        return errorOf([&] { parseWholeNumber(text, min, max); });
+        return errorOf([&] { io::parseWholeNumber(text, min, max); });
     };
     CHECK(refusal("-1", 0, kU64Max) == "'-1' is out of range; " + allowed);
     CHECK(refusal("18446744073709551616", 0, kU64Max) == "'18446744073709551616' is out of range; " + allowed);
@@ -65,30 +64,30 @@ TEST_CASE("number text: whole numbers never wrap, and an empty text is not 0") {
 }
 
 TEST_CASE("number text: a real number is the whole text") {
-    CHECK(parseRealNumber("1.5") == 1.5);
-    CHECK(parseRealNumber("-2e3") == -2000.0);
-    CHECK(std::isinf(parseRealNumber("inf")));  // the options' own checks name the range
-    CHECK(std::isnan(parseRealNumber("nan")));
+    CHECK(io::parseRealNumber("1.5") == 1.5);
+    CHECK(io::parseRealNumber("-2e3") == -2000.0);
+    CHECK(std::isinf(io::parseRealNumber("inf")));  // the options' own checks name the range
+    CHECK(std::isnan(io::parseRealNumber("nan")));
     for (const char* malformed : {"", " 1", "1 ", "1.5x", "fast", "1,5"})
         CHECK_MESSAGE(
-            errorOf([&] { parseRealNumber(malformed); }) == "'" + std::string(malformed) + "' is not a number",
+            errorOf([&] { io::parseRealNumber(malformed); }) == "'" + std::string(malformed) + "' is not a number",
             malformed);
 }
 
 TEST_CASE("printable: valid UTF-8 as it is; control characters and invalid bytes escaped") {
-    CHECK(printable("caf\xC3\xA9 \xE6\x97\xA5\xE6\x9C\xAC \xF0\x9F\x8E\xB1") ==
+    CHECK(io::printable("caf\xC3\xA9 \xE6\x97\xA5\xE6\x9C\xAC \xF0\x9F\x8E\xB1") ==
           "caf\xC3\xA9 \xE6\x97\xA5\xE6\x9C\xAC \xF0\x9F\x8E\xB1");
-    CHECK(printable("a\x1B[31m\x7F") == "a\\x1B[31m\\x7F");
-    CHECK(printable("\xC2\x9B"
-                    "1m") == "\\xC2\\x9B1m");                        // C1 control (CSI)
-    CHECK(printable("\xC3") == "\\xC3");                             // truncated sequence
-    CHECK(printable("\xA9x") == "\\xA9x");                           // stray continuation byte
-    CHECK(printable("\xC0\xAF") == "\\xC0\\xAF");                    // overlong '/'
-    CHECK(printable("\xED\xA0\x80") == "\\xED\\xA0\\x80");           // surrogate
-    CHECK(printable("\xF4\x90\x80\x80") == "\\xF4\\x90\\x80\\x80");  // past U+10FFFF
+    CHECK(io::printable("a\x1B[31m\x7F") == "a\\x1B[31m\\x7F");
+    CHECK(io::printable("\xC2\x9B"
+                        "1m") == "\\xC2\\x9B1m");                        // C1 control (CSI)
+    CHECK(io::printable("\xC3") == "\\xC3");                             // truncated sequence
+    CHECK(io::printable("\xA9x") == "\\xA9x");                           // stray continuation byte
+    CHECK(io::printable("\xC0\xAF") == "\\xC0\\xAF");                    // overlong '/'
+    CHECK(io::printable("\xED\xA0\x80") == "\\xED\\xA0\\x80");           // surrogate
+    CHECK(io::printable("\xF4\x90\x80\x80") == "\\xF4\\x90\\x80\\x80");  // past U+10FFFF
     std::string accents;
     for (int i = 0; i < 50; ++i) accents += "\xC3\xA9";
-    CHECK(printable(accents) == accents.substr(0, 80) + "...");  // 40 characters, none cut in half
+    CHECK(io::printable(accents) == accents.substr(0, 80) + "...");  // 40 characters, none cut in half
 }
 
 TEST_CASE("state CSV: a line longer than 4096 bytes is refused as it is read") {
@@ -108,9 +107,8 @@ TEST_CASE("state CSV: a line longer than 4096 bytes is refused as it is read") {
 TEST_CASE("state CSV: rows past the memory available are refused before they are stored") {
     const std::string threeRows = kHeaderLine + "0,1,1,0,0,1,1\n1,4,1,0,0,1,1\n2,7,1,0,0,1,1\n";
     std::istringstream in(threeRows);
-    CHECK(parseStateCsv(in, "in.csv", 3 * kHostBytesPerParticle).size() == 3);
-    CHECK(stateCsvError(threeRows, 2 * kHostBytesPerParticle).find("in.csv: particle rows: 3 particles need about") ==
-          0);
+    CHECK(parseStateCsv(in, "in.csv", 3 * kHostBytesPerDisk).size() == 3);
+    CHECK(stateCsvError(threeRows, 2 * kHostBytesPerDisk).find("in.csv: particle rows: 3 particles need about") == 0);
 }
 
 TEST_CASE("checkpoint: the particle count is checked against memory and the checksum before allocating") {
@@ -119,9 +117,9 @@ TEST_CASE("checkpoint: the particle count is checked against memory and the chec
     for (int i = 0; i < 10; ++i) c.particles.push_back(disk(5.0f + 9.0f * float(i), 50.0f, 1.0f, 0.0f));
     const std::string bytes = encodeCheckpoint(c);
     { std::ofstream("inputs.ckpt", std::ios::binary) << bytes; }
-    CHECK(readCheckpoint("inputs.ckpt", 10 * kHostBytesPerParticle).particles.size() == 10);
+    CHECK(readCheckpoint("inputs.ckpt", 10 * kHostBytesPerDisk).particles.size() == 10);
     CHECK(errorOf([] {
-              readCheckpoint("inputs.ckpt", 9 * kHostBytesPerParticle);
+              readCheckpoint("inputs.ckpt", 9 * kHostBytesPerDisk);
           }).find("checkpoint 'inputs.ckpt': 10 particles need about") == 0);
 
     // A header forged to claim 10^7 particles, the file grown (sparse) to the

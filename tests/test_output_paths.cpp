@@ -11,7 +11,7 @@
 #include <unistd.h>
 #endif
 
-#include "engine/atomic_file.h"
+#include <carom/files.h>
 #include "engine/output_paths.h"
 #include "engine/stats.h"
 #include "support.h"
@@ -67,29 +67,29 @@ TEST_CASE("output paths: lines read from the end") {
 TEST_CASE("output paths: one file under two names") {
     const Folder folder("same-file");
     const std::string a = (folder.path / "a.csv").string();
-    CHECK(sameFile(a, (folder.path / "." / "a.csv").string()));
-    CHECK(sameFile(a, (folder.path / "sub" / ".." / "a.csv").string()));  // before either exists
-    CHECK_FALSE(sameFile(a, (folder.path / "b.csv").string()));
+    CHECK(io::sameFile(a, (folder.path / "." / "a.csv").string()));
+    CHECK(io::sameFile(a, (folder.path / "sub" / ".." / "a.csv").string()));  // before either exists
+    CHECK_FALSE(io::sameFile(a, (folder.path / "b.csv").string()));
     write(a, "a");
     fs::create_hard_link(a, folder.path / "hard.csv");
-    CHECK(sameFile(a, (folder.path / "hard.csv").string()));
+    CHECK(io::sameFile(a, (folder.path / "hard.csv").string()));
     fs::create_symlink("a.csv", folder.path / "link.csv");
-    CHECK(sameFile(a, (folder.path / "link.csv").string()));
+    CHECK(io::sameFile(a, (folder.path / "link.csv").string()));
     fs::create_symlink("new.csv", folder.path / "dangling.csv");  // names a file still to be written
-    CHECK(sameFile((folder.path / "new.csv").string(), (folder.path / "dangling.csv").string()));
+    CHECK(io::sameFile((folder.path / "new.csv").string(), (folder.path / "dangling.csv").string()));
 
     // The temporary name is beside the link's target; a device has none.
-    CHECK(fs::path(temporaryPath((folder.path / "link.csv").string())) == folder.path / "a.csv.partial");
-    CHECK(temporaryPath(a) == a + ".partial");
+    CHECK(fs::path(io::temporaryPath((folder.path / "link.csv").string())) == folder.path / "a.csv.partial");
+    CHECK(io::temporaryPath(a) == a + ".partial");
     if (fs::exists("/dev/null")) {
-        CHECK(isSpecialFile("/dev/null"));
-        CHECK(temporaryPath("/dev/null").empty());
+        CHECK(io::isSpecialFile("/dev/null"));
+        CHECK(io::temporaryPath("/dev/null").empty());
     }
-    CHECK_FALSE(isSpecialFile(a));
+    CHECK_FALSE(io::isSpecialFile(a));
 
     fs::create_symlink("loop2", folder.path / "loop1");
     fs::create_symlink("loop1", folder.path / "loop2");
-    CHECK_THROWS_WITH_AS(followSymlinks((folder.path / "loop1").string()),
+    CHECK_THROWS_WITH_AS(io::followSymlinks((folder.path / "loop1").string()),
                          doctest::Contains("too many levels of symbolic links"), Error);
 }
 
@@ -99,7 +99,7 @@ TEST_CASE("atomic files: a symlink stays a link to the new file") {
     write(folder.path / "data" / "target.csv", "old");
     fs::create_symlink(fs::path("data") / "target.csv", folder.path / "link.csv");
     {
-        AtomicFile file((folder.path / "link.csv").string());
+        io::AtomicFile file((folder.path / "link.csv").string());
         file.append("new");
         CHECK(fs::exists(folder.path / "data" / "target.csv.partial"));
         file.commit();
@@ -114,21 +114,21 @@ TEST_CASE("atomic files: appending is atomic too") {
     const std::string path = (folder.path / "s.txt").string();
     write(path, "old\n");
     {
-        AtomicFile file(path, Existing::Append);
+        io::AtomicFile file(path, io::Existing::Append);
         CHECK(file.continues());
         file.append("new\n");
     }  // destroyed without commit: the original is untouched
     CHECK(contents(path) == "old\n");
     CHECK_FALSE(fs::exists(path + ".partial"));
     {
-        AtomicFile file(path, Existing::Append);
+        io::AtomicFile file(path, io::Existing::Append);
         file.append("new\n");
         file.commit();
     }
     CHECK(contents(path) == "old\nnew\n");
     CHECK_FALSE(fs::exists(path + ".partial"));
     {
-        AtomicFile file((folder.path / "absent.txt").string(), Existing::Append);
+        io::AtomicFile file((folder.path / "absent.txt").string(), io::Existing::Append);
         CHECK_FALSE(file.continues());
     }
 }
@@ -139,7 +139,7 @@ TEST_CASE("atomic files: commit syncs and renames, here and in another folder") 
     const Folder folder("synced");
     for (const fs::path& path : {fs::path("synced-here.txt"), folder.path / "there.txt"}) {
         {
-            AtomicFile file(path.string());
+            io::AtomicFile file(path.string());
             file.append("complete");
             file.commit();
         }
@@ -173,11 +173,11 @@ TEST_CASE("atomic files: a device is written directly and its write errors repor
         return;
     }
     {
-        AtomicFile file(null);
+        io::AtomicFile file(null);
         file.append("discarded");
         file.commit();
     }
-    AtomicFile file(full);
+    io::AtomicFile file(full);
     const std::string message = "writing '" + full + "' failed: No space left on device";
     CHECK_THROWS_WITH_AS(
         [&] {

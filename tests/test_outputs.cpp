@@ -11,9 +11,9 @@
 #include <locale>
 #include <sstream>
 
-#include "engine/atomic_file.h"
+#include <carom/files.h>
 #include "engine/diagnostics.h"
-#include "engine/resources.h"
+#include <carom/world.h>
 #include "engine/state_csv.h"
 #include "engine/stats.h"
 #include "engine/text_format.h"
@@ -134,14 +134,14 @@ TEST_CASE("statistics: a header and one row per sample") {
 TEST_CASE("atomic files: complete or absent, never half-written") {
     std::ofstream("target.txt") << "old";
     {
-        AtomicFile file("target.txt");
+        io::AtomicFile file("target.txt");
         file.append("half of the new");
         CHECK(exists("target.txt.partial"));
     }  // destroyed without commit: an error happened
     CHECK(contents("target.txt") == "old");
     CHECK_FALSE(exists("target.txt.partial"));
     {
-        AtomicFile file("target.txt");
+        io::AtomicFile file("target.txt");
         file.append("new");
         file.commit();
         file.commit();  // harmless
@@ -150,9 +150,9 @@ TEST_CASE("atomic files: complete or absent, never half-written") {
     CHECK_FALSE(exists("target.txt.partial"));
     std::remove("target.txt");
 
-    CHECK_THROWS_WITH_AS(AtomicFile("no-such-dir/x"), doctest::Contains("cannot write 'no-such-dir/x'"), Error);
-    CHECK_THROWS_WITH_AS(AtomicFile("."), doctest::Contains("cannot write '.': it is a directory"), Error);
-    CHECK_THROWS_WITH_AS(AtomicFile(""), doctest::Contains("empty"), Error);
+    CHECK_THROWS_WITH_AS(io::AtomicFile("no-such-dir/x"), doctest::Contains("cannot write 'no-such-dir/x'"), Error);
+    CHECK_THROWS_WITH_AS(io::AtomicFile("."), doctest::Contains("cannot write '.': it is a directory"), Error);
+    CHECK_THROWS_WITH_AS(io::AtomicFile(""), doctest::Contains("empty"), Error);
 }
 
 #ifdef __linux__
@@ -165,7 +165,7 @@ TEST_CASE("atomic files: a full disk fails the write and keeps the previous file
     std::filesystem::remove("full.txt.partial");
     std::filesystem::create_symlink("/dev/full", "full.txt.partial");  // every write: ENOSPC
     {
-        AtomicFile file("full.txt");
+        io::AtomicFile file("full.txt");
         CHECK_THROWS_WITH_AS(
             [&] {
                 file.append(std::string(1 << 20, 'x'));
@@ -208,13 +208,13 @@ TEST_CASE("state CSV: shortest numbers, a byte order mark, long and binary value
 }
 
 TEST_CASE("resources: requests that cannot fit are refused before allocating") {
-    CHECK_NOTHROW(requireRoomFor(1000, 0, "--particles"));
-    CHECK_NOTHROW(requireRoomFor(kMaxParticles, 0, "--particles"));
-    CHECK_THROWS_WITH_AS(requireRoomFor(kMaxParticles + 1, 0, "--particles"),
+    CHECK_NOTHROW(requireRoomFor(1000, "--particles", 0));
+    CHECK_NOTHROW(requireRoomFor(kMaxParticles, "--particles", 0));
+    CHECK_THROWS_WITH_AS(requireRoomFor(kMaxParticles + 1, "--particles", 0),
                          doctest::Contains("--particles: 500000001 particles; allowed: 1 to 500000000"), Error);
     const std::uint64_t oneGiB = std::uint64_t{1} << 30;
-    CHECK_NOTHROW(requireRoomFor(1000000, oneGiB, "--particles"));
-    CHECK_THROWS_WITH_AS(requireRoomFor(100000000, oneGiB, "--particles"),
+    CHECK_NOTHROW(requireRoomFor(1000000, "--particles", oneGiB));
+    CHECK_THROWS_WITH_AS(requireRoomFor(100000000, "--particles", oneGiB),
                          doctest::Contains("100000000 particles need about 24414 MiB of memory, more than the "
                                            "1024 MiB available"),
                          Error);

@@ -87,6 +87,8 @@ CAROM_BACKEND_TEST_CASE("world: steps bit for bit as its backend, with the same 
             CHECK(world.kineticEnergy() == d.kineticEnergy);
             CHECK(world.potentialEnergy() == d.potentialEnergy);
             CHECK(world.momentum() == d.momentum);
+            CHECK(world.maxOverlap() == d.maxOverlap);
+            CHECK(world.escapedCount() == d.escaped);
             const double startT = temperature(particlesOf(scene.disks.data(), scene.disks.size()), boundary);
             const double endT = temperature(expected.particles, boundary);
             CHECK(world.temperature() == endT);
@@ -130,6 +132,19 @@ TEST_CASE("world: disks go in and come out in id order") {
 
     World moved = std::move(world);
     CHECK(moved.diskCount() == scene.disks.size());
+}
+
+TEST_CASE("world: the deepest overlap of two disks, and none escaped") {
+    WorldDef def;
+    def.width = def.height = 20.0f;
+    World world(def);
+    // Radius 1, centres 1.5 apart: they overlap by 0.5 (every value exact in float).
+    const Disk pair[] = {{{5.0f, 5.0f}, {0, 0}, 1, 1}, {{6.5f, 5.0f}, {0, 0}, 1, 1}};
+    world.setDisks(pair, 2);
+    CHECK(world.maxOverlap() == 0.5);
+    CHECK(world.escapedCount() == 0);
+    world.setDisk(1, Disk{{9.0f, 5.0f}, {0, 0}, 1, 1});
+    CHECK(world.maxOverlap() == 0.0);
 }
 
 TEST_CASE("world: bad input is refused in library terms, naming the value") {

@@ -1,4 +1,4 @@
-// PNG files of the current OpenGL frame, written through AtomicFile so a
+// PNG files of the current OpenGL frame, written through io::AtomicFile so a
 // failed write never leaves a partial image.
 #pragma once
 

@@ -6,13 +6,15 @@
 //
 // Files are written whole or not at all: through a temporary file renamed
 // into place, so a failure leaves the old file as it was. Every refusal is a
-// carom::Error naming the file, the line and what is allowed.
+// carom::Error naming the file, the line and what is allowed (carom/files.h
+// has the file writing itself, for a program's own outputs).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <carom/types.h>
@@ -40,7 +42,8 @@ void writeState(const std::string& path, const std::vector<Disk>& disks);
 // binary file with a checksum. loadCheckpoint takes the engine, the device
 // and maxTravel from `def` (a checkpoint does not hold them) and everything
 // else from the file; it refuses a file that is damaged, of another format
-// or out of range, naming what is wrong.
+// or out of range, naming what is wrong, and one whose disks the memory
+// available now cannot hold (requireRoomFor, carom/world.h); so does readState.
 void saveCheckpoint(const std::string& path, const World& world);
 World loadCheckpoint(const std::string& path, const WorldDef& def = WorldDef{});
 
@@ -90,5 +93,35 @@ private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };
+
+// Text as carom's files hold it, for a program that reads the same from
+// its users. Numbers are read strictly, as a person types them: the whole
+// text must be the number, and a whole number must lie in its range. Nothing
+// wraps around ("-1" is not 2^64 - 1), nothing is octal or hexadecimal, and
+// an empty text is not 0.
+
+// "allowed: whole numbers from 1 to 1000": the range in a refusal.
+std::string wholeNumbersAllowed(std::uint64_t min, std::uint64_t max);
+
+// The number `text` spells in decimal digits. Throws Error naming the text
+// and the range when it is not one ("'' is not a whole number; allowed:
+// ...") or lies outside [min, max] ("'-1' is out of range; allowed: ...").
+std::uint64_t parseWholeNumber(std::string_view text, std::uint64_t min, std::uint64_t max);
+
+// The number `text` spells as strtod reads it (decimal, exponent, inf, nan):
+// throws Error "'1.5x' is not a number" for an empty text, leading spaces or
+// anything after the number. Ranges are the caller's to check.
+double parseRealNumber(std::string_view text);
+
+// The shortest decimal that reads back to the same bits, whatever the C
+// locale's decimal point: 0.1f is "0.1", never "0.100000001" or "0,1".
+std::string shortestText(float value);
+std::string shortestText(double value);
+
+// A value from an input file as a message shows it: at most 40 characters;
+// valid UTF-8 as it is ("café"), control characters (C0, DEL, C1) and
+// invalid bytes as \xNN, so a binary or huge file cannot flood or drive the
+// terminal.
+std::string printable(std::string_view text);
 
 }  // namespace carom::io

@@ -36,6 +36,26 @@ struct Scene {
 // packing cannot be reached.
 Scene makeScene(const SceneDef& def);
 
+// Memory: a request that cannot fit is refused before anything is allocated.
+
+// Host memory a world needs per disk, about [bytes]: the disks given, the
+// engine's two state buffers, the read-back copy and the grids.
+constexpr std::uint64_t kHostBytesPerDisk = 256;
+
+// The memory available to a new allocation now [bytes]: Linux's MemAvailable
+// (free memory plus the caches it can drop), else the free physical pages,
+// else (macOS) the physical memory; Windows' available physical memory. Less
+// where the process is limited: its cgroup's memory.max (Linux, cgroup v2:
+// containers, Slurm jobs) and the address-space limit (ulimit -v). 0 where
+// none of these is known.
+std::uint64_t availableMemoryBytes();
+
+// Throws Error naming `what` (a file, a field, an option) when `disks` is
+// more than kMaxParticles or needs more than `availableBytes` of host memory
+// (kHostBytesPerDisk each; 0 bytes: unknown, not checked).
+void requireRoomFor(std::uint64_t disks, const std::string& what,
+                    std::uint64_t availableBytes = availableMemoryBytes());
+
 // What the collisions and the walls did over an interval of simulated time:
 // since World::setDisks, or since the last World::resetMeasurements.
 struct Measurements {
@@ -148,6 +168,13 @@ public:
     // under gravity, positions wrap and this is not a potential energy.
     double potentialEnergy() const;
     std::array<double, 2> momentum() const;  // sum of m v [mass length/time]
+    // The deepest overlap of two disks, max(r_i + r_j - |x_i - x_j|) over
+    // touching pairs, 0 if none [length]: a grid search, O(N). The schemes
+    // that step leave overlaps of the order of a step's travel.
+    double maxOverlap() const;
+    // Disks whose centre is outside the box or not finite: 0 unless a step
+    // was unstable (a dt too large for the speeds and the gravity).
+    std::size_t escapedCount() const;
     // kineticEnergy() + potentialEnergy(); with CollisionScheme::Events, of
     // the engine's exact double state, whose drift the float disks would hide.
     double totalEnergy() const;

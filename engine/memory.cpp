@@ -1,4 +1,6 @@
-#include "app/available_memory.h"
+// The memory functions of include/carom/world.h: what is available, and the
+// refusal of requests that cannot fit.
+#include <carom/world.h>
 
 #ifdef _WIN32
 #define NOMINMAX
@@ -13,7 +15,7 @@
 #include <initializer_list>
 #include <string>
 
-namespace carom::app {
+namespace carom {
 namespace {
 
 #ifdef __linux__
@@ -98,4 +100,14 @@ std::uint64_t availableMemoryBytes() {
 #endif
 }
 
-}  // namespace carom::app
+void requireRoomFor(std::uint64_t disks, const std::string& what, std::uint64_t availableBytes) {
+    if (disks > kMaxParticles)
+        throw Error(what + ": " + std::to_string(disks) + " particles; allowed: 1 to " + std::to_string(kMaxParticles));
+    const std::uint64_t needed = disks * kHostBytesPerDisk;
+    if (availableBytes > 0 && needed > availableBytes)
+        throw Error(what + ": " + std::to_string(disks) + " particles need about " + std::to_string(needed >> 20) +
+                    " MiB of memory, more than the " + std::to_string(availableBytes >> 20) +
+                    " MiB available; use fewer particles");
+}
+
+}  // namespace carom

@@ -1,4 +1,5 @@
-#include "engine/atomic_file.h"
+// carom/files.h: AtomicFile and the paths it writes through.
+#include <carom/files.h>
 
 #include <cerrno>
 #include <cstdio>
@@ -14,10 +15,23 @@
 #include "engine/carom.h"
 #include "engine/output_paths.h"
 
-namespace carom {
+namespace carom::io {
 namespace fs = std::filesystem;
 
 namespace {
+
+// As POSIX's SYMLOOP_MAX on Linux: a longer chain is a loop.
+constexpr int kMaxSymlinks = 40;
+
+// The absolute path with symlinks (also in the folders above), "." and ".."
+// resolved; its missing tail, if any, kept as written.
+fs::path resolved(const std::string& path) {
+    std::error_code error;
+    const fs::path absolute = fs::absolute(followSymlinks(path), error);
+    if (error) return fs::path(path).lexically_normal();
+    const fs::path canonical = fs::weakly_canonical(absolute, error);
+    return error ? absolute.lexically_normal() : canonical;
+}
 
 // Flushes what the system holds of `path` (a file's data, a folder's
 // entries) to the disk, so that a power loss after a rename leaves either
@@ -41,6 +55,35 @@ bool syncToDisk(const fs::path& path) {
 }
 
 }  // namespace
+
+fs::path followSymlinks(const std::string& path) {
+    fs::path target = path;
+    for (int links = 0;; ++links) {
+        std::error_code error;
+        if (!fs::is_symlink(fs::symlink_status(target, error))) return target;
+        if (links == kMaxSymlinks) throw Error("'" + path + "': too many levels of symbolic links");
+        const fs::path next = fs::read_symlink(target, error);
+        if (error) throw Error("cannot follow the symbolic link '" + target.string() + "': " + error.message());
+        target = next.is_absolute() ? next : target.parent_path() / next;
+    }
+}
+
+bool isSpecialFile(const std::string& path) {
+    std::error_code error;
+    const fs::file_status status = fs::status(path, error);
+    return fs::exists(status) && !fs::is_regular_file(status) && !fs::is_directory(status);
+}
+
+std::string temporaryPath(const std::string& path) {
+    if (isSpecialFile(path)) return "";
+    return followSymlinks(path).string() + ".partial";
+}
+
+bool sameFile(const std::string& a, const std::string& b) {
+    if (resolved(a) == resolved(b)) return true;
+    std::error_code error;  // set (and the result false) unless both exist
+    return fs::equivalent(a, b, error);
+}
 
 AtomicFile::AtomicFile(std::string path, Existing existing) : path_(std::move(path)) {
     if (path_.empty()) throw Error("an output file name is empty");
@@ -108,4 +151,4 @@ void AtomicFile::commit() {
     committed_ = true;
 }
 
-}  // namespace carom
+}  // namespace carom::io

@@ -1,3 +1,6 @@
+// carom/files.h: files written whole, never over one another (target
+// carom::io, which carom's own writers use).
+//
 // Output files that are either complete or absent: written to a temporary
 // name beside the target and renamed into place by commit(). If the writer
 // is destroyed without commit() (an error, an exception), the temporary file
@@ -8,14 +11,15 @@
 // A symlink is followed: the temporary file goes beside its target, which
 // is replaced, and the link stays a link. A FIFO or a device (/dev/null, a
 // terminal) is written directly, with no temporary name: it is never
-// replaced by a regular file (engine/output_paths.h).
+// replaced by a regular file (isSpecialFile).
 #pragma once
 
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <string_view>
 
-namespace carom {
+namespace carom::io {
 
 // What an AtomicFile does with a regular file already at its path.
 enum class Existing {
@@ -61,4 +65,21 @@ private:
     bool committed_ = false;
 };
 
-}  // namespace carom
+// `path` with its symlinks followed to the file they name (which may not
+// exist yet); `path` itself when it is no symlink. Throws Error on a loop.
+std::filesystem::path followSymlinks(const std::string& path);
+
+// Whether `path` (through symlinks) exists and is neither a regular file
+// nor a directory: a FIFO, a device or a socket, which carom writes directly.
+bool isSpecialFile(const std::string& path);
+
+// The name an output is written to before it is renamed onto `path`: the
+// target's name + ".partial"; empty for a special file (no temporary).
+std::string temporaryPath(const std::string& path);
+
+// Whether two paths name one file: the same absolute path once symlinks,
+// "." and ".." are resolved, or (for existing files) the same file through
+// hard links or case-insensitive names.
+bool sameFile(const std::string& a, const std::string& b);
+
+}  // namespace carom::io
