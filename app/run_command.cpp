@@ -21,20 +21,14 @@
 #include <unistd.h>
 #endif
 
+#include <carom/carom.h>
+#include <carom/files.h>
+#include <carom/io.h>
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
 #include "app/number_options.h"
 #include "app/stop_signals.h"
-#include "backends/backend.h"
-#include "backends/event_driven_backend.h"
-#include <carom/files.h>
-#include "engine/checkpoint.h"
-#include "engine/diagnostics.h"
-#include "engine/output_paths.h"
-#include "engine/state_csv.h"
-#include "engine/stats.h"
-#include "engine/trajectory.h"
 
 namespace carom::app {
 
@@ -78,13 +72,12 @@ struct NamedFile {
 };
 
 struct Start {
-    WorldDef world;
-    std::vector<Particle> particles;
-    std::uint64_t step = 0;                  // steps the scene has taken before this run
-    std::uint64_t collisions = 0;            // collisions before this run
-    std::uint64_t steps = 0;                 // steps this run takes
-    bool resumed = false;                    // from a checkpoint, whose step the previous run sampled
-    std::optional<EventEngineState> events;  // the events scheme's exact state, from the checkpoint
+    WorldDef world;                                // the run's world, with its --max-travel
+    Setup setup;                                   // a new scene: its disks
+    std::optional<io::CheckpointFile> checkpoint;  // a resumed run: the checkpoint
+    bool resumed = false;                          // from a checkpoint, whose step the previous run sampled
+    std::uint64_t step = 0;                        // steps the scene has taken before this run
+    std::uint64_t steps = 0;                       // steps this run takes
     OutputDef outputs;
     std::vector<NamedFile> outputFiles;  // outputs' paths with their names, for the checks and messages
     std::vector<NamedFile> inputFiles;   // the files this run reads: no output may replace them
@@ -108,22 +101,18 @@ Start planRun(const RunOptions& o) {
     Start start;
     start.steps = o.steps;
     if (!o.resume.empty()) {
-        Checkpoint c = readCheckpoint(o.resume, availableMemoryBytes());
-        start.world = c.world;
-        start.particles = std::move(c.particles);
-        start.step = c.step;
-        start.collisions = c.collisions;
+        start.checkpoint = io::readCheckpoint(o.resume);
         start.resumed = true;
-        start.events = std::move(c.events);
+        start.world = start.checkpoint->world();
+        start.step = start.checkpoint->step();
         start.world.maxTravel = o.scene.world.maxTravel;  // a run option, not part of the checkpoint
         refuseSubstepsWithEvents(start.world, maxTravelOption(start.world.maxTravel));
     } else {
-        Setup setup = makeSetup(o.scene);
-        start.world = setup.world;
-        start.particles = std::move(setup.particles);
-        if (setup.sceneFile) {
-            start.outputs = setup.sceneFile->output;
-            if (!stepsGiven) start.steps = setup.sceneFile->steps;
+        start.setup = makeSetup(o.scene);
+        start.world = start.setup.world;
+        if (start.setup.sceneFile) {
+            start.outputs = start.setup.sceneFile->output;
+            if (!stepsGiven) start.steps = start.setup.sceneFile->steps;
         }
     }
     if (start.steps > std::numeric_limits<std::uint64_t>::max() - start.step)
@@ -134,6 +123,16 @@ Start planRun(const RunOptions& o) {
         if (!input.path.empty()) start.inputFiles.push_back(input);
     if (o.scene.given.count("--every") || o.scene.sceneFile.empty()) start.outputs.every = o.every;
     return start;
+}
+
+// The world the run steps, on the engine the options ask for: the
+// checkpoint's, continuing bit for bit, or the new scene's.
+World startWorld(Start& start, const RunOptions& o) {
+    const WorldDef def = withEngine(start.world, o.scene);
+    if (start.checkpoint) return io::loadCheckpoint(std::move(*start.checkpoint), def);
+    World world(def);
+    world.setDisks(start.setup.disks, start.setup.source);
+    return world;
 }
 
 // ---------------------------------------------------------------------------
@@ -158,12 +157,14 @@ public:
     // Opens every output before the simulation, so a bad path is refused at
     // once. A resumed run appends to its trajectory and statistics (see
     // TrajectoryWriter), so that they continue the previous run's.
-    explicit Outputs(const Start& start)
+    Outputs(const Start& start, const World& world)
         : def_(start.outputs), resumed_(start.resumed), maxTravel_(start.world.maxTravel) {
         requireDistinctPaths(start);
-        const std::optional<std::uint64_t> resumedAt = start.resumed ? std::optional(start.step) : std::nullopt;
-        if (!def_.trajectory.empty()) trajectory_.emplace(def_.trajectory, resumedAt, start.particles.size());
-        if (!def_.stats.empty()) stats_.emplace(def_.stats, resumedAt);
+        if (!def_.trajectory.empty())
+            trajectory_ =
+                resumed_ ? io::TrajectoryWriter(def_.trajectory, world) : io::TrajectoryWriter(def_.trajectory);
+        if (!def_.stats.empty())
+            stats_ = resumed_ ? io::StatisticsWriter(def_.stats, world) : io::StatisticsWriter(def_.stats);
         // Opening a FIFO would wait for its reader, and closing it would end the reader's input.
         for (const std::string& path : {def_.checkpoint, def_.state})
             if (!path.empty() && !io::isSpecialFile(path)) io::AtomicFile probe(path);
@@ -175,57 +176,43 @@ public:
     // The checkpoint goes first, and a sample whose checkpoint failed adds no
     // frame or row: the trajectory and statistics never run past the step the
     // checkpoint holds, so the run resumed from it can append to them.
-    void sample(std::uint64_t step, const WorldDef& world, const std::vector<Particle>& particles,
-                std::uint64_t collisions) {
-        checkpoint(step, world, particles, collisions);
+    void sample(const World& world) {
+        checkpoint(world);
         if (!failures_[kCheckpoint].empty()) return;
-        const double time = double(step) * world.dt;
         attempt(kTrajectory, [&] {
-            trajectory_->write(particles, world, step, time);
-            trajectoryStep_ = step;
+            trajectory_->write(world);
+            trajectoryStep_ = world.stepCount();
         });
         attempt(kStats, [&] {
-            stats_->write(step, time, measure(particles, world), collisions);
-            statsStep_ = step;
+            stats_->write(world);
+            statsStep_ = world.stepCount();
         });
     }
 
     // Only finite states reach the outputs: the backend stops at a step that
     // leaves a disk non-finite, before it is read.
-    void checkpoint(std::uint64_t step, const WorldDef& world, const std::vector<Particle>& particles,
-                    std::uint64_t collisions) {
-        if (checkpointStep_ == step) return;
+    void checkpoint(const World& world) {
+        if (checkpointStep_ == world.stepCount()) return;
         attempt(kCheckpoint, [&] {
-            Checkpoint c;
-            c.world = world;
-            c.step = step;
-            c.time = double(step) * world.dt;
-            c.collisions = collisions;
-            c.particles = particles;
-            if (engine_) c.events = engine_->saveState();
-            writeCheckpoint(def_.checkpoint, c);
-            checkpointStep_ = step;
+            io::saveCheckpoint(def_.checkpoint, world);
+            checkpointStep_ = world.stepCount();
         });
     }
-
-    // The events scheme's engine, whose exact state each checkpoint keeps.
-    void keepStateOf(const EventDrivenBackend* engine) { engine_ = engine; }
 
     // Renames the trajectory and statistics into place: every frame and row
     // in them is complete.
     void commitStreams() {
-        attempt(kTrajectory, [&] { trajectory_->commit(); });
-        attempt(kStats, [&] { stats_->commit(); });
+        attempt(kTrajectory, [&] { trajectory_->close(); });
+        attempt(kStats, [&] { stats_->close(); });
     }
 
     // Every output at `step`, each attempted whatever happened to the others.
-    void finish(std::uint64_t step, const WorldDef& world, const std::vector<Particle>& particles,
-                std::uint64_t collisions) {
-        checkpoint(step, world, particles, collisions);
+    void finish(const World& world) {
+        checkpoint(world);
         commitStreams();
         attempt(kState, [&] {
-            writeStateCsv(def_.state, particles);
-            stateStep_ = step;
+            io::writeState(def_.state, world.disks());
+            stateStep_ = world.stepCount();
         });
     }
 
@@ -347,11 +334,10 @@ private:
     }
 
     OutputDef def_;
-    bool resumed_;                                // from a checkpoint: the trajectory and statistics are appended to
-    float maxTravel_;                             // the run's --max-travel, which a resumed run must be given again
-    const EventDrivenBackend* engine_ = nullptr;  // with the events scheme
-    std::optional<TrajectoryWriter> trajectory_;
-    std::optional<StatsWriter> stats_;
+    bool resumed_;     // from a checkpoint: the trajectory and statistics are appended to
+    float maxTravel_;  // the run's --max-travel, which a resumed run must be given again
+    std::optional<io::TrajectoryWriter> trajectory_;
+    std::optional<io::StatisticsWriter> stats_;
     std::optional<std::uint64_t> trajectoryStep_, statsStep_;  // of the last frame and row written
     std::optional<std::uint64_t> checkpointStep_;
     std::optional<std::uint64_t> stateStep_;
@@ -444,28 +430,35 @@ constexpr double kEnergyWarningChange = 0.01;
 // their rounding.
 struct EventsResult {
     EventCounts counts;
-    double initialEnergy = 0.0, finalEnergy = 0.0;  // EventDrivenBackend::totalEnergy
+    double initialEnergy = 0.0, finalEnergy = 0.0;  // World::totalEnergy
     double relativeChange() const {
         return initialEnergy != 0.0 ? (finalEnergy - initialEnergy) / std::fabs(initialEnergy) : 0.0;
     }
 };
 
+// The energies and momentum of the float disks.
+struct Motion {
+    double kineticEnergy = 0.0, potentialEnergy = 0.0;
+    std::array<double, 2> momentum{};
+    double totalEnergy() const { return kineticEnergy + potentialEnergy; }
+};
+
+Motion motionOf(const World& world) { return {world.kineticEnergy(), world.potentialEnergy(), world.momentum()}; }
+
 struct Result {
     std::uint64_t firstStep = 0, lastStep = 0;
     double seconds = 0.0;
-    Diagnostics initial, final;
-    std::uint64_t collisions = 0;  // during this run
-    ContactTotals contacts;        // during this run
-    double initialTemperature = 0.0, finalTemperature = 0.0;
+    Motion initial, final;
+    double maxOverlap = 0.0;  // at the end
+    std::size_t escaped = 0;  // at the end
+    Measurements run;         // over this run: collisions, pressure, Z and rates at the mean of the first and last kT
+    double finalTemperature = 0.0;
     bool interrupted = false;
     std::optional<EventsResult> events;  // with the events scheme
-
-    // Pressure and rates over the run, at the mean of the first and last kT.
-    Thermodynamics thermodynamics(const Backend& backend) const {
-        return carom::thermodynamics(contacts, 0.5 * (initialTemperature + finalTemperature), backend.particleCount(),
-                                     backend.world());
-    }
 };
+
+// The command line's name of the world's backend.
+const char* backendName(const World& world) { return world.def().engine == ComputeEngine::Cpu ? "cpu" : "opencl"; }
 
 bool hasGravity(const WorldDef& w) { return w.gravity.x != 0.0f || w.gravity.y != 0.0f; }
 
@@ -476,21 +469,21 @@ double energyChange(const Result& r) {
     return initial != 0.0 ? (r.final.totalEnergy() - initial) / std::fabs(initial) : 0.0;
 }
 
-void printSummary(const Backend& backend, const Result& r, const std::string& resumedFrom, const Outputs& outputs) {
-    const WorldDef& w = backend.world();
+void printSummary(const World& world, const Result& r, const std::string& resumedFrom, const Outputs& outputs) {
+    const WorldDef& w = world.def();
     const std::uint64_t steps = r.lastStep - r.firstStep;
-    std::printf("carom run: %zu disks, %llu steps of dt %g in a %g x %g box, %s\n", backend.particleCount(),
+    std::printf("carom run: %zu disks, %llu steps of dt %g in a %g x %g box, %s\n", world.diskCount(),
                 static_cast<unsigned long long>(steps), w.dt, w.width, w.height, boundaryName(w.boundary));
     if (w.maxTravel > 0)
         std::printf("  substeps     %llu (at most %g x the smallest radius per substep)\n",
-                    static_cast<unsigned long long>(r.contacts.substeps), w.maxTravel);
+                    static_cast<unsigned long long>(r.run.substeps), w.maxTravel);
     if (!resumedFrom.empty())
         std::printf("  resumed      from %s at step %llu, now at step %llu\n", resumedFrom.c_str(),
                     static_cast<unsigned long long>(r.firstStep), static_cast<unsigned long long>(r.lastStep));
-    std::printf("  backend      %s on %s\n", backend.name().c_str(), backend.device().c_str());
+    std::printf("  backend      %s on %s\n", backendName(world), world.deviceName().c_str());
     if (w.collisions == CollisionScheme::Pairwise)
         std::printf("  scheme       pairwise (at most %u collision rounds per substep, %llu late contacts)\n",
-                    r.contacts.maxRounds, static_cast<unsigned long long>(r.contacts.lateContacts));
+                    r.run.maxRounds, static_cast<unsigned long long>(r.run.lateContacts));
     else if (r.events)
         std::printf(
             "  scheme       events (%llu collisions, %llu wall bounces, %llu cell crossings; %llu stale and "
@@ -503,7 +496,7 @@ void printSummary(const Backend& backend, const Result& r, const std::string& re
     else
         std::printf("  scheme       %s\n", collisionSchemeName(w.collisions));
     std::printf("  wall time    %.3f s, %.3g particle-steps/s\n", r.seconds,
-                r.seconds > 0 ? double(backend.particleCount()) * steps / r.seconds : 0.0);
+                r.seconds > 0 ? double(world.diskCount()) * steps / r.seconds : 0.0);
     if (hasGravity(w))
         std::printf(
             "  energy       total %.9g -> %.9g (relative change %+.2e)\n"
@@ -519,42 +512,41 @@ void printSummary(const Backend& backend, const Result& r, const std::string& re
                     r.events->relativeChange());
     std::printf("  momentum     (%.6g, %.6g) -> (%.6g, %.6g)\n", r.initial.momentum[0], r.initial.momentum[1],
                 r.final.momentum[0], r.final.momentum[1]);
-    std::printf("  collisions   %llu, max overlap %.3g, escaped %zu\n", static_cast<unsigned long long>(r.collisions),
-                r.final.maxOverlap, r.final.escaped);
-    const Thermodynamics t = r.thermodynamics(backend);
+    std::printf("  collisions   %llu, max overlap %.3g, escaped %zu\n",
+                static_cast<unsigned long long>(r.run.collisions), r.maxOverlap, r.escaped);
     std::printf("  temperature  kT %.6g, %.4g collisions per disk per unit time\n", r.finalTemperature,
-                t.collisionRate);
+                r.run.collisionRate);
     if (w.boundary == Boundary::Periodic)
-        std::printf("  pressure     %.6g (collision virial), Z = PA/NkT = %.5g\n", t.virialPressure, t.virialZ);
+        std::printf("  pressure     %.6g (collision virial), Z = PA/NkT = %.5g\n", r.run.pressure,
+                    r.run.compressibility);
     else
         std::printf("  pressure     %.6g on the walls (left %.4g, right %.4g, bottom %.4g, top %.4g), Z = %.5g\n",
-                    t.wallPressureMean, t.wallPressure[0], t.wallPressure[1], t.wallPressure[2], t.wallPressure[3],
-                    t.wallZ);
+                    r.run.pressure, r.run.wallPressure[0], r.run.wallPressure[1], r.run.wallPressure[2],
+                    r.run.wallPressure[3], r.run.compressibility);
     const std::string written = outputs.written();
     if (!written.empty()) std::printf("  wrote        %s\n", written.c_str());
 }
 
-void printJson(const Backend& backend, const Result& r) {
-    const WorldDef& w = backend.world();
+void printJson(const World& world, const Result& r) {
+    const WorldDef& w = world.def();
     const std::uint64_t steps = r.lastStep - r.firstStep;
-    const double n = double(backend.particleCount());
-    const Thermodynamics t = r.thermodynamics(backend);
+    const double n = double(world.diskCount());
     nlohmann::json summary = {
-        {"backend", backend.name()},
-        {"device", backend.device()},
-        {"exact_arithmetic", backend.exactArithmetic()},
-        {"particles", backend.particleCount()},
+        {"backend", backendName(world)},
+        {"device", world.deviceName()},
+        {"exact_arithmetic", world.bitwiseReproducible()},
+        {"particles", world.diskCount()},
         {"steps", steps},
         {"step", r.lastStep},
         {"time", double(r.lastStep) * w.dt},
         {"interrupted", r.interrupted},
         {"dt", w.dt},
         {"max_travel", w.maxTravel},
-        {"substeps", r.contacts.substeps},
+        {"substeps", r.run.substeps},
         {"boundary", boundaryName(w.boundary)},
         {"scheme", collisionSchemeName(w.collisions)},
-        {"late_contacts", r.contacts.lateContacts},
-        {"max_rounds", r.contacts.maxRounds},
+        {"late_contacts", r.run.lateContacts},
+        {"max_rounds", r.run.maxRounds},
         {"box", pair(w.width, w.height)},
         {"gravity", pair(w.gravity.x, w.gravity.y)},
         {"wall_seconds", r.seconds},
@@ -567,11 +559,11 @@ void printJson(const Backend& backend, const Result& r) {
         {"momentum",
          {{"initial", pair(r.initial.momentum[0], r.initial.momentum[1])},
           {"final", pair(r.final.momentum[0], r.final.momentum[1])}}},
-        {"collisions", r.collisions},
-        {"max_overlap", r.final.maxOverlap},
-        {"escaped", r.final.escaped},
+        {"collisions", r.run.collisions},
+        {"max_overlap", r.maxOverlap},
+        {"escaped", r.escaped},
         {"temperature", r.finalTemperature},
-        {"collision_rate", t.collisionRate},
+        {"collision_rate", r.run.collisionRate},
     };
     if (r.events) {
         const EventCounts& counts = r.events->counts;
@@ -585,19 +577,19 @@ void printJson(const Backend& backend, const Result& r) {
         summary["energy"]["exact_relative_change"] = r.events->relativeChange();
     }
     if (w.boundary == Boundary::Periodic) {
-        summary["pressure"] = {{"virial", t.virialPressure}, {"Z", t.virialZ}};
+        summary["pressure"] = {{"virial", r.run.pressure}, {"Z", r.run.compressibility}};
     } else {
-        summary["wall_pressure"] = {{"mean", t.wallPressureMean}, {"left", t.wallPressure[0]},
-                                    {"right", t.wallPressure[1]}, {"bottom", t.wallPressure[2]},
-                                    {"top", t.wallPressure[3]},   {"Z", t.wallZ}};
+        summary["wall_pressure"] = {{"mean", r.run.pressure},         {"left", r.run.wallPressure[0]},
+                                    {"right", r.run.wallPressure[1]}, {"bottom", r.run.wallPressure[2]},
+                                    {"top", r.run.wallPressure[3]},   {"Z", r.run.compressibility}};
     }
     std::cout << summary.dump(2) << '\n';
 }
 
 // Runs `steps` steps, naming the steps that failed in the error.
-void advance(Backend& backend, std::uint64_t from, std::uint64_t steps, Outputs& outputs) {
+void advance(World& world, std::uint64_t from, std::uint64_t steps, Outputs& outputs) {
     try {
-        backend.step(steps);
+        world.step(steps);
     } catch (const Error& e) {
         outputs.commitStreams();  // keep the complete frames and rows written so far
         std::string message =
@@ -609,31 +601,25 @@ void advance(Backend& backend, std::uint64_t from, std::uint64_t steps, Outputs&
     }
 }
 
-// Steps from start.step to `last`, or until a stop signal or an output's
-// failure, sampling on every multiple of the outputs' `every`; returns the
-// step reached. Leaves the state at that step in start.particles. A step
-// that goes non-finite stops the backend there (advance reports it).
-std::uint64_t runSteps(Backend& backend, Start& start, std::uint64_t last, Outputs& outputs, Progress& progress) {
-    const WorldDef& world = start.world;
+// Steps from the world's step to `last`, or until a stop signal or an
+// output's failure, sampling on every multiple of the outputs' `every`;
+// returns the step reached. A step that goes non-finite stops the world
+// there (advance reports it).
+std::uint64_t runSteps(World& world, bool resumed, std::uint64_t last, Outputs& outputs, Progress& progress) {
     const std::uint64_t every = outputs.every();
-    std::vector<Particle>& particles = start.particles;
     Chunk chunk;
-    std::uint64_t step = start.step;
-    if (!start.resumed) outputs.sample(step, world, particles, start.collisions);  // a new scene records its start
+    std::uint64_t step = world.stepCount();
+    if (!resumed) outputs.sample(world);  // a new scene records its start
     while (step < last && !StopSignals::received() && !outputs.failed()) {
         const std::uint64_t n = std::min({last - step, every - step % every, chunk.size()});
         const auto callStart = std::chrono::steady_clock::now();
-        advance(backend, step, n, outputs);
+        advance(world, step, n, outputs);
         chunk.adapt(std::chrono::duration<double>(std::chrono::steady_clock::now() - callStart).count());
         step += n;
-        if (step % every == 0) {
-            backend.readParticles(particles);
-            outputs.sample(step, world, particles, start.collisions + backend.collisions());
-        }
+        if (step % every == 0) outputs.sample(world);
         progress.update(step);
     }
     progress.finish();
-    backend.readParticles(particles);
     return step;
 }
 
@@ -683,63 +669,47 @@ void reportInterruption(const Outputs& outputs, int signal, std::uint64_t step, 
 }  // namespace
 
 int runCommand(const RunOptions& o) {
-    // From the start: a signal while the outputs are opened or the backend is
-    // made stops the run at step 0 with every output written.
+    // From the start: a signal while the world is made or the outputs are
+    // opened stops the run at step 0 with every output written.
     const StopSignals stopSignals;
     Start start = planRun(o);
-    const std::string& source = !o.resume.empty() ? o.resume : o.scene.inputState;
-    for (const std::string& warning :
-         validateStart(start.particles, start.world, source.empty() ? "the scene" : source))
-        std::cerr << "carom: warning: " << warning << '\n';
-    Outputs outputs(start);
-    std::unique_ptr<Backend> backend = makeBackend(withEngine(start.world, o.scene));
-    backend->setParticles(start.particles, start.step);
-    // The events scheme's engine (makeBackend gives it for that scheme only)
-    // continues from its exact state, and its checkpoints keep that state.
-    auto* engine = dynamic_cast<EventDrivenBackend*>(backend.get());
-    if (start.events) {
-        try {
-            engine->restore(*start.events);
-        } catch (const Error& e) {
-            throw Error("checkpoint '" + o.resume + "': " + e.what());
-        }
-    }
-    outputs.keepStateOf(engine);
-    if (const std::string slow = gridCostWarning(start.particles, start.world); !slow.empty())
-        std::cerr << "carom: warning: " << slow << '\n';
+    World world = startWorld(start, o);
+    for (const std::string& warning : world.warnings()) std::cerr << "carom: warning: " << warning << '\n';
+    Outputs outputs(start, world);
 
     Result r;
     r.firstStep = start.step;
-    r.initial = measure(start.particles, start.world);
-    r.initialTemperature = temperature(start.particles, start.world.boundary);
-    if (engine) r.events.emplace().initialEnergy = engine->totalEnergy();
+    r.initial = motionOf(world);
+    const bool events = world.def().collisions == CollisionScheme::Events;
+    if (events) r.events.emplace().initialEnergy = world.totalEnergy();
     const std::uint64_t last = start.step + start.steps;
     Progress progress(!o.quiet && !o.json && stderrIsTerminal(), start.step, last);
     const auto began = std::chrono::steady_clock::now();
-    r.lastStep = runSteps(*backend, start, last, outputs, progress);
+    r.lastStep = runSteps(world, start.resumed, last, outputs, progress);
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
     const int signal = r.lastStep < last ? StopSignals::received() : 0;  // one after the last step stopped nothing
     r.interrupted = signal != 0;
-    r.final = measure(start.particles, start.world);
-    r.finalTemperature = temperature(start.particles, start.world.boundary);
-    r.contacts = backend->contacts();
-    r.collisions = r.contacts.collisions;
-    if (engine) {
-        r.events->counts = engine->eventCounts();
-        r.events->finalEnergy = engine->totalEnergy();
+    r.final = motionOf(world);
+    r.maxOverlap = world.maxOverlap();
+    r.escaped = world.escapedCount();
+    r.finalTemperature = world.temperature();
+    r.run = world.measurements();
+    if (events) {
+        r.events->counts = world.eventCounts();
+        r.events->finalEnergy = world.totalEnergy();
     }
-    outputs.finish(r.lastStep, start.world, start.particles, start.collisions + r.collisions);
+    outputs.finish(world);
     if (outputs.failed()) throw outputFailure(outputs, r.lastStep, last);
 
-    if (r.final.escaped > 0)
-        std::cerr << "carom: warning: " << r.final.escaped
+    if (r.escaped > 0)
+        std::cerr << "carom: warning: " << r.escaped
                   << " particles left the box: the step is unstable at this dt (try a smaller --dt)\n";
     if (o.json) {
-        printJson(*backend, r);
+        printJson(world, r);
     } else {
-        printSummary(*backend, r, o.resume, outputs);
+        printSummary(world, r, o.resume, outputs);
     }
-    warnAboutEnergy(r, start.world);
+    warnAboutEnergy(r, world.def());
     if (!r.interrupted) return 0;
     reportInterruption(outputs, signal, r.lastStep, last);
     return signalExitStatus(signal);

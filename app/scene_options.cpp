@@ -6,9 +6,7 @@
 #include <cstdlib>
 
 #include "app/number_options.h"
-#include "backends/backend.h"
 #include <carom/world.h>
-#include "engine/state_csv.h"
 
 namespace carom::app {
 namespace {
@@ -17,7 +15,7 @@ namespace {
 const char* const kGroupOptions[] = {"--particles", "--radius",   "--radius-min", "--radius-max",
                                      "--mass",      "--mass-min", "--mass-max",   "--speed"};
 
-void applyOverrides(const SceneOptions& o, SceneFile& scene) {
+void applyOverrides(const SceneOptions& o, SceneFileDef& scene) {
     auto given = [&o](const char* option) { return o.given.count(option) > 0; };
     if (given("--box")) {
         scene.world.width = o.box[0];
@@ -33,7 +31,7 @@ void applyOverrides(const SceneOptions& o, SceneFile& scene) {
     if (o.dtAuto && scene.world.maxTravel == 0.0f) scene.world.maxTravel = kDefaultMaxTravel;
     if (given("--boundary")) scene.world.boundary = o.world.boundary;
     if (given("--collisions")) scene.world.collisions = o.world.collisions;
-    if (given("--gravity")) scene.world.gravity = float2{o.gravity[0], o.gravity[1]};
+    if (given("--gravity")) scene.world.gravity = Vec2{o.gravity[0], o.gravity[1]};
     if (given("--seed")) scene.seed = o.scene.seed;
     for (const char* option : kGroupOptions) {
         if (given(option) && scene.groups.size() != 1)
@@ -58,19 +56,19 @@ void applyOverrides(const SceneOptions& o, SceneFile& scene) {
 }
 
 Setup setupFromSceneFile(const SceneOptions& o) {
-    SceneFile scene = readSceneFile(o.sceneFile);
+    SceneFileDef scene = io::readSceneFile(o.sceneFile);
     applyOverrides(o, scene);
     std::uint64_t particles = scene.disks.size();
     for (const GroupDef& group : scene.groups) particles += group.count;
     requireRoomFor(particles, o.sceneFile);
 
-    InitialState initial = makeInitialState(scene);
+    Scene placed = makeScene(scene);
     Setup setup;
     setup.world = scene.world;
-    setup.world.width = initial.width;
-    setup.world.height = initial.height;
+    setup.world.width = placed.width;
+    setup.world.height = placed.height;
     validate(setup.world);
-    setup.particles = std::move(initial.particles);
+    setup.disks = std::move(placed.disks);
     setup.sceneFile = std::move(scene);
     return setup;
 }
@@ -107,7 +105,8 @@ CLI::Option* tracked(CLI::Option* option, std::set<std::string>& given) {
 }
 
 void addSceneOptions(CLI::App& command, SceneOptions& o) {
-    const std::vector<std::string> backends = availableBackends();
+    std::vector<std::string> backends = {"cpu"};
+    if (engineAvailable(ComputeEngine::OpenClHostGrid)) backends.push_back("opencl");
     o.backend.kind = backends.back();  // OpenCL when this build has it
     tracked(command
                 .add_option("--backend", o.backend.kind,
@@ -264,13 +263,13 @@ Setup makeSetupOf(const SceneOptions& o) {
     Setup setup;
     setup.world = o.world;
     if (o.dtAuto && setup.world.maxTravel == 0.0f) setup.world.maxTravel = kDefaultMaxTravel;
-    if (!o.gravity.empty()) setup.world.gravity = float2{o.gravity[0], o.gravity[1]};
+    if (!o.gravity.empty()) setup.world.gravity = Vec2{o.gravity[0], o.gravity[1]};
     if (!o.inputState.empty()) {
         setup.world.width = o.box[0];
         setup.world.height = o.box[1];
         validate(setup.world);
-        setup.particles = readStateCsv(o.inputState, availableMemoryBytes());
-        validateParticles(setup.particles, setup.world, o.inputState);
+        setup.disks = io::readState(o.inputState);
+        setup.source = o.inputState;
         return setup;
     }
     SceneDef scene = o.scene;
@@ -283,11 +282,11 @@ Setup makeSetupOf(const SceneOptions& o) {
                         std::to_string(o.box[1]));
     }
     requireRoomFor(scene.particles, "--particles");
-    InitialState initial = makeInitialState(scene);
-    setup.world.width = initial.width;
-    setup.world.height = initial.height;
+    Scene placed = makeScene(scene);
+    setup.world.width = placed.width;
+    setup.world.height = placed.height;
     validate(setup.world);
-    setup.particles = std::move(initial.particles);
+    setup.disks = std::move(placed.disks);
     return setup;
 }
 

@@ -10,8 +10,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "engine/carom.h"
-#include "engine/scene_file.h"
+#include <carom/carom.h>
 
 namespace carom::app {
 
@@ -32,7 +31,7 @@ struct SceneOptions {
     std::vector<float> gravity;  // GX GY, when given
     bool dtAuto = false;         // --dt auto: substeps of at most --max-travel (default 0.2) radii
     std::string inputState;
-    std::string sceneFile;        // --scene: a TOML scene file (engine/scene_file.h)
+    std::string sceneFile;        // --scene: a TOML scene file (io::readSceneFile)
     std::set<std::string> given;  // the options given on the command line ("--dt", ...):
                                   //   these override the scene file's values
 };
@@ -47,9 +46,10 @@ CLI::Option* tracked(CLI::Option* option, std::set<std::string>& given);
 
 struct Setup {
     WorldDef world;
-    std::vector<Particle> particles;
-    std::optional<SceneFile> sceneFile;  // the --scene file with the command line's overrides
-                                         //   applied (its steps and outputs), when given
+    std::vector<Disk> disks;
+    std::string source = "the scene";       // what the disks came from, for World::setDisks' messages
+    std::optional<SceneFileDef> sceneFile;  // the --scene file with the command line's overrides
+                                            //   applied (its steps and outputs), when given
 };
 
 // The world and particles the options describe: from --input-state, from

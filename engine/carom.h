@@ -1,12 +1,11 @@
-// carom's internal definitions: the particles a scene starts from, which
-// backend runs it, and the checks of a world, a scene and a run's start.
-// The public definitions (WorldDef, SceneDef, the limits) are in
+// carom's internal definitions: the particles a scene starts from and the
+// checks of a run's start. The public definitions (WorldDef, SceneDef,
+// EngineDef, the limits, the checks of a world and a scene) are in
 // include/carom/types.h.
 #pragma once
 
 #include <cstdint>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include <carom/types.h>
@@ -21,27 +20,6 @@ struct InitialState {
     float height = 0.0f;
     std::vector<Particle> particles;
 };
-
-// A compute engine and, for OpenCL, its device: WorldDef::engine and
-// WorldDef::device apart from a world, for code that runs one world on
-// several engines (the tests, `carom validate`).
-struct EngineDef {
-    ComputeEngine engine = ComputeEngine::Cpu;
-    std::string device;  // OpenCL only: as WorldDef::device
-};
-
-// `world` to run on `engine`.
-inline WorldDef onEngine(WorldDef world, const EngineDef& engine) {
-    world.engine = engine.engine;
-    world.device = engine.device;
-    return world;
-}
-
-// Throws Error unless every field of the world is finite and in range.
-void validate(const WorldDef& world);
-
-// Throws Error unless the scene can be placed (ranges valid, packing reachable).
-void validate(const SceneDef& scene);
 
 // Builds the initial particles of a scene. Deterministic in scene.seed.
 InitialState makeInitialState(const SceneDef& scene);

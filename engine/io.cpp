@@ -6,7 +6,6 @@
 #include "backends/event_driven_backend.h"
 #include "engine/checkpoint.h"
 #include "engine/disk_conversion.h"
-#include "engine/scene_file.h"
 #include "engine/diagnostics.h"
 #include "engine/state_csv.h"
 #include "engine/stats.h"
@@ -16,13 +15,13 @@
 namespace carom::io {
 
 SceneFile loadScene(const std::string& path) {
-    const carom::SceneFile scene = readSceneFile(path);
-    InitialState state = makeInitialState(scene);
+    const SceneFileDef scene = readSceneFile(path);
+    Scene placed = makeScene(scene);
     SceneFile loaded;
     loaded.world = scene.world;
-    loaded.world.width = state.width;
-    loaded.world.height = state.height;
-    loaded.disks = disksOf(state.particles);
+    loaded.world.width = placed.width;
+    loaded.world.height = placed.height;
+    loaded.disks = std::move(placed.disks);
     loaded.steps = scene.steps;
     return loaded;
 }
@@ -46,15 +45,36 @@ void saveCheckpoint(const std::string& path, const World& world) {
     writeCheckpoint(path, c);
 }
 
-World loadCheckpoint(const std::string& path, const WorldDef& def) {
-    Checkpoint c = readCheckpoint(path, availableMemoryBytes());
+struct CheckpointFile::Impl {
+    std::string path;
+    Checkpoint contents;
+};
+
+CheckpointFile::CheckpointFile(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+CheckpointFile::~CheckpointFile() = default;
+CheckpointFile::CheckpointFile(CheckpointFile&&) noexcept = default;
+CheckpointFile& CheckpointFile::operator=(CheckpointFile&&) noexcept = default;
+const WorldDef& CheckpointFile::world() const { return impl_->contents.world; }
+std::uint64_t CheckpointFile::step() const { return impl_->contents.step; }
+std::size_t CheckpointFile::diskCount() const { return impl_->contents.particles.size(); }
+
+CheckpointFile readCheckpoint(const std::string& path) {
+    return CheckpointFile(std::make_unique<CheckpointFile::Impl>(
+        CheckpointFile::Impl{path, carom::readCheckpoint(path, availableMemoryBytes())}));
+}
+
+World loadCheckpoint(const std::string& path, const WorldDef& def) { return loadCheckpoint(readCheckpoint(path), def); }
+
+World loadCheckpoint(CheckpointFile checkpoint, const WorldDef& def) {
+    const std::string& path = checkpoint.impl_->path;
+    Checkpoint& c = checkpoint.impl_->contents;
     WorldDef resumed = c.world;
     resumed.engine = def.engine;
     resumed.device = def.device;
     resumed.maxTravel = def.maxTravel;
     World world(resumed);
     auto& impl = WorldAccess::of(world);
-    impl.start(std::move(c.particles), c.step, c.time, c.collisions);
+    impl.start(std::move(c.particles), c.step, c.time, c.collisions, path);
     if (c.events) {
         try {
             dynamic_cast<EventDrivenBackend&>(*impl.backend).restore(*c.events);

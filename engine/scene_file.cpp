@@ -1,8 +1,7 @@
-// Scene files, read: TOML parsed into a SceneFile, every value checked where
+// Scene files, read: TOML parsed into a SceneFileDef, every value checked where
 // it is read, with its line. The only file that sees toml++; the checks of
 // the whole scene are in scene_file_validate.cpp, its placement in
 // scene_placement.cpp.
-#include <carom/io.h>
 #include "engine/scene_file.h"
 
 #include <algorithm>
@@ -41,8 +40,8 @@ class Parser {
 public:
     explicit Parser(std::string path) : path_(std::move(path)) {}
 
-    SceneFile parse(const toml::table& root) const {
-        SceneFile scene;
+    SceneFileDef parse(const toml::table& root) const {
+        SceneFileDef scene;
         scene.path = path_;
         requireKnownKeys(root, "",
                          {"boundary", "box", "collisions", "disk", "dt", "gravity", "group", "max_travel", "output",
@@ -288,7 +287,9 @@ private:
 
 }  // namespace
 
-SceneFile parseSceneFile(std::string_view text, const std::string& path) {
+namespace io {
+
+SceneFileDef parseSceneFile(std::string_view text, const std::string& path) {
     toml::table root;
     try {
         root = toml::parse(text, path);
@@ -299,7 +300,7 @@ SceneFile parseSceneFile(std::string_view text, const std::string& path) {
     return Parser(path).parse(root);
 }
 
-SceneFile readSceneFile(const std::string& path) {
+SceneFileDef readSceneFile(const std::string& path) {
     std::error_code error;
     if (!std::filesystem::is_regular_file(path, error))
         throw Error("cannot read scene file '" + path +
@@ -315,5 +316,7 @@ SceneFile readSceneFile(const std::string& path) {
     if (!in.read(text.data(), size)) throw Error("reading scene file '" + path + "' failed");
     return parseSceneFile(text, path);
 }
+
+}  // namespace io
 
 }  // namespace carom

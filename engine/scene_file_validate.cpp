@@ -25,7 +25,7 @@ void requireRange(const std::string& where, const char* name, float min, float m
         fail(where, ": ", name, " must be > 0 and finite, a range with min <= max; got [", min, ", ", max, "]");
 }
 
-void validateGroup(const SceneFile& scene, const GroupDef& g) {
+void validateGroup(const SceneFileDef& scene, const GroupDef& g) {
     std::ostringstream whereText;
     whereText << scene.path << ':' << g.line << ": " << g.name;
     const std::string where = whereText.str();
@@ -43,7 +43,7 @@ void validateGroup(const SceneFile& scene, const GroupDef& g) {
              " box");
 }
 
-void validateDisk(const SceneFile& scene, const DiskDef& d, std::size_t index) {
+void validateDisk(const SceneFileDef& scene, const DiskDef& d, std::size_t index) {
     std::ostringstream whereText;
     whereText << scene.path << ':' << d.line << ": disk[" << index + 1 << ']';
     const std::string where = whereText.str();
@@ -58,7 +58,7 @@ void validateDisk(const SceneFile& scene, const DiskDef& d, std::size_t index) {
 
 // Regions shared by several groups hold one mixed lattice; regions of
 // different groups must not cut into each other, or their disks could overlap.
-void validateRegions(const SceneFile& scene) {
+void validateRegions(const SceneFileDef& scene) {
     for (std::size_t a = 0; a < scene.groups.size(); ++a) {
         for (std::size_t b = a + 1; b < scene.groups.size(); ++b) {
             const GroupDef& ga = scene.groups[a];
@@ -75,7 +75,7 @@ void validateRegions(const SceneFile& scene) {
 
 }  // namespace
 
-void validate(const SceneFile& scene) {
+void validate(const SceneFileDef& scene) {
     const std::string& where = scene.path;
     if (scene.packing > 0) {
         if (!(std::isfinite(scene.packing) && scene.packing <= kMaxPacking))

@@ -90,7 +90,7 @@ struct Placed {
 
 // Rethrows a placement error with the file and the group it concerns.
 template <class Place>
-Placed placing(const SceneFile& scene, const GroupDef& g, Place&& place) {
+Placed placing(const SceneFileDef& scene, const GroupDef& g, Place&& place) {
     try {
         return place();
     } catch (const Error& e) {
@@ -159,7 +159,7 @@ Placed placeMixed(const std::vector<const GroupDef*>& groups, float width, float
 
 // Throws if a [[disk]] overlaps any other disk (the groups' lattices never
 // overlap by construction).
-void requireNoOverlap(const SceneFile& scene, const std::vector<Particle>& particles, std::size_t firstDisk,
+void requireNoOverlap(const SceneFileDef& scene, const std::vector<Particle>& particles, std::size_t firstDisk,
                       float width, float height) {
     float maxRadius = 0.0f;
     for (const Particle& p : particles) maxRadius = std::max(maxRadius, p.radius);
@@ -252,7 +252,7 @@ InitialState makeInitialState(const SceneDef& scene) {
     return state;
 }
 
-InitialState makeInitialState(const SceneFile& scene) {
+InitialState makeInitialState(const SceneFileDef& scene) {
     validate(scene);
     InitialState state;
     state.width = scene.world.width;

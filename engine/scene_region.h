@@ -7,7 +7,7 @@
 namespace carom {
 
 // The region of a group that names none.
-inline Region wholeBox(const SceneFile& scene) { return Region{0, 0, scene.world.width, scene.world.height}; }
+inline Region wholeBox(const SceneFileDef& scene) { return Region{0, 0, scene.world.width, scene.world.height}; }
 
 inline bool sameRegion(const Region& a, const Region& b) {
     return a.xMin == b.xMin && a.yMin == b.yMin && a.xMax == b.xMax && a.yMax == b.yMax;

@@ -9,6 +9,7 @@
 #include "engine/grid.h"
 #include "engine/disk_conversion.h"
 #include "engine/observables.h"
+#include "engine/scene_file.h"
 #include "engine/world_impl.h"
 #ifdef CAROM_HAVE_OPENCL
 #include "backends/opencl_runtime.h"
@@ -20,6 +21,11 @@ Scene makeScene(const SceneDef& def) {
     if (def.particles > kMaxParticles)
         throw Error("SceneDef::particles " + std::to_string(def.particles) + " is more than kMaxParticles (" +
                     std::to_string(kMaxParticles) + ")");
+    InitialState state = makeInitialState(def);
+    return Scene{state.width, state.height, disksOf(state.particles)};
+}
+
+Scene makeScene(const SceneFileDef& def) {
     InitialState state = makeInitialState(def);
     return Scene{state.width, state.height, disksOf(state.particles)};
 }
@@ -57,8 +63,8 @@ const char* computeEngineName(ComputeEngine engine) {
 }
 
 void World::Impl::start(std::vector<Particle> particles, std::uint64_t startStep, double startTime,
-                        std::uint64_t collisions) {
-    warnings = validateStart(particles, def, "disks");
+                        std::uint64_t collisions, const std::string& source) {
+    warnings = validateStart(particles, def, source);
     if (std::string slow = gridCostWarning(particles, def); !slow.empty()) warnings.push_back(std::move(slow));
     load(std::move(particles), startStep, collisions);
     motionStep = startStep;
@@ -91,12 +97,12 @@ World::~World() = default;
 World::World(World&&) noexcept = default;
 World& World::operator=(World&&) noexcept = default;
 
-void World::setDisks(const Disk* disks, std::size_t count) {
+void World::setDisks(const Disk* disks, std::size_t count, const std::string& source) {
     if (count == 0) throw Error("setDisks: a world needs at least 1 disk, got 0");
     if (count > kMaxParticles)
         throw Error("setDisks: " + std::to_string(count) + " disks; allowed: at most " + std::to_string(kMaxParticles) +
                     " (kMaxParticles)");
-    impl_->start(particlesOf(disks, count), 0, 0.0, 0);
+    impl_->start(particlesOf(disks, count), 0, 0.0, 0, source);
 }
 
 void World::setDisk(std::size_t id, const Disk& disk) {

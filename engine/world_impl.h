@@ -50,8 +50,9 @@ struct World::Impl {
         return stateMotion;
     }
     // Starts from `particles`, which hold step `step` of a scene in which
-    // `collisions` pairs collided so far.
-    void start(std::vector<Particle> particles, std::uint64_t step, double time, std::uint64_t collisions);
+    // `collisions` pairs collided so far; `source` names them in messages.
+    void start(std::vector<Particle> particles, std::uint64_t step, double time, std::uint64_t collisions,
+               const std::string& source);
     // Replaces the state with an edited one, at the same step and collision count.
     void edit(std::vector<Particle> particles);
     // Loads `particles` as the state at `step`, with `collisions` so far.

@@ -17,14 +17,14 @@ namespace {
 
 std::string parseError(const std::string& text) {
     try {
-        makeInitialState(parseSceneFile(text, "s.toml"));
+        makeInitialState(io::parseSceneFile(text, "s.toml"));
     } catch (const Error& e) {
         return e.what();
     }
     return "";
 }
 
-WorldDef worldOf(const SceneFile& scene, const InitialState& s) {
+WorldDef worldOf(const SceneFileDef& scene, const InitialState& s) {
     WorldDef w = scene.world;
     w.width = s.width;
     w.height = s.height;
@@ -38,7 +38,7 @@ bool inside(const Particle& p, const Region& r) {
 
 // A scene of scenes/, read and placed.
 struct ShippedScene {
-    SceneFile file;
+    SceneFileDef file;
     InitialState initial;
     WorldDef world;
 };
@@ -51,7 +51,7 @@ std::vector<ShippedScene> shippedScenes() {
     std::sort(paths.begin(), paths.end());
     std::vector<ShippedScene> scenes;
     for (const auto& path : paths) {
-        ShippedScene scene{readSceneFile(path.string()), {}, {}};
+        ShippedScene scene{io::readSceneFile(path.string()), {}, {}};
         scene.initial = makeInitialState(scene.file);
         scene.world = worldOf(scene.file, scene.initial);
         scenes.push_back(std::move(scene));
@@ -62,7 +62,7 @@ std::vector<ShippedScene> shippedScenes() {
 }  // namespace
 
 TEST_CASE("scene file: every key is read") {
-    const SceneFile s = parseSceneFile(R"(
+    const SceneFileDef s = io::parseSceneFile(R"(
 box = [100, 60.5]
 boundary = "walls"
 collisions = "pairwise"
@@ -140,7 +140,7 @@ every = 25
 }
 
 TEST_CASE("scene file: defaults") {
-    const SceneFile s = parseSceneFile("box = [10, 10]\n[[disk]]\nposition = [5, 5]\n", "s.toml");
+    const SceneFileDef s = io::parseSceneFile("box = [10, 10]\n[[disk]]\nposition = [5, 5]\n", "s.toml");
     CHECK(s.world.dt == 0.01f);
     CHECK(s.world.gravity.x == 0.0f);
     CHECK(s.world.gravity.y == 0.0f);
@@ -272,12 +272,12 @@ TEST_CASE("scene file: values in messages are cut short and made printable") {
 }
 
 TEST_CASE("scene file: a missing or oversized file is refused") {
-    CHECK_THROWS_WITH_AS(readSceneFile("no-such-scene.toml"), doctest::Contains("cannot read scene file"), Error);
-    CHECK_THROWS_WITH_AS(readSceneFile("."), doctest::Contains("cannot read scene file '.'"), Error);
+    CHECK_THROWS_WITH_AS(io::readSceneFile("no-such-scene.toml"), doctest::Contains("cannot read scene file"), Error);
+    CHECK_THROWS_WITH_AS(io::readSceneFile("."), doctest::Contains("cannot read scene file '.'"), Error);
 }
 
 TEST_CASE("scene file: one group filling the box is makeInitialState(SceneDef)") {
-    SceneFile file = parseSceneFile(
+    SceneFileDef file = io::parseSceneFile(
         "packing = 0.45\n[[group]]\ncount = 700\nradius = [0.5, 1]\nmass = [1, 3]\n"
         "speed = 2\n",
         "s.toml");
@@ -292,14 +292,14 @@ TEST_CASE("scene file: one group filling the box is makeInitialState(SceneDef)")
     REQUIRE(a.particles.size() == b.particles.size());
     CHECK(std::memcmp(a.particles.data(), b.particles.data(), a.particles.size() * sizeof(Particle)) == 0);
 
-    const SceneFile demo = readSceneFile(std::string(CAROM_SCENES_DIR) + "/demo.toml");
+    const SceneFileDef demo = io::readSceneFile(std::string(CAROM_SCENES_DIR) + "/demo.toml");
     const InitialState c = makeInitialState(demo), d = makeInitialState(SceneDef{});
     REQUIRE(c.particles.size() == d.particles.size());
     CHECK(std::memcmp(c.particles.data(), d.particles.data(), c.particles.size() * sizeof(Particle)) == 0);
 }
 
 TEST_CASE("scene file: groups sharing a region are mixed; each stays in its region") {
-    const SceneFile s = parseSceneFile(R"(
+    const SceneFileDef s = io::parseSceneFile(R"(
 box = [120, 40]
 [[group]]
 count = 300
@@ -335,7 +335,7 @@ region = [60, 0, 120, 40]
 }
 
 TEST_CASE("scene file: temperature gives Maxwell-Boltzmann velocities") {
-    const SceneFile s = parseSceneFile(R"(
+    const SceneFileDef s = io::parseSceneFile(R"(
 box = [300, 300]
 [[group]]
 count = 4000
@@ -364,7 +364,7 @@ temperature = 1.5
 
 TEST_CASE("scene file: the seed decides, bit for bit") {
     const char* text = "box = [80, 80]\n[[group]]\ncount = 200\ntemperature = 1\n[[group]]\ncount = 100\nmass = 3\n";
-    SceneFile s = parseSceneFile(text, "s.toml");
+    SceneFileDef s = io::parseSceneFile(text, "s.toml");
     const InitialState a = makeInitialState(s), b = makeInitialState(s);
     CHECK(std::memcmp(a.particles.data(), b.particles.data(), a.particles.size() * sizeof(Particle)) == 0);
     s.seed = 2;
@@ -403,7 +403,7 @@ CAROM_OPENCL_TEST_CASE("scenes/: every shipped scene agrees with the CPU bit for
 }
 
 CAROM_BACKEND_TEST_CASE("scenes/newtons_cradle.toml: the striker stops and the last disk leaves") {
-    const SceneFile scene = readSceneFile(std::string(CAROM_SCENES_DIR) + "/newtons_cradle.toml");
+    const SceneFileDef scene = io::readSceneFile(std::string(CAROM_SCENES_DIR) + "/newtons_cradle.toml");
     const InitialState initial = makeInitialState(scene);
     const auto end = simulate(def, worldOf(scene, initial), initial.particles, scene.steps);
     REQUIRE(end.size() == 6);

@@ -173,7 +173,7 @@ TEST_CASE("world: bad input is refused in library terms, naming the value") {
 TEST_CASE("io: a scene file loads as the command line places it") {
     const std::string path = std::string(CAROM_SCENES_DIR) + "/mixture.toml";
     const io::SceneFile loaded = io::loadScene(path);
-    const carom::SceneFile scene = readSceneFile(path);
+    const carom::SceneFileDef scene = io::readSceneFile(path);
     const InitialState placed = makeInitialState(scene);
     CHECK(loaded.world.width == placed.width);
     CHECK(loaded.world.height == placed.height);

@@ -490,7 +490,7 @@ constexpr double kGravityEnergyTolerance = 1e-3;  // relative, over the run
 // scheme: 800 polydisperse disks of unequal mass released in the upper part
 // of a walled box fall and pile up on the floor.
 GravityResult gravity(const SuiteOptions& o, std::vector<Check>& checks, std::ostream& progress) {
-    SceneFile scene;
+    SceneFileDef scene;
     scene.world.width = 60.0f;
     scene.world.height = 80.0f;
     scene.world.dt = o.dt;

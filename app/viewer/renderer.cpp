@@ -4,7 +4,7 @@
 #include <string>
 
 #include "app/viewer/palette.h"
-#include "engine/carom.h"
+#include <carom/types.h>
 
 namespace carom::viewer {
 namespace {

@@ -15,7 +15,6 @@
 #include "app/number_options.h"
 #include "app/stop_signals.h"
 #include "app/viewer/png.h"
-#include "engine/disk_conversion.h"
 
 namespace carom::viewer {
 
@@ -151,7 +150,7 @@ void Viewer::start(app::Setup setup) {
     def.dt = dt_;
     def.gravity = gravityOn_ ? gravity_ : carom::Vec2{0, 0};
     World world(def);
-    world.setDisks(disksOf(setup.particles));
+    world.setDisks(setup.disks, setup.source);
     for (const std::string& warning : world.warnings()) std::cerr << "carom: warning: " << warning << '\n';
     initial_ = std::move(setup);
     world_.emplace(std::move(world));
@@ -178,7 +177,7 @@ double Viewer::relativeEnergyDrift() const {
 
 void Viewer::reset() {
     collisionsBeforeReset_ += world_->collisionCount();
-    world_->setDisks(disksOf(initial_.particles));
+    world_->setDisks(initial_.disks, initial_.source);
     disks_ = world_->disks();
     restartEnergyDrift();
     grabbed_ = -1;

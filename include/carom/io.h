@@ -22,6 +22,13 @@
 
 namespace carom::io {
 
+// A scene file read and validated, its disks not yet placed (makeScene
+// places them, carom/world.h): throws Error naming the file, the line, the
+// key, the bad value and what is allowed. parseSceneFile reads TOML text,
+// which `path` names in messages.
+SceneFileDef readSceneFile(const std::string& path);
+SceneFileDef parseSceneFile(std::string_view text, const std::string& path);
+
 // A scene file read, validated and placed: the world it defines and its
 // disks in id order (the groups' disks, then the [[disk]]s).
 struct SceneFile {
@@ -46,6 +53,31 @@ void writeState(const std::string& path, const std::vector<Disk>& disks);
 // available now cannot hold (requireRoomFor, carom/world.h); so does readState.
 void saveCheckpoint(const std::string& path, const World& world);
 World loadCheckpoint(const std::string& path, const WorldDef& def = WorldDef{});
+
+// A checkpoint read and checked but not started, for a program that looks
+// at what it holds before it chooses the engine (CollisionScheme::Events
+// runs on the CPU only): readCheckpoint, then loadCheckpoint(std::move(file), def).
+class CheckpointFile {
+public:
+    ~CheckpointFile();
+    CheckpointFile(CheckpointFile&&) noexcept;
+    CheckpointFile& operator=(CheckpointFile&&) noexcept;
+
+    // Its box, dt, gravity, boundary and scheme (engine Cpu, device empty,
+    // maxTravel 0: a checkpoint does not hold them).
+    const WorldDef& world() const;
+    std::uint64_t step() const;  // the step it holds
+    std::size_t diskCount() const;
+
+private:
+    struct Impl;
+    explicit CheckpointFile(std::unique_ptr<Impl> impl);
+    friend CheckpointFile readCheckpoint(const std::string& path);
+    friend World loadCheckpoint(CheckpointFile checkpoint, const WorldDef& def);
+    std::unique_ptr<Impl> impl_;
+};
+CheckpointFile readCheckpoint(const std::string& path);
+World loadCheckpoint(CheckpointFile checkpoint, const WorldDef& def = WorldDef{});
 
 // Trajectories as extended XYZ (README, "Output files"), which OVITO and ASE
 // read: write() adds a frame of the world's disks at its stepCount() and

@@ -12,7 +12,9 @@
 
 #include <cstdint>
 #include <stdexcept>
+#include <optional>
 #include <string>
+#include <vector>
 
 namespace carom {
 
@@ -142,6 +144,25 @@ struct WorldDef {
     std::string device;
 };
 
+// A compute engine and, for OpenCL, its device: WorldDef::engine and
+// WorldDef::device apart from a world, for code that runs one world on
+// several engines (tests, `carom validate`).
+struct EngineDef {
+    ComputeEngine engine = ComputeEngine::Cpu;
+    std::string device;  // OpenCL only: as WorldDef::device
+};
+
+// `world` to run on `engine`.
+inline WorldDef onEngine(WorldDef world, const EngineDef& engine) {
+    world.engine = engine.engine;
+    world.device = engine.device;
+    return world;
+}
+
+// Throws Error naming the first field that is not finite or out of range
+// (World's constructor checks the same).
+void validate(const WorldDef& world);
+
 // The maxTravel the command line's `--dt auto` uses when none is given.
 constexpr float kDefaultMaxTravel = 0.2f;
 // The most substeps one step may take before the run is refused as runaway.
@@ -162,6 +183,70 @@ struct SceneDef {
     float speed = 1.0f;      // initial speed of every disk [length/time], in [0, kMaxSpeed]
     std::uint64_t seed = 1;  // random seed; the same seed gives the same disks wherever the C library
                              //   rounds sin, cos and sqrt alike (the generator itself is portable)
+};
+
+// Throws Error unless the scene can be placed (ranges valid, packing reachable).
+void validate(const SceneDef& scene);
+
+// A scene file (the README's "Scene files"; io::readSceneFile reads one) as
+// it is written, before its disks are placed (makeScene, carom/world.h): a
+// program may change it first, as the command line's options do.
+
+// An axis-aligned rectangle inside the box [length].
+struct Region {
+    float xMin = 0.0f;
+    float yMin = 0.0f;
+    float xMax = 0.0f;
+    float yMax = 0.0f;
+};
+
+// One [[group]]: `count` disks placed without overlap on a jittered
+// hexagonal lattice over their region. Groups that name the same region (or
+// none) share one lattice, their disks shuffled over its sites.
+struct GroupDef {
+    std::string name;         // shown in messages; default "group[K]", K counting from 1
+    std::size_t line = 0;     // line of its [[group]] header, for messages
+    std::uint32_t count = 0;  // number of disks, >= 1; required
+    float radiusMin = 1.0f;   // radius, fixed or uniform in [radiusMin, radiusMax] [length], > 0
+    float radiusMax = 1.0f;
+    float massMin = 1.0f;  // mass, fixed or uniform in [massMin, massMax] [mass], > 0
+    float massMax = 1.0f;
+    float speed = 1.0f;            // speed of every disk, random directions [length/time], >= 0
+    float temperature = 0.0f;      // > 0: Maxwell-Boltzmann velocities at k_B T = temperature
+                                   //   [mass length^2/time^2] instead of `speed`; 0 = off
+    std::optional<Region> region;  // where the disks go; default the whole box
+};
+
+// One [[disk]]: a single disk, exactly where it is put.
+struct DiskDef {
+    std::size_t line = 0;  // line of its [[disk]] header, for messages
+    Vec2 position{0, 0};   // centre [length]; required, the disk must lie inside the box
+    Vec2 velocity{0, 0};   // [length/time]; default at rest
+    float mass = 1.0f;     // [mass], > 0
+    float radius = 1.0f;   // [length], > 0
+};
+
+// [output]: the files a run writes. Paths are relative to the working
+// directory, like paths on the command line. Empty = not written.
+struct OutputDef {
+    std::string trajectory;     // extended XYZ frames (io::TrajectoryWriter)
+    std::string stats;          // CSV rows (io::StatisticsWriter)
+    std::string checkpoint;     // binary checkpoint (io::saveCheckpoint), also written when the run ends
+    std::string state;          // the final state as CSV (io::writeState)
+    std::uint64_t every = 100;  // steps between samples and checkpoints, >= 1
+};
+
+struct SceneFileDef {
+    std::string path;            // the file, for messages
+    WorldDef world;              // box (0 x 0 when `packing` sizes it), dt, gravity, boundary,
+                                 //   collision scheme
+    float packing = 0.0f;        // > 0: the box is square, sized so the disks cover this
+                                 //   area fraction, in (0, 0.7]; instead of world's box
+    std::uint64_t steps = 1000;  // steps `carom run` takes
+    std::uint64_t seed = 1;      // random seed of the placement and the velocities
+    std::vector<GroupDef> groups;
+    std::vector<DiskDef> disks;  // ids follow the groups' disks, in file order
+    OutputDef output;
 };
 
 }  // namespace carom

@@ -35,6 +35,11 @@ struct Scene {
 // def.seed on every platform. Throws Error when the ranges are invalid or the
 // packing cannot be reached.
 Scene makeScene(const SceneDef& def);
+// Places a scene file's disks (carom/types.h SceneFileDef): the groups'
+// disks in group order (ids 0, 1, ...), then the [[disk]]s, in a box of the
+// file's size or sized by its packing; deterministic in def.seed. Throws
+// Error naming the file and the group or disk that cannot be placed.
+Scene makeScene(const SceneFileDef& def);
 
 // Memory: a request that cannot fit is refused before anything is allocated.
 
@@ -122,9 +127,12 @@ public:
     // Replaces every disk. Disk i gets id i. Throws Error, and keeps the
     // disks it had, when a disk is out of range or outside the box, two
     // centres coincide, or the step is out of range for their speeds.
-    // Resets the step count, the time and the measurements.
-    void setDisks(const Disk* disks, std::size_t count);
-    void setDisks(const std::vector<Disk>& disks) { setDisks(disks.data(), disks.size()); }
+    // Resets the step count, the time and the measurements. `source` names
+    // the disks in errors and warnings (a file they came from).
+    void setDisks(const Disk* disks, std::size_t count, const std::string& source = "disks");
+    void setDisks(const std::vector<Disk>& disks, const std::string& source = "disks") {
+        setDisks(disks.data(), disks.size(), source);
+    }
     // What the last setDisks found less accurate or slower than usual, though
     // allowed: a step of few float spacings, disks overlapping deeper than a
     // step closes, one disk so large that the grid's cells hold far too many.
