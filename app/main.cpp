@@ -7,6 +7,7 @@
 #include <new>
 
 #include <CLI/CLI.hpp>
+#include <carom/carom.h>
 
 #include "app/commands.h"
 
@@ -16,6 +17,7 @@ int runCarom(int argc, char** argv) {
     using namespace carom::app;
     CLI::App app{"carom: 2D elastic disk collisions on OpenCL and CPU backends"};
     app.require_subcommand(1, 1);
+    app.set_version_flag("--version", std::string("carom ") + carom::version());
 
     RunOptions runOptions;
     CLI::App* run = app.add_subcommand("run", "Simulate a scene headless and print a summary");

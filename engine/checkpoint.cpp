@@ -12,6 +12,8 @@
 #include <carom/files.h>
 #include <carom/world.h>
 
+#include "engine/output_paths.h"
+
 namespace carom {
 namespace {
 
@@ -283,14 +285,8 @@ void writeCheckpoint(const std::string& path, const Checkpoint& checkpoint) {
 }
 
 Checkpoint readCheckpoint(const std::string& path, std::uint64_t availableBytes) {
-    std::error_code error;
-    if (!std::filesystem::is_regular_file(path, error))
-        throw Error("cannot read checkpoint '" + path +
-                    "': " + (std::filesystem::exists(path, error) ? "not a regular file" : "no such file"));
-    std::ifstream in(path, std::ios::binary | std::ios::ate);
-    if (!in) throw Error("cannot read checkpoint '" + path + "': " + std::strerror(errno));
-    const std::streamoff size = in.tellg();
-    in.seekg(0);
+    std::streamoff size = 0;
+    std::ifstream in = openRegularFile(path, "checkpoint", size);
     unsigned char header[kHeaderBytes];
     in.read(reinterpret_cast<char*>(header), kHeaderBytes);
     const Header checked =

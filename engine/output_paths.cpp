@@ -16,6 +16,18 @@ bool hasContent(const std::string& path) {
     return fs::is_regular_file(path, error) && fs::file_size(path, error) > 0 && !error;
 }
 
+std::ifstream openRegularFile(const std::string& path, const std::string& what, std::streamoff& size) {
+    std::error_code error;
+    if (!fs::is_regular_file(path, error))
+        throw Error("cannot read " + what + " '" + path +
+                    "': " + (fs::exists(path, error) ? "not a regular file" : "no such file"));
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    if (!in) throw Error("cannot read " + what + " '" + path + "': " + std::strerror(errno));
+    size = in.tellg();
+    in.seekg(0);
+    return in;
+}
+
 LinesFromEnd::LinesFromEnd(const std::string& path) : in_(path, std::ios::binary), path_(path) {
     if (!in_) throw Error("cannot read '" + path + "': " + std::strerror(errno));
     in_.seekg(0, std::ios::end);

@@ -19,6 +19,11 @@ namespace carom {
 // Whether `path` (through symlinks) is a regular file with something in it.
 bool hasContent(const std::string& path);
 
+// Opens `path`, a regular file, to be read in binary from its start, and
+// sets `size` to its size; throws Error "cannot read WHAT 'PATH': ..." when
+// it is missing, a directory or a device, or cannot be opened.
+std::ifstream openRegularFile(const std::string& path, const std::string& what, std::streamoff& size);
+
 // The lines of a file from its last to its first, reading backwards in
 // blocks, so the end of a large trajectory is found without reading it all.
 class LinesFromEnd {

@@ -17,6 +17,7 @@
 #include <toml++/toml.h>
 
 #include "engine/constants.h"
+#include "engine/output_paths.h"
 #include "engine/text_format.h"
 
 namespace carom {
@@ -301,17 +302,11 @@ SceneFileDef parseSceneFile(std::string_view text, const std::string& path) {
 }
 
 SceneFileDef readSceneFile(const std::string& path) {
-    std::error_code error;
-    if (!std::filesystem::is_regular_file(path, error))
-        throw Error("cannot read scene file '" + path +
-                    "': " + (std::filesystem::exists(path, error) ? "not a regular file" : "no such file"));
-    std::ifstream in(path, std::ios::binary | std::ios::ate);
-    if (!in) throw Error("cannot read scene file '" + path + "': " + std::strerror(errno));
-    const std::streamoff size = in.tellg();
+    std::streamoff size = 0;
+    std::ifstream in = openRegularFile(path, "scene file", size);
     if (static_cast<std::uintmax_t>(size) > kMaxSceneFileBytes)
         throw Error("scene file '" + path + "' has " + std::to_string(size) + " bytes; a scene file is at most " +
                     std::to_string(kMaxSceneFileBytes >> 20) + " MiB (use a state CSV for many explicit disks)");
-    in.seekg(0);
     std::string text(static_cast<std::size_t>(size), '\0');
     if (!in.read(text.data(), size)) throw Error("reading scene file '" + path + "' failed");
     return parseSceneFile(text, path);

@@ -1,5 +1,6 @@
 // carom::World (include/carom/world.h): the public API over a Backend.
 #include <carom/world.h>
+#include <carom/version.h>
 
 #include <algorithm>
 #include <utility>
@@ -35,6 +36,8 @@ ComputeEngine parseComputeEngine(const std::string& name) {
         if (name == computeEngineName(engine)) return engine;
     throw Error("unknown compute engine '" + name + "'; allowed: cpu, opencl-host-grid, opencl-resident");
 }
+
+const char* version() { return CAROM_VERSION; }
 
 bool engineAvailable(ComputeEngine engine) {
     const std::vector<std::string> built = availableBackends();

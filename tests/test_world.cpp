@@ -310,6 +310,8 @@ TEST_CASE("world: the events scheme's counts and exact total energy") {
     CHECK(pairwise.totalEnergy() == pairwise.kineticEnergy() + pairwise.potentialEnergy());
 }
 
+TEST_CASE("world: the library's version is the headers'") { CHECK(std::string(version()) == CAROM_VERSION); }
+
 TEST_CASE("world: compute engines by name, and which this build has") {
     for (ComputeEngine engine : {ComputeEngine::Cpu, ComputeEngine::OpenClHostGrid, ComputeEngine::OpenClResident})
         CHECK(parseComputeEngine(computeEngineName(engine)) == engine);

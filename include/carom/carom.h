@@ -1,9 +1,10 @@
 // carom: 2D elastic disk collisions, on the CPU or an OpenCL device.
 //
-// The whole public API: carom/types.h (definitions and limits) and
-// carom/world.h (World). Files (scene files, state CSV, checkpoints,
+// The whole public API: carom/types.h (definitions and limits),
+// carom/world.h (World) and carom/version.h. Files (scene files, state CSV, checkpoints,
 // trajectories, statistics) are in carom/io.h, a separate library (carom::io).
 #pragma once
 
 #include <carom/types.h>
+#include <carom/version.h>
 #include <carom/world.h>

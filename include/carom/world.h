@@ -100,6 +100,10 @@ struct EventCounts {
 // engines when carom was built with OpenCL, whatever devices there are).
 bool engineAvailable(ComputeEngine engine);
 
+// The library's version, "MAJOR.MINOR.PATCH": CAROM_VERSION (carom/version.h)
+// of the carom that was linked, which may differ from the headers'.
+const char* version();
+
 // An OpenCL device the OpenCL engines can run on.
 struct Device {
     int index = 0;                            // its position in listDevices(), across all platforms: a WorldDef::device
