@@ -1,6 +1,7 @@
 // Pinned trajectories (Box2D's determinism test): a fixed scene of 300
 // polydisperse disks, stepped 500 steps with each collision scheme, in a
-// walled box under gravity and in a periodic one, hashed (the final state and
+// walled box under gravity and in a periodic one, and with adaptive
+// substeps in the walled box, hashed (the final state and
 // the contact totals), and the hash compared with a constant written below.
 // The differential tests catch a backend that drifts from the CPU; these
 // catch a change of results on all backends alike.
@@ -32,17 +33,20 @@ namespace {
 struct Pinned {
     CollisionScheme scheme;
     Boundary boundary;
+    float maxTravel;     // > 0: adaptive substeps (WorldDef::maxTravel), whose count the hash includes
     std::uint64_t hash;  // trajectoryHash of the fixed scene after kSteps steps
 };
 
 // The CPU's hashes, which an OpenCL device with exact arithmetic must equal.
 constexpr Pinned kPinned[] = {
-    {CollisionScheme::Simultaneous, Boundary::Walls, 0xf9c06c893c95a36eull},
-    {CollisionScheme::Simultaneous, Boundary::Periodic, 0x608e930d47e1d23full},
-    {CollisionScheme::Pairwise, Boundary::Walls, 0xf53183987e64d6d5ull},
-    {CollisionScheme::Pairwise, Boundary::Periodic, 0x21dda79dbc0237d0ull},
-    {CollisionScheme::Events, Boundary::Walls, 0x75c5b5bb854b73c3ull},
-    {CollisionScheme::Events, Boundary::Periodic, 0xf3aa5687efa1d189ull},
+    {CollisionScheme::Simultaneous, Boundary::Walls, 0.0f, 0xf9c06c893c95a36eull},
+    {CollisionScheme::Simultaneous, Boundary::Periodic, 0.0f, 0x608e930d47e1d23full},
+    {CollisionScheme::Simultaneous, Boundary::Walls, 0.05f, 0xa585a8230d2b0aa7ull},
+    {CollisionScheme::Pairwise, Boundary::Walls, 0.0f, 0xf53183987e64d6d5ull},
+    {CollisionScheme::Pairwise, Boundary::Periodic, 0.0f, 0x21dda79dbc0237d0ull},
+    {CollisionScheme::Pairwise, Boundary::Walls, 0.05f, 0x8269b64c77b61867ull},
+    {CollisionScheme::Events, Boundary::Walls, 0.0f, 0x75c5b5bb854b73c3ull},
+    {CollisionScheme::Events, Boundary::Periodic, 0.0f, 0xf3aa5687efa1d189ull},
 };
 
 constexpr std::uint64_t kSteps = 500;
@@ -90,11 +94,12 @@ std::vector<Particle> fixedScene() {
     return disks;
 }
 
-WorldDef fixedWorld(CollisionScheme scheme, Boundary boundary) {
+WorldDef fixedWorld(const Pinned& pinned) {
     WorldDef world = box(kPitch * kColumns, kPitch * kRows, 0.01f);
-    world.collisions = scheme;
-    world.boundary = boundary;
-    if (boundary == Boundary::Walls) world.gravity = float2{0.0f, -1.0f};
+    world.collisions = pinned.scheme;
+    world.boundary = pinned.boundary;
+    world.maxTravel = pinned.maxTravel;
+    if (pinned.boundary == Boundary::Walls) world.gravity = float2{0.0f, -1.0f};
     return world;
 }
 
@@ -119,6 +124,7 @@ std::uint64_t trajectoryHash(Backend& backend) {
         for (float value : {p.position.x, p.position.y, p.velocity.x, p.velocity.y, p.mass, p.radius}) hash.add(value);
     }
     const ContactTotals& totals = backend.contacts();
+    if (backend.world().maxTravel > 0.0f) CHECK(totals.substeps > kSteps);  // the substeps are exercised
     hash.add(collisions, 8);
     hash.add(totals.virial);
     for (double impulse : totals.wallImpulse) hash.add(impulse);
@@ -132,7 +138,8 @@ void checkPinned(const EngineDef& def, CollisionScheme scheme) {
     for (const Pinned& pinned : kPinned) {
         if (pinned.scheme != scheme) continue;
         CAPTURE(std::string(boundaryName(pinned.boundary)));
-        const WorldDef world = fixedWorld(scheme, pinned.boundary);
+        CAPTURE(pinned.maxTravel);
+        const WorldDef world = fixedWorld(pinned);
         auto backend = makeBackend(def, world);
         const std::uint64_t hash = trajectoryHash(*backend);
         if (backend->exactArithmetic()) {
