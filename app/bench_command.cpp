@@ -7,14 +7,14 @@
 #include <optional>
 #include <sstream>
 
+#include <carom/files.h>
 #include <carom/io.h>
+#include <carom/world.h>
+
 #include "app/commands.h"
 #include "app/host_info.h"
 #include "app/number_options.h"
 #include "bench/report.h"
-#include <carom/files.h>
-#include "engine/grid.h"
-#include <carom/world.h>
 
 namespace carom::app {
 
@@ -142,25 +142,25 @@ SceneDef sceneFor(const BenchOptions& o, std::uint32_t particles) {
 // and drops the variants whose step went over the budget.
 void benchOneSize(const BenchOptions& o, std::uint32_t particles, bool largerFollow, std::vector<Variant>& variants,
                   Report& report) {
-    const InitialState initial = makeInitialState(sceneFor(o, particles));
+    const Scene scene = makeScene(sceneFor(o, particles));
     std::vector<Variant> kept;
     for (const Variant& variant : variants) {
         WorldDef world;
-        world.width = initial.width;
-        world.height = initial.height;
+        world.width = scene.width;
+        world.height = scene.height;
         world.dt = o.dt;
         world.collisions = variant.scheme;
+        world.device = o.device;
         // The event-driven benchmarks' box (the literature's and issue 12's targets).
         if (variant.method.eventDriven) world.boundary = Boundary::Periodic;
-        const GridGeometry g = gridGeometryFor(world, o.radius, particles);
-        std::unique_ptr<Backend> backend = makeMethodBackend(variant.method, world, o.device);
-        backend->setParticles(initial.particles);
-        Row row{variant, particles, double(g.cols) * g.rows / particles, timeSteps(*backend, report.plan), {}};
-        backend.reset();  // free its memory before the next method allocates
+        const double cells = cellsPerParticle(world, o.radius, particles);
+        std::unique_ptr<Stepper> stepper = makeStepper(variant.method, world, scene.disks);
+        Row row{variant, particles, cells, timeSteps(*stepper, report.plan), {}};
+        stepper.reset();  // free its memory before the next method allocates
         if (o.profile) {
             const std::uint64_t stepsTimed =
                 row.timing.warmupSteps + row.timing.stepsPerSample * row.timing.sampleSecondsPerStep.size();
-            row.profile = profileMethod(variant.method, world, initial.particles, o.device, row.timing.stepsPerSample,
+            row.profile = profileMethod(variant.method, world, scene.disks, row.timing.stepsPerSample,
                                         row.timing.substepsPerStep, stepsTimed);
         }
         std::cerr << "  " << variantLabel(variant) << ", N = " << particles << ": ";
@@ -272,7 +272,7 @@ int benchCommand(const BenchOptions& o) {
     report.plan = timingPlan(o);
     const std::size_t bandwidthBytes =
         o.quick ? kQuickBandwidthBytes
-                : std::clamp(std::size_t(sizes.back()) * 2 * sizeof(Particle), kMinBandwidthBytes, kMaxBandwidthBytes);
+                : std::clamp(std::size_t(sizes.back()) * 2 * kDiskStateBytes, kMinBandwidthBytes, kMaxBandwidthBytes);
     report.bandwidth.hostCopy = measureHostCopy(bandwidthBytes, 5);
     if (std::any_of(variants.begin(), variants.end(), [](const Variant& v) { return v.method.opencl; }))
         report.device = measureDeviceBandwidth(o.device, bandwidthBytes, 5, report.bandwidth);

@@ -17,9 +17,9 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-double timedSteps(Backend& backend, std::uint64_t steps) {
+double timedSteps(Stepper& stepper, std::uint64_t steps) {
     const auto start = Clock::now();
-    backend.step(steps);
+    stepper.step(steps);
     return secondsSince(start);
 }
 
@@ -47,53 +47,52 @@ std::uint64_t eventsOf(const EventCounts& counts) {
     return counts.collisions + counts.wallBounces + counts.cellCrossings + counts.stale;
 }
 
-Timing timeSteps(Backend& backend, const TimingPlan& plan) {
+Timing timeSteps(Stepper& stepper, const TimingPlan& plan) {
     Timing timing;
-    const auto* engine = dynamic_cast<const EventDrivenBackend*>(&backend);
-    const double particles = double(backend.particleCount());
+    const double particles = double(stepper.diskCount());
     const auto leftLattice = [&] {
-        return !engine || double(engine->eventCounts().collisions) >= plan.warmupCollisionsPerDisk * particles;
+        const std::optional<EventProgress> events = stepper.events();
+        return !events || double(events->counts.collisions) >= plan.warmupCollisionsPerDisk * particles;
     };
     // Warm-up: one step, then doubling batches until warmupSeconds have
     // passed (and the event-driven gas has left its lattice).
-    double perStep = timedSteps(backend, 1);
+    double perStep = timedSteps(stepper, 1);
     timing.warmupSteps = 1;
     const bool overBudget = perStep > plan.budgetSeconds;
     const int samples = overBudget ? std::min(plan.samples, plan.samplesOverBudget) : plan.samples;
     double warmed = perStep;
     for (std::uint64_t batch = 1; (!overBudget && warmed < plan.warmupSeconds) || !leftLattice(); batch *= 2) {
-        const double seconds = timedSteps(backend, batch);
+        const double seconds = timedSteps(stepper, batch);
         warmed += seconds;
         timing.warmupSteps += batch;
         perStep = seconds / double(batch);
     }
     timing.stepsPerSample = std::max<std::uint64_t>(1, std::uint64_t(std::ceil(plan.sampleSeconds / perStep)));
-    const EventCounts warm = engine ? engine->eventCounts() : EventCounts{};
+    const std::optional<EventProgress> warm = stepper.events();
     std::vector<double> collisionRates, eventRates, particleTimeRates;
     for (int s = 0; s < samples; ++s) {
-        const EventCounts before = engine ? engine->eventCounts() : EventCounts{};
-        const double simulatedBefore = engine ? engine->time() : 0.0;
-        const double seconds = timedSteps(backend, timing.stepsPerSample);
+        const std::optional<EventProgress> before = stepper.events();
+        const double seconds = timedSteps(stepper, timing.stepsPerSample);
         timing.sampleSecondsPerStep.push_back(seconds / double(timing.stepsPerSample));
-        if (!engine) continue;
-        const EventCounts& after = engine->eventCounts();
-        collisionRates.push_back(double(after.collisions - before.collisions) / seconds);
-        eventRates.push_back(double(eventsOf(after) - eventsOf(before)) / seconds);
-        particleTimeRates.push_back(particles * (engine->time() - simulatedBefore) / seconds);
+        if (!before) continue;
+        const EventProgress after = *stepper.events();
+        collisionRates.push_back(double(after.counts.collisions - before->counts.collisions) / seconds);
+        eventRates.push_back(double(eventsOf(after.counts) - eventsOf(before->counts)) / seconds);
+        particleTimeRates.push_back(particles * (after.time - before->time) / seconds);
     }
     timing.secondsPerStep = median(timing.sampleSecondsPerStep);
-    const ContactTotals& totals = backend.contacts();
-    timing.substepsPerStep = double(totals.substeps) / double(totals.steps);
-    if (engine) {
-        const EventCounts& end = engine->eventCounts();
+    timing.substepsPerStep = stepper.substepsPerStep();
+    if (warm) {
+        const EventCounts end = stepper.events()->counts;
+        const EventCounts& start = warm->counts;
         timing.events = EventRates{
             median(collisionRates),
             median(eventRates),
             median(particleTimeRates),
             collisionRates,
-            double(warm.collisions) / particles,
-            {end.collisions - warm.collisions, end.wallBounces - warm.wallBounces,
-             end.cellCrossings - warm.cellCrossings, end.stale - warm.stale, end.overlapping - warm.overlapping}};
+            double(start.collisions) / particles,
+            {end.collisions - start.collisions, end.wallBounces - start.wallBounces,
+             end.cellCrossings - start.cellCrossings, end.stale - start.stale, end.overlapping - start.overlapping}};
     }
     return timing;
 }

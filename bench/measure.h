@@ -1,4 +1,4 @@
-// Timing a backend's steps, and the memory bandwidths the results are read
+// Timing a method's steps, and the memory bandwidths the results are read
 // against.
 #pragma once
 
@@ -8,8 +8,6 @@
 #include <string>
 #include <vector>
 
-#include "backends/backend.h"
-#include "backends/event_driven_backend.h"
 #include "bench/methods.h"
 
 namespace carom::bench {
@@ -20,12 +18,12 @@ struct TimingPlan {
     double warmupSeconds = 0.2;  // untimed steps first (caches, clocks, lazy allocations)
     double budgetSeconds = 1.0;  // a step slower than this: fewer samples, and larger N is dropped
     int samplesOverBudget = 3;
-    // The event-driven backend also warms up until this many collisions per
+    // The events method also warms up until this many collisions per
     // disk: the gas leaves its starting lattice before it is timed.
     double warmupCollisionsPerDisk = 3;
 };
 
-// What the event-driven backend did per wall-clock second, each the median
+// What the events method did per wall-clock second, each the median
 // over the samples: its collisions, its events of every kind (collisions,
 // wall bounces, cell crossings and stale events recomputed) and its
 // particle-time (N x the simulated time).
@@ -46,13 +44,13 @@ struct Timing {
     std::vector<double> sampleSecondsPerStep;  // each sample's mean step time
     std::uint64_t stepsPerSample = 1;
     std::uint64_t warmupSteps = 0;
-    double substepsPerStep = 1;        // the mean over every step taken (Backend::step splits some)
-    std::optional<EventRates> events;  // for the event-driven backend
+    double substepsPerStep = 1;        // the mean over every step taken (Stepper::substepsPerStep)
+    std::optional<EventRates> events;  // for the events method
 };
 
-// Warms the backend up, then times plan.samples samples of whole steps; an
-// event-driven backend's events are counted too.
-Timing timeSteps(Backend& backend, const TimingPlan& plan);
+// Warms the stepper up, then times plan.samples samples of whole steps; the
+// events method's events are counted too.
+Timing timeSteps(Stepper& stepper, const TimingPlan& plan);
 
 // Host memory: an OpenMP-parallel copy between two buffers of `bytes`, best
 // of `repeats`.

@@ -5,6 +5,8 @@
 #include <utility>
 
 #include "bench/all_pairs_cpu.h"
+#include "engine/disk_conversion.h"
+#include "engine/grid.h"
 #ifdef CAROM_HAVE_OPENCL
 #include "backends/opencl_host_grid_backend.h"
 #include "backends/opencl_resident_backend.h"
@@ -14,23 +16,80 @@
 namespace carom::bench {
 namespace {
 
-constexpr double kStateBytes = 2.0 * sizeof(Particle);  // read + written
+static_assert(kDiskStateBytes == sizeof(Particle), "the traffic model counts the engines' Particle");
+constexpr double kStateBytes = 2.0 * kDiskStateBytes;  // read + written
 constexpr double kIndexBytes = 2.0 * sizeof(std::uint32_t);
 constexpr double kCellBytes = 2.0 * sizeof(GridCell);
 // The pairwise scheme's forward search: a disk's state, sorted index and
 // cell read, its event written.
-constexpr double kForwardSearchBytes = sizeof(Particle) + 2.0 * sizeof(std::uint32_t) + sizeof(CaromEvent);
+constexpr double kForwardSearchBytes = kDiskStateBytes + 2.0 * sizeof(std::uint32_t) + sizeof(CaromEvent);
 constexpr double kCellOfBytes = sizeof(std::uint32_t);
 
+// The engine of a production method.
+ComputeEngine engineOf(const Method& method) {
+    if (!method.opencl) return ComputeEngine::Cpu;
+    return method.name == "opencl-seed" ? ComputeEngine::OpenClHostGrid : ComputeEngine::OpenClResident;
+}
+
+// A production method: a World, as a library user makes one.
+class WorldStepper final : public Stepper {
+public:
+    WorldStepper(const WorldDef& def, const std::vector<Disk>& disks) : world_(def) { world_.setDisks(disks); }
+
+    std::size_t diskCount() const override { return world_.diskCount(); }
+    void step(std::uint64_t steps) override { world_.step(steps); }
+    double substepsPerStep() const override {
+        const Measurements m = world_.measurements();
+        return double(m.substeps) / double(m.steps);
+    }
+    std::optional<EventProgress> events() const override {
+        if (world_.def().collisions != CollisionScheme::Events) return std::nullopt;
+        return EventProgress{world_.eventCounts(), world_.time()};
+    }
+
+private:
+    World world_;
+};
+
+// A naive baseline: its all-pairs backend (bench/all_pairs_*.h).
+class AllPairsStepper final : public Stepper {
+public:
+    AllPairsStepper(std::unique_ptr<Backend> backend, const std::vector<Disk>& disks) : backend_(std::move(backend)) {
+        backend_->setParticles(particlesOf(disks.data(), disks.size()));
+    }
+
+    std::size_t diskCount() const override { return backend_->particleCount(); }
+    void step(std::uint64_t steps) override { backend_->step(steps); }
+    double substepsPerStep() const override {
+        const ContactTotals& totals = backend_->contacts();
+        return double(totals.substeps) / double(totals.steps);
+    }
+    std::optional<EventProgress> events() const override { return std::nullopt; }
+
+private:
+    std::unique_ptr<Backend> backend_;
+};
+
 #ifdef CAROM_HAVE_OPENCL
-// The OpenCL backend of an OpenCL method.
-std::unique_ptr<OpenClBackend> makeOpenClBackend(const Method& method, const WorldDef& world, const std::string& device,
-                                                 bool profiling) {
-    if (method.allPairs) return std::make_unique<AllPairsOpenClBackend>(world, device, profiling);
-    if (method.name == "opencl-seed") return std::make_unique<OpenClHostGridBackend>(world, device, profiling);
-    return std::make_unique<OpenClResidentBackend>(world, device, profiling);
+// The OpenCL backend of an OpenCL method, for its profile: a World has no
+// profiler (and for naive-opencl, its timed run).
+std::unique_ptr<OpenClBackend> makeOpenClBackend(const Method& method, const WorldDef& world, bool profiling) {
+    if (method.allPairs) return std::make_unique<AllPairsOpenClBackend>(world, world.device, profiling);
+    if (engineOf(method) == ComputeEngine::OpenClHostGrid)
+        return std::make_unique<OpenClHostGridBackend>(world, world.device, profiling);
+    return std::make_unique<OpenClResidentBackend>(world, world.device, profiling);
 }
 #endif
+
+// The backend of a naive baseline.
+std::unique_ptr<Backend> makeAllPairsBackend(const Method& method, const WorldDef& world) {
+    if (!method.opencl) return std::make_unique<AllPairsCpuBackend>(world);
+#ifdef CAROM_HAVE_OPENCL
+    return makeOpenClBackend(method, world, false);
+#else
+    throw Error("this carom was built without OpenCL: method " + method.name + " is not available");
+#endif
+}
 
 // The serial part of the CPU backend's step: the shared grid builder, timed
 // alone on the scene's particles, once per substep.
@@ -70,8 +129,7 @@ bool runsScheme(const Method& method, CollisionScheme scheme) {
 
 std::vector<Method> availableMethods() {
     std::vector<Method> methods;
-    const std::vector<std::string> backends = availableBackends();
-    const bool haveOpenCl = std::find(backends.begin(), backends.end(), "opencl") != backends.end();
+    const bool haveOpenCl = engineAvailable(ComputeEngine::OpenClResident);
     for (const Method& m : allMethods())
         if (!m.opencl || haveOpenCl) methods.push_back(m);
     return methods;
@@ -86,30 +144,24 @@ Method findMethod(const std::string& name) {
     throw Error("--methods: unknown method '" + name + "'; allowed: " + names);
 }
 
-std::unique_ptr<Backend> makeMethodBackend(const Method& method, const WorldDef& world, const std::string& device) {
+std::unique_ptr<Stepper> makeStepper(const Method& method, const WorldDef& world, const std::vector<Disk>& disks) {
     if (!runsScheme(method, world.collisions))
         throw Error("method " + method.name + " does not run the " + collisionSchemeName(world.collisions) + " scheme");
-    if (!method.opencl) {
-        if (method.allPairs) return std::make_unique<AllPairsCpuBackend>(world);
-        return makeBackend(EngineDef{}, world);
-    }
-#ifdef CAROM_HAVE_OPENCL
-    return makeOpenClBackend(method, world, device, false);
-#else
-    (void)device;
-    throw Error("this carom was built without OpenCL: method " + method.name + " is not available");
-#endif
+    if (method.allPairs) return std::make_unique<AllPairsStepper>(makeAllPairsBackend(method, world), disks);
+    WorldDef def = world;
+    def.engine = engineOf(method);
+    return std::make_unique<WorldStepper>(def, disks);
 }
 
-std::map<std::string, double> profileMethod(const Method& method, const WorldDef& world,
-                                            const std::vector<Particle>& particles, const std::string& device,
+std::map<std::string, double> profileMethod(const Method& method, const WorldDef& world, const std::vector<Disk>& disks,
                                             std::uint64_t steps, double substepsPerStep, std::uint64_t warmupSteps) {
     if (!method.opencl)
-        return method.allPairs || method.eventDriven ? std::map<std::string, double>{}
-                                                     : profileHostGrid(world, particles, steps, substepsPerStep);
+        return method.allPairs || method.eventDriven
+                   ? std::map<std::string, double>{}
+                   : profileHostGrid(world, particlesOf(disks.data(), disks.size()), steps, substepsPerStep);
 #ifdef CAROM_HAVE_OPENCL
-    const std::unique_ptr<OpenClBackend> backend = makeOpenClBackend(method, world, device, true);
-    backend->setParticles(particles);
+    const std::unique_ptr<OpenClBackend> backend = makeOpenClBackend(method, world, true);
+    backend->setParticles(particlesOf(disks.data(), disks.size()));
     backend->step(warmupSteps);
     backend->profiler()->clear();
     backend->step(steps);
@@ -117,7 +169,7 @@ std::map<std::string, double> profileMethod(const Method& method, const WorldDef
     for (auto& [name, seconds] : perStep) seconds /= double(steps);
     return perStep;
 #else
-    (void)world, (void)device, (void)substepsPerStep, (void)warmupSteps;
+    (void)warmupSteps;
     return {};
 #endif
 }
@@ -143,6 +195,11 @@ Traffic trafficPerParticleStep(const Variant& variant, double cellsPerParticle) 
         t.device = kStateBytes + grid / 2 + search;
     }
     return t;
+}
+
+double cellsPerParticle(const WorldDef& world, float radius, std::uint32_t particles) {
+    const GridGeometry g = gridGeometryFor(world, radius, particles);
+    return double(g.cols) * g.rows / particles;
 }
 
 double floorSecondsPerParticleStep(const Traffic& t, const Bandwidth& b) {

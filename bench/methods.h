@@ -1,15 +1,18 @@
 // The methods `carom bench` compares, each under the collision schemes it
-// runs, how to make each one's backend, and the bytes each must move per
+// runs, how to start each one on a scene, and the bytes each must move per
 // particle-step: the model that turns a time into a fraction of the
-// memory-bandwidth floor.
+// memory-bandwidth floor. Public types only: app/ includes this.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
-#include "backends/backend.h"
+#include <carom/world.h>
 
 namespace carom::bench {
 
@@ -39,9 +42,32 @@ std::vector<Method> availableMethods();
 // The method called `name`; throws Error naming the value and the choices.
 Method findMethod(const std::string& name);
 
-// The backend of `method` under world.collisions; throws Error when the
-// method does not run that scheme.
-std::unique_ptr<Backend> makeMethodBackend(const Method& method, const WorldDef& world, const std::string& device);
+// What the events method did so far: its events of every kind, and the
+// simulated time they cover.
+struct EventProgress {
+    EventCounts counts;
+    double time = 0;  // [time]
+};
+
+// A method's disks stepping, as `carom bench` times them: a carom::World for
+// the production methods, so that the timings are what a library user gets;
+// an all-pairs engine of bench/ for the naive baselines, which the library
+// does not have.
+class Stepper {
+public:
+    virtual ~Stepper() = default;
+    virtual std::size_t diskCount() const = 0;
+    virtual void step(std::uint64_t steps) = 0;
+    // Substeps per step over every step taken: above 1 where steps were split.
+    virtual double substepsPerStep() const = 0;
+    // The events method's progress (World::eventCounts, World::time);
+    // nothing for the stepped methods.
+    virtual std::optional<EventProgress> events() const = 0;
+};
+
+// `method` under world.collisions, on world.device for the OpenCL methods,
+// holding `disks`; throws Error when the method does not run that scheme.
+std::unique_ptr<Stepper> makeStepper(const Method& method, const WorldDef& world, const std::vector<Disk>& disks);
 
 // Where a step's time goes, in seconds per step, under world.collisions: for
 // an OpenCL method each kernel, transfer and host grid build, from `steps`
@@ -52,9 +78,12 @@ std::unique_ptr<Backend> makeMethodBackend(const Method& method, const WorldDef&
 // none); for the CPU backend its serial part, the grid build
 // (one per substep: `substepsPerStep` of them), timed alone; nothing for the
 // CPU all-pairs and events methods.
-std::map<std::string, double> profileMethod(const Method& method, const WorldDef& world,
-                                            const std::vector<Particle>& particles, const std::string& device,
+std::map<std::string, double> profileMethod(const Method& method, const WorldDef& world, const std::vector<Disk>& disks,
                                             std::uint64_t steps, double substepsPerStep, std::uint64_t warmupSteps);
+
+// The bytes of one disk's state in the engines' memory: position, velocity,
+// mass and radius, padded for the device.
+constexpr std::size_t kDiskStateBytes = 32;
 
 // Bytes a method must move per particle-step, by the memory they cross: the
 // state read and written once (2 x 32 B), the grid written and read once
@@ -74,6 +103,9 @@ struct Traffic {
     double download = 0;  // device to host
 };
 Traffic trafficPerParticleStep(const Variant& variant, double cellsPerParticle);
+// The grid cells per disk the engines use for `particles` disks of `radius`
+// in world's box, under its boundary and scheme: the model's grid term.
+double cellsPerParticle(const WorldDef& world, float radius, std::uint32_t particles);
 
 // Measured bandwidths in bytes per second; a copy counts the bytes read plus
 // the bytes written. Zero where not measured.

@@ -9,16 +9,17 @@
 #include <string>
 #include <vector>
 
+#include <carom/types.h>
+
 #include "bench/measure.h"
 #include "bench/methods.h"
-#include "engine/carom.h"
 
 namespace carom::bench {
 
 struct Row {
     Variant variant;
     std::uint32_t particles = 0;
-    double cellsPerParticle = 0;  // of the grid the scene gets under the scheme (gridGeometryFor)
+    double cellsPerParticle = 0;  // of the grid the scene gets under the scheme (cellsPerParticle)
     Timing timing;
     std::map<std::string, double> profile;  // with --profile: seconds per step by part (profileMethod)
 };
