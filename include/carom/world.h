@@ -76,6 +76,10 @@ struct Measurements {
     // received over the perimeter. 0 while no time has passed.
     double pressure = 0.0;
     double compressibility = 0.0;
+    // The collisions' share of the pressure: the sum over the interval's
+    // impulses of r_ij . J_ij [mass length^2/time], so that P A is
+    // (N - 1) kT + collisionVirial / (2 time) in a periodic box (N kT with walls).
+    double collisionVirial = 0.0;
     std::array<double, 4> wallPressure{};  // walls only: left, right, bottom, top [mass/time^2]
     std::uint64_t substeps = 0;            // substeps taken: more than steps with maxTravel > 0, or where the
                                            //   pairwise scheme splits a step to keep its grid valid
@@ -198,6 +202,10 @@ public:
     std::uint64_t collisionCount() const;
     // CollisionScheme::Events only (zeros otherwise).
     EventCounts eventCounts() const;
+    // CollisionScheme::Events only (empty otherwise): the disks' centres at
+    // time() in double, in id order, as the engine holds them (disks() rounds
+    // them to float; in a periodic box both are wrapped into it) [length].
+    std::vector<std::array<double, 2>> exactPositions() const;
     // Collisions, pressure and Z over the interval since setDisks or resetMeasurements.
     Measurements measurements() const;
     void resetMeasurements();
