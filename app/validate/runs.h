@@ -1,5 +1,5 @@
 // What the sections of `carom validate` share (app/validate/checks.cpp and
-// events.cpp): reproducible random numbers (engine/random.h), the periodic box of equal disks
+// events.cpp): reproducible random numbers (carom::Random), the periodic box of equal disks
 // they start from, measurement in blocks, and the making of checks.
 #pragma once
 
@@ -8,9 +8,10 @@
 #include <string>
 #include <vector>
 
+#include <carom/world.h>
+
 #include "app/validate/checks.h"
 #include "backends/backend.h"
-#include "engine/random.h"
 
 namespace carom::validation {
 
