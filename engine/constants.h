@@ -1,9 +1,10 @@
-// Numbers that several parts of carom share (internal: not part of the public API).
+// Numbers that several parts of carom share (internal: not part of the public
+// API; kPi is public, in carom/world.h).
 #pragma once
 
-namespace carom {
+#include <carom/world.h>
 
-constexpr double kPi = 3.14159265358979323846;
+namespace carom {
 
 // The highest packing fraction, sum(pi r^2) / (W H), that the lattice
 // placement of a scene is asked for: it reaches no higher for equal disks.

@@ -6,11 +6,12 @@
 #include <limits>
 #include <sstream>
 
+#include <carom/world.h>
+
 #include "engine/carom.h"
 #include "engine/constants.h"
 #include "engine/error_message.h"
 #include "engine/grid.h"
-#include "engine/random.h"
 #include "engine/scene_file.h"
 #include "engine/scene_region.h"
 

@@ -194,6 +194,13 @@ EventCounts World::eventCounts() const {
     return EventCounts{};
 }
 
+std::vector<std::array<double, 2>> World::exactPositions() const {
+    std::vector<std::array<double, 2>> positions;
+    if (auto* events = dynamic_cast<const EventDrivenBackend*>(impl_->backend.get()))
+        for (const ExactDisk& d : events->exactState()) positions.push_back({d.x, d.y});
+    return positions;
+}
+
 double World::temperature() const { return carom::temperature(impl_->current(), impl_->def.boundary); }
 
 Measurements World::measurements() const {
@@ -209,6 +216,7 @@ Measurements World::measurements() const {
     const bool periodic = impl_->def.boundary == Boundary::Periodic;
     m.pressure = periodic ? t.virialPressure : t.wallPressureMean;
     m.compressibility = periodic ? t.virialZ : t.wallZ;
+    m.collisionVirial = contacts.virial;
     m.wallPressure = t.wallPressure;
     m.substeps = contacts.substeps;
     m.lateContacts = contacts.lateContacts;

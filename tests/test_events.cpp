@@ -79,7 +79,7 @@ std::uint64_t bouncesBy(double start, double v, double t, double lo, double hi) 
 }
 
 // Splitmix64: the same numbers on every platform. Not carom::Random
-// (engine/random.h, a Mersenne Twister): the dense packing below was drawn
+// (carom/world.h, a Mersenne Twister): the dense packing below was drawn
 // from this stream, and stays as it was.
 struct SplitMix64 {
     std::uint64_t state;

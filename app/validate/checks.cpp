@@ -4,18 +4,13 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <memory>
 #include <ostream>
 #include <sstream>
 
-#include <carom/world.h>
+#include <carom/carom.h>
 
 #include "app/validate/events.h"
 #include "app/validate/runs.h"
-#include "backends/backend.h"
-#include "engine/diagnostics.h"
-#include "engine/observables.h"
-#include "engine/scene_file.h"
 
 namespace carom::validation {
 
@@ -25,10 +20,11 @@ constexpr double kDegree = kPi / 180.0;
 
 // |P_end - P_start| / sum m|v| at the end: momentum lost or gained, relative
 // to the momentum the disks carry.
-double momentumError(const Diagnostics& start, const Diagnostics& end, const std::vector<Particle>& state) {
+double momentumError(const std::array<double, 2>& start, const World& end) {
     double scale = 0;
-    for (const Particle& p : state) scale += p.mass * std::hypot(double(p.velocity.x), double(p.velocity.y));
-    return std::hypot(end.momentum[0] - start.momentum[0], end.momentum[1] - start.momentum[1]) / scale;
+    for (const Disk& d : end.disks()) scale += d.mass * std::hypot(double(d.velocity.x), double(d.velocity.y));
+    const std::array<double, 2> momentum = end.momentum();
+    return std::hypot(momentum[0] - start[0], momentum[1] - start[1]) / scale;
 }
 
 // --- 1. Equation of state ---------------------------------------------------
@@ -50,10 +46,9 @@ EosResult equationOfState(const SuiteOptions& o, std::vector<Check>& checks, std
         point.particles = particles;
         point.equilibrationTime = std::max(o.quick ? 20.0 : 50.0, 20.0 * collisionTime(packing));
         const double blockTime = std::max(o.quick ? 5.0 : 10.0, 2.0 * collisionTime(packing));
-        const Box box = periodicBox(particles, packing, o.dt, o.seed);
-        const std::unique_ptr<Backend> backend = loaded(o.backend, box);
-        backend->step(stepsFor(point.equilibrationTime, o.dt));
-        point.measured = runBlocks(*backend, blocks, blockTime);
+        World world = loaded(o.backend, periodicBox(particles, packing, o.dt, o.seed));
+        world.step(stepsFor(point.equilibrationTime, o.dt));
+        point.measured = runBlocks(world, blocks, blockTime);
         point.zReference = referenceZ(packing);
         point.zReferenceError = reference.uncertainty;
         const MeanAndError& z = point.measured.z;
@@ -91,17 +86,16 @@ ConvergenceResult convergence(const SuiteOptions& o, std::vector<Check>& checks,
 
     // One melted state, continued at each dt.
     const Box box = periodicBox(result.particles, result.packing, kDefaultDt, o.seed);
-    const std::unique_ptr<Backend> backend = loaded(o.backend, box);
-    backend->step(stepsFor(result.equilibrationTime, kDefaultDt));
-    std::vector<Particle> melted;
-    backend->readParticles(melted);
+    World world = loaded(o.backend, box);
+    world.step(stepsFor(result.equilibrationTime, kDefaultDt));
+    const std::vector<Disk> melted = world.disks();
     for (double dt : dts) {
-        backend->setMotion(float(dt), box.world.gravity);
-        backend->setParticles(melted);
-        backend->step(stepsFor(blockTime, dt));  // the contacts settle at this dt
+        world.setMotion(float(dt), box.world.gravity);
+        world.setDisks(melted);
+        world.step(stepsFor(blockTime, dt));  // the contacts settle at this dt
         ConvergencePoint point;
         point.dt = dt;
-        point.measured = runBlocks(*backend, blocks, blockTime);
+        point.measured = runBlocks(world, blocks, blockTime);
         result.points.push_back(point);
         progress << "  convergence, dt " << dt << ": Z " << point.measured.z.mean << " +- " << point.measured.z.error
                  << ", energy change " << point.measured.energyChange << ", late contacts "
@@ -124,28 +118,30 @@ ConvergenceResult convergence(const SuiteOptions& o, std::vector<Check>& checks,
 
 // --- 3. Relaxation to Maxwell-Boltzmann --------------------------------------
 
-std::vector<double> speedsOf(const std::vector<Particle>& particles) {
+std::vector<double> speedsOf(const std::vector<Disk>& disks) {
     std::vector<double> speeds;
-    speeds.reserve(particles.size());
-    for (const Particle& p : particles) speeds.push_back(std::hypot(double(p.velocity.x), double(p.velocity.y)));
+    speeds.reserve(disks.size());
+    for (const Disk& d : disks) speeds.push_back(std::hypot(double(d.velocity.x), double(d.velocity.y)));
     return speeds;
 }
 
-HEstimate hOf(const std::vector<Particle>& particles, const VelocityHistogram& histogram) {
+HEstimate hOf(const std::vector<Disk>& disks, const VelocityHistogram& histogram) {
     std::vector<double> vx, vy;
-    for (const Particle& p : particles) {
-        vx.push_back(p.velocity.x);
-        vy.push_back(p.velocity.y);
+    for (const Disk& d : disks) {
+        vx.push_back(d.velocity.x);
+        vy.push_back(d.velocity.y);
     }
     return hFunction(vx, vy, histogram);
 }
 
-RelaxationSample sampleOf(const std::vector<Particle>& particles, double time, const VelocityHistogram& histogram) {
+// The world's state at `time`: its kT (a periodic box) and velocity statistics.
+RelaxationSample sampleOf(const World& world, double time, const VelocityHistogram& histogram) {
+    const std::vector<Disk> disks = world.disks();
     RelaxationSample sample;
     sample.time = time;
-    sample.kT = temperature(particles, Boundary::Periodic);
-    sample.h = hOf(particles, histogram).value;
-    sample.ks = ksRayleigh(speedsOf(particles), sample.kT / particles.front().mass);
+    sample.kT = world.temperature();
+    sample.h = hOf(disks, histogram).value;
+    sample.ks = ksRayleigh(speedsOf(disks), sample.kT / disks.front().mass);
     return sample;
 }
 
@@ -164,23 +160,19 @@ RelaxationResult relaxation(const SuiteOptions& o, std::vector<Check>& checks, s
 
     Box box = periodicBox(result.particles, result.packing, o.dt, o.seed);
     Random random(o.seed + 1);
-    for (Particle& p : box.particles) {
-        p.velocity.x = float(random.uniform(-result.halfWidth, result.halfWidth));
-        p.velocity.y = float(random.uniform(-result.halfWidth, result.halfWidth));
+    for (Disk& d : box.disks) {
+        d.velocity.x = float(random.uniform(-result.halfWidth, result.halfWidth));
+        d.velocity.y = float(random.uniform(-result.halfWidth, result.halfWidth));
     }
-    removeDrift(box.particles);
-    std::unique_ptr<Backend> backend = makeBackend(o.backend, box.world);
-    backend->setParticles(box.particles);
-    std::vector<Particle> state = box.particles;
+    removeDrift(box.disks);
+    World world = loaded(o.backend, box);
     const std::uint64_t stepsPerSample = stepsFor(sampleInterval, o.dt);
     const int samples = int(std::lround(duration / sampleInterval));
     for (int k = 0; k <= samples; ++k) {
-        if (k > 0) {
-            backend->step(stepsPerSample);
-            backend->readParticles(state);
-        }
-        result.samples.push_back(sampleOf(state, k * sampleInterval, result.histogram));
+        if (k > 0) world.step(stepsPerSample);
+        result.samples.push_back(sampleOf(world, k * sampleInterval, result.histogram));
     }
+    const std::vector<Disk> state = world.disks();
 
     const std::size_t n = state.size();
     result.hInitial = result.samples.front().h;
@@ -241,12 +233,12 @@ struct Vector {
     double x = 0, y = 0;
 };
 
-Vector velocity(const Particle& p) { return {p.velocity.x, p.velocity.y}; }
+Vector velocity(const Disk& d) { return {d.velocity.x, d.velocity.y}; }
 double length(Vector v) { return std::hypot(v.x, v.y); }
 double angleOf(Vector v) { return std::atan2(v.y, v.x); }
 
 // The formula of the reference, at the exact moment of contact.
-std::array<Vector, 2> exactOutcome(const Particle& a, const Particle& b) {
+std::array<Vector, 2> exactOutcome(const Disk& a, const Disk& b) {
     const double sigma = double(a.radius) + b.radius;
     const Vector d{double(a.position.x) - b.position.x, double(a.position.y) - b.position.y};
     const Vector u{double(a.velocity.x) - b.velocity.x, double(a.velocity.y) - b.velocity.y};
@@ -259,42 +251,36 @@ std::array<Vector, 2> exactOutcome(const Particle& a, const Particle& b) {
             Vector{b.velocity.x + kb * n.x, b.velocity.y + kb * n.y}};
 }
 
-Particle disk(double x, double y, double vx, double vy, double mass) {
-    Particle p{};
-    p.position = float2{float(x), float(y)};
-    p.velocity = float2{float(vx), float(vy)};
-    p.mass = float(mass);
-    p.radius = 1.0f;
-    return p;
+Disk disk(double x, double y, double vx, double vy, double mass) {
+    return Disk{Vec2{float(x), float(y)}, Vec2{float(vx), float(vy)}, float(mass), 1.0f};
 }
 
 // A projectile moving along +x at speed v towards a target at rest, at
 // impact parameter b (the projectile passes below the target's centre),
 // 0.05 short of contact.
-std::array<Particle, 2> approachingPair(double projectileMass, double targetMass, double v, double b) {
+std::array<Disk, 2> approachingPair(double projectileMass, double targetMass, double v, double b) {
     const double sigma = 2.0, start = 50.0 - std::sqrt(sigma * sigma - b * b) - 0.05;
     return {disk(start, 50.0 - b, v, 0, projectileMass), disk(50, 50, 0, 0, targetMass)};
 }
 
 // Two disks in a box far larger than their paths, stepped until they have
 // collided and moved apart.
-std::array<Vector, 2> simulatePair(const EngineDef& def, const std::array<Particle, 2>& pair) {
-    WorldDef world;
-    world.width = world.height = 100.0f;
-    world.dt = kExactDt;
-    world.collisions = CollisionScheme::Pairwise;
-    std::unique_ptr<Backend> backend = makeBackend(def, world);
-    backend->setParticles({pair[0], pair[1]});
-    std::vector<Particle> state;
+std::array<Vector, 2> simulatePair(const EngineDef& engine, const std::array<Disk, 2>& pair) {
+    WorldDef def;
+    def.width = def.height = 100.0f;
+    def.dt = kExactDt;
+    def.collisions = CollisionScheme::Pairwise;
+    World world = loaded(engine, def, {pair[0], pair[1]});
+    std::vector<Disk> state;
     for (int chunk = 0; chunk < 1000; ++chunk) {
-        backend->step(100);
-        backend->readParticles(state);
+        world.step(100);
+        state = world.disks();
         const double distance = std::hypot(double(state[0].position.x) - state[1].position.x,
                                            double(state[0].position.y) - state[1].position.y);
-        if (backend->collisions() > 0 && distance > 2.1) break;
+        if (world.collisionCount() > 0 && distance > 2.1) break;
     }
-    if (backend->collisions() != 1)
-        throw Error("exact case: expected one collision, the engine counted " + std::to_string(backend->collisions()));
+    if (world.collisionCount() != 1)
+        throw Error("exact case: expected one collision, the engine counted " + std::to_string(world.collisionCount()));
     return {velocity(state[0]), velocity(state[1])};
 }
 
@@ -339,7 +325,7 @@ void heavyProjectile(const EngineDef& def, std::vector<Check>& checks) {
     double largest = 0.0, worst = 0.0;
     for (int k = 1; k <= 9; ++k) {
         const double b = 0.2 * k;  // sigma = 2
-        const std::array<Particle, 2> pair = approachingPair(m1, m2, 1, b);
+        const std::array<Disk, 2> pair = approachingPair(m1, m2, 1, b);
         const double deflection = std::abs(angleOf(simulatePair(def, pair)[0])) / kDegree;
         const double exact = std::abs(angleOf(exactOutcome(pair[0], pair[1])[0])) / kDegree;
         largest = std::max(largest, deflection);
@@ -354,30 +340,28 @@ void heavyProjectile(const EngineDef& def, std::vector<Check>& checks) {
 // One disk between walls: the period of its x motion from the times it
 // leaves the left wall (vx turning positive), against 2 (L - 2r) / |v_x|.
 void wallBounce(const EngineDef& def, std::vector<Check>& checks) {
-    WorldDef world;
-    world.width = 10.0f;
-    world.height = 7.0f;
-    world.dt = 1e-3f;
-    world.collisions = CollisionScheme::Pairwise;
+    WorldDef box;
+    box.width = 10.0f;
+    box.height = 7.0f;
+    box.dt = 1e-3f;
+    box.collisions = CollisionScheme::Pairwise;
     const double vx = 3.0;
-    std::unique_ptr<Backend> backend = makeBackend(def, world);
-    backend->setParticles({disk(5, 3.5, vx, 0.4, 1)});
-    const double period = 2.0 * (world.width - 2.0) / vx;
+    World world = loaded(def, box, {disk(5, 3.5, vx, 0.4, 1)});
+    const double period = 2.0 * (box.width - 2.0) / vx;
     std::vector<double> bounces;
-    std::vector<Particle> state;
     float previous = float(vx);
-    const std::uint64_t steps = stepsFor(3.5 * period, world.dt);
+    const std::uint64_t steps = stepsFor(3.5 * period, box.dt);
     for (std::uint64_t s = 1; s <= steps; ++s) {
-        backend->step(1);
-        backend->readParticles(state);
-        if (previous < 0.0f && state[0].velocity.x > 0.0f) bounces.push_back(double(s) * world.dt);
-        previous = state[0].velocity.x;
+        world.step(1);
+        const float velocityX = world.disks()[0].velocity.x;
+        if (previous < 0.0f && velocityX > 0.0f) bounces.push_back(double(s) * box.dt);
+        previous = velocityX;
     }
     const double measured = bounces.size() >= 2 ? (bounces.back() - bounces.front()) / double(bounces.size() - 1) : NAN;
     // The wall reflects at the exact contact time; each bounce time is known
     // to the step that contains it, so the mean period is off by less than dt.
     checks.push_back(makeCheck("exact cases", "wall bounce period 2 (L - 2r) / |v_x|", measured, period,
-                               std::abs(measured - period), world.dt, "|T - T_exact| <= dt"));
+                               std::abs(measured - period), box.dt, "|T - T_exact| <= dt"));
 }
 
 void exactCases(const SuiteOptions& o, std::vector<Check>& checks, std::ostream& progress) {
@@ -411,7 +395,6 @@ std::vector<ConservationRun> conservation(const SuiteOptions& o, std::vector<Che
     const double packing = 0.3, duration = 10.0;
     const std::uint32_t particles = o.quick ? 1024 : 4096;
     const Box box = periodicBox(particles, packing, o.dt, o.seed);
-    const Diagnostics start = measure(box.particles, box.world);
     for (const EngineDef& def : everyBackend(o.backend)) {
         ConservationRun run;
         run.backend = engineLabel(def.engine);
@@ -419,16 +402,16 @@ std::vector<ConservationRun> conservation(const SuiteOptions& o, std::vector<Che
         run.packing = packing;
         run.dt = o.dt;
         run.steps = stepsFor(duration, o.dt);
-        const std::unique_ptr<Backend> backend = loaded(def, box);
-        run.device = backend->device();
-        backend->step(run.steps);
-        std::vector<Particle> state;
-        backend->readParticles(state);
-        const Diagnostics end = measure(state, box.world);
-        run.momentumError = momentumError(start, end, state);
-        run.energyChange = end.totalEnergy() / start.totalEnergy() - 1.0;
-        run.lateContacts = backend->contacts().lateContacts;
-        run.collisionsPerDisk = 2.0 * double(backend->contacts().collisions) / particles;
+        World world = loaded(def, box);
+        run.device = world.deviceName();
+        const std::array<double, 2> momentumStart = world.momentum();
+        const double energyStart = world.totalEnergy();
+        world.step(run.steps);
+        run.momentumError = momentumError(momentumStart, world);
+        run.energyChange = world.totalEnergy() / energyStart - 1.0;
+        const Measurements measured = world.measurements();
+        run.lateContacts = measured.lateContacts;
+        run.collisionsPerDisk = 2.0 * double(measured.collisions) / particles;
         const double energyTolerance = kRoundingPerCollision * run.collisionsPerDisk;
         runs.push_back(run);
         checks.push_back(makeCheck("conservation", run.backend + ": total momentum", run.momentumError, 0.0,
@@ -454,18 +437,15 @@ DenseResult dense(const SuiteOptions& o, std::vector<Check>& checks, std::ostrea
     result.particles = o.quick ? 1024 : 4096;
     result.dt = o.dt;
     result.equilibrationTime = o.quick ? 5.0 : 20.0;
-    const Box box = periodicBox(result.particles, result.packing, o.dt, o.seed);
-    const Diagnostics start = measure(box.particles, box.world);
-    const std::unique_ptr<Backend> backend = loaded(o.backend, box);
-    backend->step(stepsFor(result.equilibrationTime, o.dt));
-    result.measured = runBlocks(*backend, 10, o.quick ? 1.0 : 2.0);
-    std::vector<Particle> state;
-    backend->readParticles(state);
-    const Diagnostics end = measure(state, box.world);
-    result.energyChange = end.totalEnergy() / start.totalEnergy() - 1.0;
-    result.momentumError = momentumError(start, end, state);
-    result.maxOverlap = end.maxOverlap;
-    result.escaped = end.escaped;
+    World world = loaded(o.backend, periodicBox(result.particles, result.packing, o.dt, o.seed));
+    const std::array<double, 2> momentumStart = world.momentum();
+    const double energyStart = world.totalEnergy();
+    world.step(stepsFor(result.equilibrationTime, o.dt));
+    result.measured = runBlocks(world, 10, o.quick ? 1.0 : 2.0);
+    result.energyChange = world.totalEnergy() / energyStart - 1.0;
+    result.momentumError = momentumError(momentumStart, world);
+    result.maxOverlap = world.maxOverlap();
+    result.escaped = world.escapedCount();
     result.rateTolerance = statisticalTolerance(kRateTarget, result.measured.rateRatio.error);
     checks.push_back(makeCheck("dense gas", "energy at eta = 0.7", result.energyChange, 0.0,
                                std::abs(result.energyChange), kDenseEnergyTolerance,
@@ -494,7 +474,7 @@ GravityResult gravity(const SuiteOptions& o, std::vector<Check>& checks, std::os
     scene.world.width = 60.0f;
     scene.world.height = 80.0f;
     scene.world.dt = o.dt;
-    scene.world.gravity = float2{0.0f, -2.0f};
+    scene.world.gravity = Vec2{0.0f, -2.0f};
     scene.world.collisions = CollisionScheme::Pairwise;
     scene.seed = o.seed;
     GroupDef grains;
@@ -507,7 +487,6 @@ GravityResult gravity(const SuiteOptions& o, std::vector<Check>& checks, std::os
     grains.speed = 0.5f;
     grains.region = Region{0.0f, 30.0f, 60.0f, 80.0f};
     scene.groups.push_back(grains);
-    const InitialState initial = makeInitialState(scene);
 
     GravityResult result;
     result.particles = grains.count;
@@ -516,21 +495,18 @@ GravityResult gravity(const SuiteOptions& o, std::vector<Check>& checks, std::os
     result.gravity = -scene.world.gravity.y;
     result.dt = o.dt;
     result.duration = 20.0;
-    const Diagnostics start = measure(initial.particles, scene.world);
-    const std::unique_ptr<Backend> backend = makeBackend(o.backend, scene.world);
-    backend->setParticles(initial.particles);
-    backend->step(stepsFor(result.duration, o.dt));
-    std::vector<Particle> state;
-    backend->readParticles(state);
-    const Diagnostics end = measure(state, scene.world);
-    result.kineticStart = start.kineticEnergy;
-    result.kineticEnd = end.kineticEnergy;
-    result.potentialStart = start.potentialEnergy;
-    result.potentialEnd = end.potentialEnergy;
-    result.energyChange = end.totalEnergy() / start.totalEnergy() - 1.0;
-    result.lateContacts = backend->contacts().lateContacts;
-    result.maxRounds = backend->contacts().maxRounds;
-    result.escaped = end.escaped;
+    World world = loaded(o.backend, scene.world, makeScene(scene).disks);
+    result.kineticStart = world.kineticEnergy();
+    result.potentialStart = world.potentialEnergy();
+    const double energyStart = world.totalEnergy();
+    world.step(stepsFor(result.duration, o.dt));
+    result.kineticEnd = world.kineticEnergy();
+    result.potentialEnd = world.potentialEnergy();
+    result.energyChange = world.totalEnergy() / energyStart - 1.0;
+    const Measurements measured = world.measurements();
+    result.lateContacts = measured.lateContacts;
+    result.maxRounds = measured.maxRounds;
+    result.escaped = world.escapedCount();
     checks.push_back(makeCheck("gravity", "K + U under gravity", result.energyChange, 0.0,
                                std::abs(result.energyChange), kGravityEnergyTolerance,
                                "|(K+U)_end - (K+U)_start| / (K+U)_start <= 1e-3 over the run"));
@@ -549,23 +525,19 @@ GravityResult gravity(const SuiteOptions& o, std::vector<Check>& checks, std::os
 // half, when the lattice has begun to melt.
 SimultaneousRun simultaneousRun(const SuiteOptions& o, std::uint32_t particles, double packing, double dt,
                                 double duration, double sampleInterval) {
-    const Box box = periodicBox(particles, packing, float(dt), o.seed, CollisionScheme::Simultaneous);
-    const std::unique_ptr<Backend> backend = loaded(o.backend, box);
-    const double energyStart = measure(box.particles, box.world).totalEnergy();
+    World world = loaded(o.backend, periodicBox(particles, packing, float(dt), o.seed, CollisionScheme::Simultaneous));
+    const double energyStart = world.totalEnergy();
     std::vector<double> times = {0.0}, energies = {1.0};  // E(t) / E(0)
-    std::vector<Particle> state = box.particles;
     const auto sample = [&](int count) {
         for (int k = 0; k < count; ++k) {
-            backend->step(stepsFor(sampleInterval, dt));
-            backend->readParticles(state);
+            world.step(stepsFor(sampleInterval, dt));
             times.push_back(double(times.size()) * sampleInterval);
-            energies.push_back(measure(state, box.world).totalEnergy() / energyStart);
+            energies.push_back(world.totalEnergy() / energyStart);
         }
     };
     const int samples = int(std::lround(duration / sampleInterval));
     sample(samples / 2);
-    const double kTHalf = temperature(state, Boundary::Periodic);
-    backend->resetContacts();
+    world.resetMeasurements();  // Z over the second half, at the mean of its first and last kT
     sample(samples - samples / 2);
     SimultaneousRun run;
     run.packing = packing;
@@ -574,8 +546,7 @@ SimultaneousRun simultaneousRun(const SuiteOptions& o, std::uint32_t particles, 
     const Line line = leastSquaresLine(times, energies);
     run.driftRate = line.slope;
     run.wander = line.rmsResidual;
-    const double kT = 0.5 * (kTHalf + temperature(state, Boundary::Periodic));
-    run.z = thermodynamics(backend->contacts(), kT, state.size(), box.world).virialZ;
+    run.z = world.measurements().compressibility;
     return run;
 }
 
@@ -617,13 +588,13 @@ bool SuiteResult::passed() const {
 }
 
 std::string describeBackend(const EngineDef& def) {
-    WorldDef world;
-    world.width = world.height = 10.0f;
-    world.collisions = CollisionScheme::Pairwise;  // refuses a backend that cannot run the suite
-    const std::unique_ptr<Backend> backend = makeBackend(def, world);
+    WorldDef box;
+    box.width = box.height = 10.0f;
+    box.collisions = CollisionScheme::Pairwise;  // refuses a backend that cannot run the suite
+    const World world(onEngine(box, def));
     const std::string pipeline = def.engine == ComputeEngine::OpenClResident ? "resident" : "seed";
-    return backend->name() + (def.engine != ComputeEngine::Cpu ? " (" + pipeline + " pipeline)" : "") + ": " +
-           backend->device();
+    return (def.engine == ComputeEngine::Cpu ? std::string("cpu") : "opencl (" + pipeline + " pipeline)") + ": " +
+           world.deviceName();
 }
 
 std::string engineLabel(ComputeEngine engine) {

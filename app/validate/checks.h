@@ -9,8 +9,9 @@
 #include <string>
 #include <vector>
 
+#include <carom/carom.h>
+
 #include "app/validate/statistics.h"
-#include "engine/carom.h"
 
 namespace carom::validation {
 

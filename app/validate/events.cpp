@@ -1,12 +1,14 @@
 #include "app/validate/events.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <ostream>
 
+#include <carom/carom.h>
+
 #include "app/validate/runs.h"
-#include "backends/event_driven_backend.h"
 
 namespace carom::validation {
 
@@ -43,15 +45,15 @@ EventsRun eventsRun(std::uint32_t particles, double packing, std::uint64_t seed,
     // dt only sets when the state is sampled: once per mean collision time.
     const float sampling = float(collisionTime(packing));
     const Box box = periodicBox(particles, packing, sampling, seed, CollisionScheme::Events);
-    EventDrivenBackend backend(box.world);
-    backend.setParticles(box.particles);
-    const double energyStart = backend.totalEnergy();
+    World world(box.world);
+    world.setDisks(box.disks);
+    const double energyStart = world.totalEnergy();  // the engine's, in double
     const std::uint64_t warmupSteps = stepsFor(protocol.warmup, 1.0);
-    backend.step(warmupSteps);
+    world.step(warmupSteps);
     run.warmupTime = double(warmupSteps) * sampling;
-    run.measured = runBlocks(backend, protocol.blocks, protocol.perBlock * sampling);
-    run.energyChange = backend.totalEnergy() / energyStart - 1.0;
-    const EventCounts& counts = backend.eventCounts();
+    run.measured = runBlocks(world, protocol.blocks, protocol.perBlock * sampling);
+    run.energyChange = world.totalEnergy() / energyStart - 1.0;
+    const EventCounts counts = world.eventCounts();
     run.collisions = counts.collisions;
     run.cellCrossings = counts.cellCrossings;
     run.overlapping = counts.overlapping;
@@ -116,22 +118,20 @@ constexpr int kTruncationHalvings = 5;
 // collisions (1e-4 measured), far below the simultaneous scheme (1e-1).
 constexpr double kPairwiseRoundingBound = 1e-3;
 
-std::vector<Particle> fewDisks(std::uint64_t seed) {
+std::vector<Disk> fewDisks(std::uint64_t seed) {
     Random random(seed);
-    std::vector<Particle> particles;
+    std::vector<Disk> disks;
     const double jitter = kCellSide / 2 - 1.0 - 0.1;  // keeps a gap of 0.2 between neighbours
     for (std::uint32_t row = 0; row < kGridSide; ++row)
         for (std::uint32_t column = 0; column < kGridSide; ++column) {
-            Particle p{};
-            p.position.x = float((column + 0.5) * kCellSide + random.uniform(-jitter, jitter));
-            p.position.y = float((row + 0.5) * kCellSide + random.uniform(-jitter, jitter));
-            p.velocity.x = float(random.normal());
-            p.velocity.y = float(random.normal());
-            p.mass = 1.0f;
-            p.radius = 1.0f;
-            particles.push_back(p);
+            Disk d;
+            d.position.x = float((column + 0.5) * kCellSide + random.uniform(-jitter, jitter));
+            d.position.y = float((row + 0.5) * kCellSide + random.uniform(-jitter, jitter));
+            d.velocity.x = float(random.normal());
+            d.velocity.y = float(random.normal());
+            disks.push_back(d);
         }
-    return particles;
+    return disks;
 }
 
 WorldDef fewDisksWorld(double dt, CollisionScheme scheme) {
@@ -148,9 +148,9 @@ struct Distance {
     double squares = 0.0, max = 0.0;
     std::size_t disks = 0;
     std::uint64_t collisions = 0;
-    void add(const std::vector<Particle>& stepped, const std::vector<ExactDisk>& exact) {
+    void add(const std::vector<Disk>& stepped, const std::vector<std::array<double, 2>>& exact) {
         for (std::size_t i = 0; i < exact.size(); ++i) {
-            const double r = std::hypot(stepped[i].position.x - exact[i].x, stepped[i].position.y - exact[i].y);
+            const double r = std::hypot(stepped[i].position.x - exact[i][0], stepped[i].position.y - exact[i][1]);
             squares += r * r;
             max = std::max(max, r);
         }
@@ -165,7 +165,7 @@ std::string eventsDevice() {
     WorldDef world;
     world.width = world.height = 10.0f;
     world.collisions = CollisionScheme::Events;
-    return EventDrivenBackend(world).device();
+    return World(world).deviceName();
 }
 
 double compressibility(const PublishedPressure& p, double packing) { return kPi * p.betaPSigma2 / (4.0 * packing); }
@@ -213,18 +213,17 @@ TrajectoryResult stepTrajectories(const SuiteOptions& o, std::vector<Check>& che
     result.particles = kGridSide * kGridSide;
     result.width = result.height = kGridSide * kCellSide;
     result.duration = kTrajectoryTime;
-    std::vector<std::vector<Particle>> starts;
-    std::vector<std::vector<ExactDisk>> exact;
+    std::vector<std::vector<Disk>> starts;
+    std::vector<std::vector<std::array<double, 2>>> exact;
     for (std::uint32_t k = 0; k < kStarts; ++k) {
         starts.push_back(fewDisks(o.seed + 0x9e3779b97f4a7c15ull * k));
-        EventDrivenBackend backend(fewDisksWorld(kTrajectoryTime, CollisionScheme::Events));
-        backend.setParticles(starts.back());
-        backend.step(1);
-        exact.push_back(backend.exactState());
-        result.eventCollisions += backend.eventCounts().collisions;
-        result.eventWallBounces += backend.eventCounts().wallBounces;
+        World events(fewDisksWorld(kTrajectoryTime, CollisionScheme::Events));
+        events.setDisks(starts.back());
+        events.step(1);
+        exact.push_back(events.exactPositions());
+        result.eventCollisions += events.eventCounts().collisions;
+        result.eventWallBounces += events.eventCounts().wallBounces;
     }
-    const EngineDef cpu;
     double dt = kLargestDt;
     for (int k = 0; k <= kHalvings; ++k, dt /= 2) {
         TrajectoryPoint point;
@@ -232,13 +231,11 @@ TrajectoryResult stepTrajectories(const SuiteOptions& o, std::vector<Check>& che
         for (CollisionScheme scheme : {CollisionScheme::Pairwise, CollisionScheme::Simultaneous}) {
             Distance d;
             for (std::size_t start = 0; start < starts.size(); ++start) {
-                const std::unique_ptr<Backend> backend = makeBackend(cpu, fewDisksWorld(dt, scheme));
-                backend->setParticles(starts[start]);
-                backend->step(stepsFor(kTrajectoryTime, dt));
-                std::vector<Particle> state;
-                backend->readParticles(state);
-                d.add(state, exact[start]);
-                d.collisions += backend->collisions();
+                World stepped(fewDisksWorld(dt, scheme));  // on the CPU
+                stepped.setDisks(starts[start]);
+                stepped.step(stepsFor(kTrajectoryTime, dt));
+                d.add(stepped.disks(), exact[start]);
+                d.collisions += stepped.collisionCount();
             }
             const bool pairwise = scheme == CollisionScheme::Pairwise;
             (pairwise ? point.pairwiseRms : point.simultaneousRms) = d.rms();
@@ -286,10 +283,10 @@ std::vector<SchemeComparison> schemeComparison(const SuiteOptions& o, const std:
                 BlockStatistics& measured = pairwise ? run.pairwise : run.simultaneous;
                 measured.z = {NAN, NAN};
                 try {
-                    const Box box = periodicBox(comparison.particles, packing, float(dt), o.seed, scheme);
-                    const std::unique_ptr<Backend> backend = loaded(o.backend, box);
-                    backend->step(stepsFor(warmup, dt));
-                    measured = runBlocks(*backend, blocks, blockTime);
+                    World world =
+                        loaded(o.backend, periodicBox(comparison.particles, packing, float(dt), o.seed, scheme));
+                    world.step(stepsFor(warmup, dt));
+                    measured = runBlocks(world, blocks, blockTime);
                 } catch (const Error& e) {  // reported in the table; the comparison is not a check
                     (pairwise ? run.pairwiseFailure : run.simultaneousFailure) = e.what();
                 }

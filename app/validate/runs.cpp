@@ -4,19 +4,31 @@
 #include <cmath>
 #include <cstdio>
 
-#include "engine/diagnostics.h"
-#include "engine/observables.h"
-
 namespace carom::validation {
 
 namespace {
 
-// Scales the velocities so that temperature(particles, Periodic) is kT.
-void scaleToTemperature(std::vector<Particle>& particles, double kT) {
-    const double scale = std::sqrt(kT / temperature(particles, Boundary::Periodic));
-    for (Particle& p : particles) {
-        p.velocity.x = float(p.velocity.x * scale);
-        p.velocity.y = float(p.velocity.y * scale);
+// kT of `disks` in the periodic box `world`, as World measures it.
+double temperatureOf(const WorldDef& world, const std::vector<Disk>& disks) {
+    World measuring(world);
+    measuring.setDisks(disks);
+    return measuring.temperature();
+}
+
+// Gaussian velocities of variance kT/m per component, zero total momentum,
+// kT exact (in the periodic box `world`).
+void thermalVelocities(const WorldDef& world, std::vector<Disk>& disks, double kT, std::uint64_t seed) {
+    Random random(seed);
+    for (Disk& d : disks) {
+        const double s = std::sqrt(kT / d.mass);
+        d.velocity.x = float(s * random.normal());
+        d.velocity.y = float(s * random.normal());
+    }
+    removeDrift(disks);
+    const double scale = std::sqrt(kT / temperatureOf(world, disks));
+    for (Disk& d : disks) {
+        d.velocity.x = float(d.velocity.x * scale);
+        d.velocity.y = float(d.velocity.y * scale);
     }
 }
 
@@ -38,93 +50,80 @@ Check makeCheck(const std::string& section, const std::string& name, double meas
     return c;
 }
 
-void removeDrift(std::vector<Particle>& particles) {
+void removeDrift(std::vector<Disk>& disks) {
     double mass = 0, px = 0, py = 0;
-    for (const Particle& p : particles) {
-        mass += p.mass;
-        px += double(p.mass) * p.velocity.x;
-        py += double(p.mass) * p.velocity.y;
+    for (const Disk& d : disks) {
+        mass += d.mass;
+        px += double(d.mass) * d.velocity.x;
+        py += double(d.mass) * d.velocity.y;
     }
-    for (Particle& p : particles) {
-        p.velocity.x = float(p.velocity.x - px / mass);
-        p.velocity.y = float(p.velocity.y - py / mass);
+    for (Disk& d : disks) {
+        d.velocity.x = float(d.velocity.x - px / mass);
+        d.velocity.y = float(d.velocity.y - py / mass);
     }
-}
-
-void thermalVelocities(std::vector<Particle>& particles, double kT, std::uint64_t seed) {
-    Random random(seed);
-    for (Particle& p : particles) {
-        const double s = std::sqrt(kT / p.mass);
-        p.velocity.x = float(s * random.normal());
-        p.velocity.y = float(s * random.normal());
-    }
-    removeDrift(particles);
-    scaleToTemperature(particles, kT);
 }
 
 Box periodicBox(std::uint32_t particles, double packing, float dt, std::uint64_t seed, CollisionScheme scheme) {
-    SceneDef scene;
-    scene.particles = particles;
-    scene.packing = float(packing);
-    scene.seed = seed;
-    InitialState initial = makeInitialState(scene);
+    SceneDef def;
+    def.particles = particles;
+    def.packing = float(packing);
+    def.seed = seed;
+    Scene scene = makeScene(def);
     Box box;
-    box.world.width = initial.width;
-    box.world.height = initial.height;
+    box.world.width = scene.width;
+    box.world.height = scene.height;
     box.world.dt = dt;
     box.world.boundary = Boundary::Periodic;
     box.world.collisions = scheme;
-    box.particles = std::move(initial.particles);
-    thermalVelocities(box.particles, 1.0, seed ^ 0x9e3779b97f4a7c15ull);
+    box.disks = std::move(scene.disks);
+    thermalVelocities(box.world, box.disks, 1.0, seed ^ 0x9e3779b97f4a7c15ull);
     return box;
 }
 
 std::uint64_t stepsFor(double time, double dt) { return std::max<std::uint64_t>(1, std::llround(time / dt)); }
 
-std::unique_ptr<Backend> loaded(const EngineDef& def, const Box& box) {
-    std::unique_ptr<Backend> backend = makeBackend(def, box.world);
-    backend->setParticles(box.particles);
-    return backend;
+World loaded(const EngineDef& engine, const WorldDef& def, const std::vector<Disk>& disks) {
+    World world(onEngine(def, engine));
+    world.setDisks(disks);
+    return world;
 }
 
-BlockStatistics runBlocks(Backend& backend, int blocks, double blockTime) {
-    const WorldDef& world = backend.world();
-    const std::uint64_t steps = stepsFor(blockTime, world.dt);
-    std::vector<Particle> state;
-    backend.readParticles(state);
-    const double n = double(state.size());
-    const double diameter = 2.0 * state.front().radius, mass = state.front().mass;
-    const double energyStart = measure(state, world).totalEnergy();
-    double kTStart = temperature(state, world.boundary);
+World loaded(const EngineDef& engine, const Box& box) { return loaded(engine, box.world, box.disks); }
+
+double diskEnergy(const World& world) { return world.kineticEnergy() + world.potentialEnergy(); }
+
+BlockStatistics runBlocks(World& world, int blocks, double blockTime) {
+    const std::uint64_t steps = stepsFor(blockTime, world.def().dt);
+    const Disk first = world.disks().front();
+    const double n = double(world.diskCount());
+    const double diameter = 2.0 * first.radius, mass = first.mass;
+    const double energyStart = diskEnergy(world);
     BlockStatistics result;
     result.blocks = blocks;
     result.blockTime = blockTime;
     std::vector<double> z, rateRatio;
     for (int b = 0; b < blocks; ++b) {
-        backend.resetContacts();
-        backend.step(steps);
-        backend.readParticles(state);
-        const double kTEnd = temperature(state, world.boundary);
-        const double kT = 0.5 * (kTStart + kTEnd);
-        kTStart = kTEnd;
-        const ContactTotals& contacts = backend.contacts();
-        const Thermodynamics t = thermodynamics(contacts, kT, state.size(), world);
-        z.push_back(t.virialZ);
+        world.resetMeasurements();
+        world.step(steps);
+        // kT is the mean of the block's first and last.
+        const Measurements m = world.measurements();
+        z.push_back(m.compressibility);
         // The identity relates the frequency to the collisions' share of Z,
         // sigma sum J / (2 N kT t): Z - 1 only as N -> infinity, since the
         // kinetic share is (N - 1) / N in a periodic box (at N = 4096 and
         // eta = 0.1 the difference is 0.1 % of the frequency).
-        const double collisionalZ = contacts.virial / (2.0 * contacts.time * n * kT);
-        rateRatio.push_back(2.0 * t.collisionRate / collisionFrequency(1.0 + collisionalZ, kT, diameter, mass));
-        result.collisionRate += t.collisionRate / blocks;
-        result.kT += kT / blocks;
-        result.lateContacts += contacts.lateContacts;
-        result.maxRounds = std::max(result.maxRounds, contacts.maxRounds);
+        const double collisionalZ = m.collisionVirial / (2.0 * m.time * n * m.temperature);
+        rateRatio.push_back(2.0 * m.collisionRate /
+                            collisionFrequency(1.0 + collisionalZ, m.temperature, diameter, mass));
+        result.collisionRate += m.collisionRate / blocks;
+        result.kT += m.temperature / blocks;
+        result.lateContacts += m.lateContacts;
+        result.maxRounds = std::max(result.maxRounds, m.maxRounds);
     }
     result.zBlocks = z;
     result.z = blockingAverage(z, kMinMergedBlocks);
     result.rateRatio = blockingAverage(rateRatio, kMinMergedBlocks);
-    result.energyChange = measure(state, world).totalEnergy() / energyStart - 1.0;
+    result.energyChange = diskEnergy(world) / energyStart - 1.0;
     return result;
 }
 

@@ -1,16 +1,16 @@
 // What the sections of `carom validate` share (app/validate/checks.cpp and
-// events.cpp): reproducible random numbers (engine/random.h), the periodic box of equal disks
-// they start from, measurement in blocks, and the making of checks.
+// events.cpp): the periodic box of equal disks they start from (drawn with
+// carom::Random, reproducible everywhere), worlds on an engine, measurement
+// in blocks, and the making of checks.
 #pragma once
 
 #include <cstdint>
-#include <memory>
 #include <string>
 #include <vector>
 
+#include <carom/carom.h>
+
 #include "app/validate/checks.h"
-#include "backends/backend.h"
-#include "engine/random.h"
 
 namespace carom::validation {
 
@@ -23,32 +23,36 @@ Check makeCheck(const std::string& section, const std::string& name, double meas
 
 // Removes the centre-of-mass velocity (a periodic box conserves it, so it
 // would carry energy that is not heat).
-void removeDrift(std::vector<Particle>& particles);
-
-// Gaussian velocities of variance kT/m per component, zero total momentum, kT exact.
-void thermalVelocities(std::vector<Particle>& particles, double kT, std::uint64_t seed);
+void removeDrift(std::vector<Disk>& disks);
 
 struct Box {
     WorldDef world;
-    std::vector<Particle> particles;
+    std::vector<Disk> disks;
 };
 
 // A periodic box of N disks of radius 1 and mass 1 at the packing fraction
-// (makeInitialState's hexagonal lattice) with thermal velocities at kT = 1,
-// run by the collision scheme given.
+// (makeScene's hexagonal lattice) with thermal velocities at kT = 1: Gaussian
+// of variance kT/m per component, zero total momentum, kT exact. Run by the
+// collision scheme given.
 Box periodicBox(std::uint32_t particles, double packing, float dt, std::uint64_t seed,
                 CollisionScheme scheme = CollisionScheme::Pairwise);
 
 // Steps of dt in `time`, at least one.
 std::uint64_t stepsFor(double time, double dt);
 
-// The backend `def` on a box, loaded with its particles.
-std::unique_ptr<Backend> loaded(const EngineDef& def, const Box& box);
+// The world `def` on `engine`, loaded with `disks`.
+World loaded(const EngineDef& engine, const WorldDef& def, const std::vector<Disk>& disks);
+// The box on `engine`.
+World loaded(const EngineDef& engine, const Box& box);
 
-// Continues the backend's run (a periodic box of equal disks) for `blocks`
-// blocks of `blockTime`, measuring each from the contacts the backend
-// counts. The velocities are left alone: kT is what the energy gives.
-BlockStatistics runBlocks(Backend& backend, int blocks, double blockTime);
+// The energy of the world's disks as disks() gives them, in float (with
+// the events scheme World::totalEnergy is the engine's exact double one).
+double diskEnergy(const World& world);
+
+// Continues the world's run (a periodic box of equal disks) for `blocks`
+// blocks of `blockTime`, measuring each from its Measurements. The
+// velocities are left alone: kT is what the energy gives.
+BlockStatistics runBlocks(World& world, int blocks, double blockTime);
 
 // The check of a disk's collision frequency against collisionFrequency,
 // within the larger of `target` (relative) and three standard errors.

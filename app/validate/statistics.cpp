@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "engine/carom.h"
+#include <carom/types.h>
 
 namespace carom::validation {
 

@@ -8,7 +8,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "engine/constants.h"
+#include <carom/world.h>
 
 namespace carom::validation {
 
