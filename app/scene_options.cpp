@@ -104,9 +104,14 @@ CLI::Option* tracked(CLI::Option* option, std::set<std::string>& given) {
     return option->each([&given, name](const std::string&) { given.insert(name); });
 }
 
+std::vector<std::string> backendKinds() {
+    std::vector<std::string> kinds = {"cpu"};
+    if (engineAvailable(ComputeEngine::OpenClHostGrid)) kinds.push_back("opencl");
+    return kinds;
+}
+
 void addSceneOptions(CLI::App& command, SceneOptions& o) {
-    std::vector<std::string> backends = {"cpu"};
-    if (engineAvailable(ComputeEngine::OpenClHostGrid)) backends.push_back("opencl");
+    const std::vector<std::string> backends = backendKinds();
     o.backend.kind = backends.back();  // OpenCL when this build has it
     tracked(command
                 .add_option("--backend", o.backend.kind,

@@ -36,6 +36,10 @@ struct SceneOptions {
                                   //   these override the scene file's values
 };
 
+// The --backend values this build has: "cpu", and "opencl" where it was
+// built with OpenCL (the last is the default).
+std::vector<std::string> backendKinds();
+
 // Adds --backend, --device, --pipeline, --particles, --packing, --box, --radius...,
 // --mass..., --speed, --seed, --dt, --max-travel, --gravity, --boundary,
 // --input-state and --scene.

@@ -15,6 +15,7 @@
 #include "app/commands.h"
 #include "app/host_info.h"
 #include "app/number_options.h"
+#include "app/scene_options.h"
 #include "app/validate/checks.h"
 #include "app/validate/report.h"
 
@@ -23,12 +24,6 @@ namespace carom::app {
 namespace {
 
 // The --backend kinds this build has: "cpu", and "opencl" where it has OpenCL.
-std::vector<std::string> backendKinds() {
-    std::vector<std::string> kinds = {"cpu"};
-    if (engineAvailable(ComputeEngine::OpenClHostGrid)) kinds.push_back("opencl");
-    return kinds;
-}
-
 // The command line that reproduces the run, every option spelled out.
 std::string commandLine(const ValidateOptions& o) {
     std::ostringstream command;

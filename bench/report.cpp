@@ -8,14 +8,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/format.h"
+
 namespace carom::bench {
 namespace {
 
-std::string format(const char* pattern, double value) {
-    char text[64];
-    std::snprintf(text, sizeof text, pattern, value);
-    return text;
-}
+using app::format;
 
 std::string optionalRatio(std::optional<double> ratio) { return ratio ? format("%.2fx", *ratio) : "-"; }
 

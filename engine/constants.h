@@ -1,8 +1,8 @@
 // Numbers that several parts of carom share (internal: not part of the public
-// API; kPi is public, in carom/world.h).
+// API; kPi is public, in carom/random.h).
 #pragma once
 
-#include <carom/world.h>
+#include <carom/random.h>
 
 namespace carom {
 

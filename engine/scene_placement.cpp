@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 
+#include <carom/random.h>
 #include <carom/world.h>
 
 #include "engine/carom.h"

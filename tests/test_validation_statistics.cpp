@@ -4,6 +4,7 @@
 #include <random>
 #include <vector>
 
+#include <carom/random.h>
 #include <doctest/doctest.h>
 
 #include "app/validate/statistics.h"

@@ -134,6 +134,33 @@ TEST_CASE("world: disks go in and come out in id order") {
     CHECK(moved.diskCount() == scene.disks.size());
 }
 
+TEST_CASE("world: the events scheme's exact centres round to its disks, and the virial makes the pressure") {
+    const Scene scene = gas(400, 0.4f);
+    WorldDef def = worldFor(scene, ComputeEngine::Cpu, Boundary::Periodic);
+    def.collisions = CollisionScheme::Events;
+    World world(def);
+    world.setDisks(scene.disks);
+    world.step(30);
+    const std::vector<std::array<double, 2>> exact = world.exactPositions();
+    const std::vector<Disk> disks = world.disks();
+    REQUIRE(exact.size() == disks.size());
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < disks.size(); ++i)
+        differing += float(exact[i][0]) != disks[i].position.x || float(exact[i][1]) != disks[i].position.y;
+    CHECK(differing == 0);
+
+    const Measurements m = world.measurements();
+    REQUIRE(m.collisions > 0);
+    const double n = double(disks.size()), area = double(def.width) * def.height;
+    CHECK(m.pressure * area ==
+          doctest::Approx((n - 1) * m.temperature + m.collisionVirial / (2 * m.time)).epsilon(1e-12));
+
+    def.collisions = CollisionScheme::Pairwise;
+    World stepped(def);
+    stepped.setDisks(scene.disks);
+    CHECK(stepped.exactPositions().empty());
+}
+
 TEST_CASE("world: the deepest overlap of two disks, and none escaped") {
     WorldDef def;
     def.width = def.height = 20.0f;

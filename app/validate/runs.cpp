@@ -37,12 +37,6 @@ constexpr std::size_t kMinMergedBlocks = 8;
 
 }  // namespace
 
-std::string format(const char* pattern, double value) {
-    char text[64];
-    std::snprintf(text, sizeof text, pattern, value);
-    return text;
-}
-
 Check makeCheck(const std::string& section, const std::string& name, double measured, double expected, double deviation,
                 double limit, const std::string& criterion) {
     Check c{section, name, measured, expected, deviation, limit, criterion, false};

@@ -8,14 +8,15 @@
 #include <string>
 #include <vector>
 
+#include "app/format.h"
+
 #include <carom/carom.h>
 
 #include "app/validate/checks.h"
 
 namespace carom::validation {
 
-// printf of one number, for messages and criteria.
-std::string format(const char* pattern, double value);
+using app::format;  // app/format.h
 
 // A check that passes when deviation <= limit (false for a NaN deviation).
 Check makeCheck(const std::string& section, const std::string& name, double measured, double expected, double deviation,

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include <carom/random.h>
 #include <carom/types.h>
 
 namespace carom::validation {

@@ -8,8 +8,6 @@
 #include <cstddef>
 #include <vector>
 
-#include <carom/world.h>
-
 namespace carom::validation {
 
 struct MeanAndError {
