@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstring>
 
+#include <carom/random.h>
+
 #include "engine/diagnostics.h"
 #include "kernels/pairwise.h"
 #include "support.h"
@@ -27,7 +29,7 @@ WorldDef pairwiseWorld(float width, float height, float dt = 0.01f, float2 gravi
 }
 
 double speed(const Particle& p) { return std::hypot(p.velocity.x, p.velocity.y); }
-double angleDegrees(const Particle& p) { return std::atan2(p.velocity.y, p.velocity.x) * 180.0 / M_PI; }
+double angleDegrees(const Particle& p) { return std::atan2(p.velocity.y, p.velocity.x) * 180.0 / kPi; }
 
 // The pairwise step, as kernels/pairwise.h describes it, without the grid,
 // the lists and their bookkeeping: in each round every disk searches all

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include <carom/random.h>
+
 #include "engine/diagnostics.h"
 #include "support.h"
 
@@ -15,7 +17,7 @@ namespace {
 constexpr double kEps = 1e-5;
 
 double speed(const Particle& p) { return std::hypot(p.velocity.x, p.velocity.y); }
-double angleDegrees(const Particle& p) { return std::atan2(p.velocity.y, p.velocity.x) * 180.0 / M_PI; }
+double angleDegrees(const Particle& p) { return std::atan2(p.velocity.y, p.velocity.x) * 180.0 / kPi; }
 
 }  // namespace
 
@@ -45,7 +47,7 @@ CAROM_BACKEND_TEST_CASE("oblique collision, equal masses, impact parameter sigma
     // The target sits 30 degrees below the line of flight: it leaves at 0.866 v
     // along the line of centres (-30 degrees), the projectile at 0.5 v at +60.
     const float d = 1.999f;
-    const float angle = float(M_PI / 6);
+    const float angle = float(kPi / 6);
     const std::vector<Particle> start = {disk(10, 10, 1, 0),
                                          disk(10 + d * std::cos(angle), 10 - d * std::sin(angle), 0, 0)};
     const auto after = simulate(def, box(40, 20, 1e-3f), start, 1);

@@ -12,6 +12,8 @@
 #include <filesystem>
 #include <limits>
 
+#include <carom/random.h>
+
 #include "app/number_options.h"
 #include "app/stop_signals.h"
 #include "app/viewer/png.h"
@@ -262,10 +264,10 @@ void Viewer::spawnBurst(Vec2 world) {
     const WorldDef& w = world_->def();
     if (2 * radius > std::min(w.width, w.height)) return;
     // A ring whose neighbours do not touch, flying outwards.
-    const double ring = 1.1 * radius / std::sin(M_PI / kCount);
+    const double ring = 1.1 * radius / std::sin(kPi / kCount);
     std::vector<Disk> burst(kCount);
     for (int k = 0; k < kCount; ++k) {
-        const double angle = 2 * M_PI * k / kCount;
+        const double angle = 2 * kPi * k / kCount;
         Disk& p = burst[k];
         p.radius = radius;
         p.mass = mass;
