@@ -10,7 +10,7 @@
 
 namespace carom::app {
 
-// A whole number in [min, max] (engine/number_text.h), handed on to CLI11
+// A whole number in [min, max] (io::parseWholeNumber, carom/io.h), handed on to CLI11
 // as plain decimal digits; its refusal names the value and the range.
 CLI::Validator wholeNumber(std::uint64_t min, std::uint64_t max = std::numeric_limits<std::uint64_t>::max());
 

@@ -129,7 +129,11 @@ Start planRun(const RunOptions& o) {
 // checkpoint's, continuing bit for bit, or the new scene's.
 World startWorld(Start& start, const RunOptions& o) {
     const WorldDef def = withEngine(start.world, o.scene);
-    if (start.checkpoint) return io::loadCheckpoint(std::move(*start.checkpoint), def);
+    if (start.checkpoint) {
+        World world = io::loadCheckpoint(std::move(*start.checkpoint), def);
+        start.checkpoint.reset();  // spent
+        return world;
+    }
     World world(def);
     world.setDisks(start.setup.disks, start.setup.source);
     return world;
@@ -154,20 +158,25 @@ std::string shellWord(const std::string& text) {
 
 class Outputs {
 public:
-    // Opens every output before the simulation, so a bad path is refused at
-    // once. A resumed run appends to its trajectory and statistics (see
-    // TrajectoryWriter), so that they continue the previous run's.
+    // Refuses, before the world is made, outputs that would write over each
+    // other or over the inputs, and paths that cannot be written.
+    static void check(const Start& start) {
+        requireDistinctPaths(start);
+        // Opening a FIFO would wait for its reader, and closing it would end the reader's input.
+        for (const NamedFile& output : start.outputFiles)
+            if (!io::isSpecialFile(output.path)) io::AtomicFile probe(output.path);
+    }
+
+    // Opens the trajectory and statistics (check() has passed). A resumed
+    // run appends to them (see io::TrajectoryWriter), so that they continue
+    // the previous run's.
     Outputs(const Start& start, const World& world)
         : def_(start.outputs), resumed_(start.resumed), maxTravel_(start.world.maxTravel) {
-        requireDistinctPaths(start);
         if (!def_.trajectory.empty())
             trajectory_ =
                 resumed_ ? io::TrajectoryWriter(def_.trajectory, world) : io::TrajectoryWriter(def_.trajectory);
         if (!def_.stats.empty())
             stats_ = resumed_ ? io::StatisticsWriter(def_.stats, world) : io::StatisticsWriter(def_.stats);
-        // Opening a FIFO would wait for its reader, and closing it would end the reader's input.
-        for (const std::string& path : {def_.checkpoint, def_.state})
-            if (!path.empty() && !io::isSpecialFile(path)) io::AtomicFile probe(path);
     }
 
     // Writes the checkpoint, a frame and a row at `step`. An output whose
@@ -189,7 +198,7 @@ public:
         });
     }
 
-    // Only finite states reach the outputs: the backend stops at a step that
+    // Only finite states reach the outputs: World::step stops at a step that
     // leaves a disk non-finite, before it is read.
     void checkpoint(const World& world) {
         if (checkpointStep_ == world.stepCount()) return;
@@ -669,10 +678,11 @@ void reportInterruption(const Outputs& outputs, int signal, std::uint64_t step, 
 }  // namespace
 
 int runCommand(const RunOptions& o) {
-    // From the start: a signal while the world is made or the outputs are
-    // opened stops the run at step 0 with every output written.
+    // From the start: a signal while the outputs are checked or the world is
+    // made stops the run at step 0 with every output written.
     const StopSignals stopSignals;
     Start start = planRun(o);
+    Outputs::check(start);
     World world = startWorld(start, o);
     for (const std::string& warning : world.warnings()) std::cerr << "carom: warning: " << warning << '\n';
     Outputs outputs(start, world);

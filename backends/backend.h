@@ -53,7 +53,6 @@ public:
     Backend(const Backend&) = delete;
     Backend& operator=(const Backend&) = delete;
 
-    virtual std::string name() const = 0;    // "cpu" or "opencl"
     virtual std::string device() const = 0;  // human-readable device description
     // True when divide and sqrt are correctly rounded, so that this backend's
     // trajectories are bitwise identical to the CPU backend's.

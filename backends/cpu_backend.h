@@ -13,7 +13,6 @@ class CpuBackend : public Backend {
 public:
     explicit CpuBackend(const WorldDef& world);
 
-    std::string name() const override { return "cpu"; }
     std::string device() const override;
     bool exactArithmetic() const override { return true; }
 

@@ -49,7 +49,6 @@ class EventDrivenBackend final : public Backend {
 public:
     explicit EventDrivenBackend(const WorldDef& world);
 
-    std::string name() const override { return "cpu"; }
     std::string device() const override;
     bool exactArithmetic() const override { return true; }
 

@@ -22,7 +22,6 @@ namespace carom {
 
 class OpenClBackend : public Backend {
 public:
-    std::string name() const override { return "opencl"; }
     std::string device() const override;
     bool exactArithmetic() const override { return device_.correctlyRoundedDivideSqrt; }
     const opencl::DeviceInfo& deviceInfo() const { return device_; }

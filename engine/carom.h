@@ -24,6 +24,16 @@ struct InitialState {
 // Builds the initial particles of a scene. Deterministic in scene.seed.
 InitialState makeInitialState(const SceneDef& scene);
 
+// Throws Error unless a scene file's scene can be placed: a box or a
+// packing, regions and disks inside the box, regions either identical or
+// disjoint.
+void validate(const SceneFileDef& scene);
+
+// A scene file's particles and box: the groups' disks in group order (ids
+// 0..), then the [[disk]]s. Deterministic in scene.seed; a single group
+// filling the box equals makeInitialState(SceneDef) with the same values.
+InitialState makeInitialState(const SceneFileDef& scene);
+
 // Throws Error unless every particle has finite values, mass and radius in
 // their ranges (kMinMass.., kMinLength..), fits in the box and lies inside
 // it. `what` names the source in messages (for example the file the

@@ -1,8 +1,8 @@
 // Numbers that several parts of carom share (internal: not part of the public
-// API; kPi is public, in carom/random.h).
+// API; kPi is public, in carom/types.h).
 #pragma once
 
-#include <carom/random.h>
+#include <carom/types.h>
 
 namespace carom {
 

@@ -66,6 +66,7 @@ CheckpointFile readCheckpoint(const std::string& path) {
 World loadCheckpoint(const std::string& path, const WorldDef& def) { return loadCheckpoint(readCheckpoint(path), def); }
 
 World loadCheckpoint(CheckpointFile checkpoint, const WorldDef& def) {
+    if (!checkpoint.impl_) throw Error("loadCheckpoint: this CheckpointFile was loaded already (a moved-from file)");
     const std::string& path = checkpoint.impl_->path;
     Checkpoint& c = checkpoint.impl_->contents;
     WorldDef resumed = c.world;

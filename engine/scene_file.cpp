@@ -1,8 +1,30 @@
-// Scene files, read: TOML parsed into a SceneFileDef, every value checked where
-// it is read, with its line. The only file that sees toml++; the checks of
+// Scene files, read (io::readSceneFile): a whole simulation in TOML. The
+// README's "Scene files" section is the user's reference; in short:
+//
+//   box = [100, 60]          # or packing = 0.3 for a square box (one group, no regions, no disks)
+//   boundary = "walls"       # reflective walls, or "periodic"
+//   collisions = "pairwise"  # or "simultaneous"; default WorldDef's
+//   dt = 0.01                # or "auto": substeps of at most max_travel = 0.2 radii
+//                            # steps = 1000, gravity = [0, 0], seed = 1 are the other defaults
+//   [[group]]                # disks placed on a jittered lattice, without overlap
+//   count = 500
+//   radius = 1.0             # or [min, max]; mass likewise
+//   temperature = 1.0        # or speed = 1.0
+//   region = [0, 0, 50, 60]  # x_min, y_min, x_max, y_max; default the whole box
+//   [[disk]]                 # one disk, exactly where it is put
+//   position = [80, 30]
+//   velocity = [-2, 0]
+//   [output]
+//   trajectory = "run.xyz"   # also stats, checkpoint, state; every = 100
+//
+// Every value is checked for type, range and finiteness, and unknown keys are
+// errors: the message names the file, the line, the key, the bad value and
+// what is allowed.
+// Each value is checked where it is read, with its line. The only file that
+// sees toml++; the checks of
 // the whole scene are in scene_file_validate.cpp, its placement in
 // scene_placement.cpp.
-#include "engine/scene_file.h"
+#include <carom/io.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -13,9 +35,11 @@
 #include <fstream>
 #include <initializer_list>
 #include <sstream>
+#include <utility>
 
 #include <toml++/toml.h>
 
+#include "engine/carom.h"
 #include "engine/constants.h"
 #include "engine/output_paths.h"
 #include "engine/text_format.h"

@@ -7,7 +7,7 @@
 
 #include "engine/constants.h"
 #include "engine/error_message.h"
-#include "engine/scene_file.h"
+#include "engine/carom.h"
 #include "engine/scene_region.h"
 
 namespace carom {

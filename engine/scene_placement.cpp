@@ -13,7 +13,6 @@
 #include "engine/constants.h"
 #include "engine/error_message.h"
 #include "engine/grid.h"
-#include "engine/scene_file.h"
 #include "engine/scene_region.h"
 
 namespace carom {

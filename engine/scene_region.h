@@ -2,7 +2,7 @@
 // (scene_file_validate.cpp) and its placement (scene_placement.cpp) share.
 #pragma once
 
-#include "engine/scene_file.h"
+#include "engine/carom.h"
 
 namespace carom {
 

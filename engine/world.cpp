@@ -10,7 +10,7 @@
 #include "engine/grid.h"
 #include "engine/disk_conversion.h"
 #include "engine/observables.h"
-#include "engine/scene_file.h"
+#include "engine/carom.h"
 #include "engine/world_impl.h"
 #ifdef CAROM_HAVE_OPENCL
 #include "backends/opencl_runtime.h"

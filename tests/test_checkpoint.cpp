@@ -54,8 +54,11 @@ std::string small() {
 void checkResumeBitForBit(const EngineDef& def, const Scenario& scenario, std::uint64_t half) {
     const Checkpoint start{scenario.world, 0, 0.0, 0, scenario.particles, std::nullopt};
     const Checkpoint whole = runAndCheckpoint(def, start, 2 * half);
-    writeCheckpoint("half.ckpt", runAndCheckpoint(def, start, half));
-    const Checkpoint halfway = readCheckpoint("half.ckpt");
+    // A file of its own per engine and scheme: ctest runs the cases of each backend at once.
+    const std::string file = std::string("half-") + computeEngineName(def.engine) + "-" +
+                             collisionSchemeName(scenario.world.collisions) + ".ckpt";
+    writeCheckpoint(file, runAndCheckpoint(def, start, half));
+    const Checkpoint halfway = readCheckpoint(file);
     CHECK(halfway.world.collisions == scenario.world.collisions);
     const Checkpoint resumed = runAndCheckpoint(def, halfway, half);
     CHECK(resumed.step == 2 * half);
@@ -63,7 +66,7 @@ void checkResumeBitForBit(const EngineDef& def, const Scenario& scenario, std::u
     CHECK(resumed.collisions == whole.collisions);
     CHECK(whole.collisions > 0);
     CHECK(sameBits(resumed.particles, whole.particles));
-    std::remove("half.ckpt");
+    std::remove(file.c_str());
 }
 
 }  // namespace
@@ -164,14 +167,15 @@ CAROM_OPENCL_TEST_CASE("checkpoint: a run resumed on another backend continues b
     const EngineDef cpu = testEngine(ComputeEngine::Cpu);
     const Checkpoint start{scenario.world, 0, 0.0, 0, scenario.particles, std::nullopt};
     const Checkpoint whole = runAndCheckpoint(cpu, start, 2000);
+    const std::string file = std::string("cross-") + computeEngineName(def.engine) + ".ckpt";  // one per pipeline
     for (const auto& [first, second] : {std::pair{cpu, def}, std::pair{def, cpu}}) {
         CAPTURE(computeEngineName(first.engine));
-        writeCheckpoint("cross.ckpt", runAndCheckpoint(first, start, 1000));
-        const Checkpoint resumed = runAndCheckpoint(second, readCheckpoint("cross.ckpt"), 1000);
+        writeCheckpoint(file, runAndCheckpoint(first, start, 1000));
+        const Checkpoint resumed = runAndCheckpoint(second, readCheckpoint(file), 1000);
         CHECK(resumed.collisions == whole.collisions);
         CHECK(sameBits(resumed.particles, whole.particles));
     }
-    std::remove("cross.ckpt");
+    std::remove(file.c_str());
 }
 
 TEST_CASE("checkpoint: every truncation is refused") {

@@ -1,5 +1,5 @@
 // Where outputs go (symlinks, special files, one file under two names) and
-// how a resumed run continues them (engine/output_paths.h, atomic_file.h).
+// how a resumed run continues them (carom/files.h, engine/output_paths.h).
 #include <filesystem>
 #include <fstream>
 #include <iterator>

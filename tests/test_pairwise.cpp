@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstring>
 
-#include <carom/random.h>
+#include <carom/types.h>
 
 #include "engine/diagnostics.h"
 #include "kernels/pairwise.h"

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstring>
 
-#include <carom/random.h>
+#include <carom/types.h>
 
 #include "engine/diagnostics.h"
 #include "support.h"

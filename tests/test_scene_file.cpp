@@ -7,7 +7,9 @@
 #include <filesystem>
 
 #include "engine/diagnostics.h"
-#include "engine/scene_file.h"
+#include <carom/io.h>
+
+#include "engine/carom.h"
 #include "support.h"
 
 using namespace carom;
@@ -97,7 +99,7 @@ checkpoint = "c.ckpt"
 state = "f.csv"
 every = 25
 )",
-                                       "s.toml");
+                                              "s.toml");
     CHECK(s.world.width == 100.0f);
     CHECK(s.world.height == 60.5f);
     CHECK(s.world.dt == 0.005f);
@@ -315,7 +317,7 @@ count = 100
 radius = [0.5, 2]
 region = [60, 0, 120, 40]
 )",
-                                       "s.toml");
+                                              "s.toml");
     const InitialState placed = makeInitialState(s);
     REQUIRE(placed.particles.size() == 700);
     const Diagnostics d = measure(placed.particles, worldOf(s, placed));
@@ -346,7 +348,7 @@ count = 4000
 mass = 8
 temperature = 1.5
 )",
-                                       "s.toml");
+                                              "s.toml");
     const InitialState placed = makeInitialState(s);
     // Equipartition in 2D: each disk's mean kinetic energy is k_B T, for either mass.
     for (int group = 0; group < 2; ++group) {

@@ -4,7 +4,7 @@
 #include <random>
 #include <vector>
 
-#include <carom/random.h>
+#include <carom/types.h>
 #include <doctest/doctest.h>
 
 #include "app/validate/statistics.h"

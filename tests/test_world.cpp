@@ -16,7 +16,7 @@
 #include "engine/diagnostics.h"
 #include "engine/disk_conversion.h"
 #include "engine/observables.h"
-#include "engine/scene_file.h"
+#include "engine/carom.h"
 #include "support.h"
 
 using namespace carom;

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <sstream>
 
-#include <carom/random.h>
 #include <carom/types.h>
 
 namespace carom::validation {

@@ -12,7 +12,7 @@
 #include <filesystem>
 #include <limits>
 
-#include <carom/random.h>
+#include <carom/types.h>
 
 #include "app/number_options.h"
 #include "app/stop_signals.h"

@@ -57,6 +57,8 @@ World loadCheckpoint(const std::string& path, const WorldDef& def = WorldDef{});
 // A checkpoint read and checked but not started, for a program that looks
 // at what it holds before it chooses the engine (CollisionScheme::Events
 // runs on the CPU only): readCheckpoint, then loadCheckpoint(std::move(file), def).
+// loadCheckpoint spends it: a moved-from CheckpointFile may only be
+// assigned to or destroyed, and loading it again throws Error.
 class CheckpointFile {
 public:
     ~CheckpointFile();

@@ -10,9 +10,10 @@
 //     def.gravity = {0.0f, -9.81f};
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
-#include <stdexcept>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -110,6 +111,8 @@ constexpr float kMaxSpeed = 1e18f;         // [length/time]: (v_i - v_j)^2 stays
 // The box diagonal times the largest speed a disk can reach [length^2/time]:
 // the collision times square (x_i - x_j).(v_i - v_j), up to 4 x this squared.
 constexpr double kMaxLengthTimesSpeed = 1e18;
+
+constexpr double kPi = 3.14159265358979323846;
 // A step must move a typical disk by at least this many float spacings of
 // the positions near the far side of the box (a smaller step is lost or
 // wrong by more than 50 %; the rounding error of a step of d spacings is up
@@ -192,12 +195,14 @@ void validate(const SceneDef& scene);
 // it is written, before its disks are placed (makeScene, carom/world.h): a
 // program may change it first, as the command line's options do.
 
-// An axis-aligned rectangle inside the box [length].
+// An axis-aligned rectangle inside the box [length]: 0 <= xMin < xMax <=
+// width, 0 <= yMin < yMax <= height. Two groups' regions are either the same
+// rectangle (one shared lattice) or disjoint.
 struct Region {
-    float xMin = 0.0f;
-    float yMin = 0.0f;
-    float xMax = 0.0f;
-    float yMax = 0.0f;
+    float xMin = 0.0f;  // left edge
+    float yMin = 0.0f;  // bottom edge
+    float xMax = 0.0f;  // right edge
+    float yMax = 0.0f;  // top edge
 };
 
 // One [[group]]: `count` disks placed without overlap on a jittered
@@ -207,11 +212,14 @@ struct GroupDef {
     std::string name;         // shown in messages; default "group[K]", K counting from 1
     std::size_t line = 0;     // line of its [[group]] header, for messages
     std::uint32_t count = 0;  // number of disks, >= 1; required
-    float radiusMin = 1.0f;   // radius, fixed or uniform in [radiusMin, radiusMax] [length], > 0
+    // Radius [length] and mass [mass], each fixed (min == max) or uniform in
+    // [min, max]: finite, 0 < min <= max, and within [kMinLength, kMaxLength]
+    // and [kMinMass, kMaxMass] once placed.
+    float radiusMin = 1.0f;
     float radiusMax = 1.0f;
-    float massMin = 1.0f;  // mass, fixed or uniform in [massMin, massMax] [mass], > 0
+    float massMin = 1.0f;
     float massMax = 1.0f;
-    float speed = 1.0f;            // speed of every disk, random directions [length/time], >= 0
+    float speed = 1.0f;            // speed of every disk, random directions [length/time], in [0, kMaxSpeed]
     float temperature = 0.0f;      // > 0: Maxwell-Boltzmann velocities at k_B T = temperature
                                    //   [mass length^2/time^2] instead of `speed`; 0 = off
     std::optional<Region> region;  // where the disks go; default the whole box
@@ -222,8 +230,8 @@ struct DiskDef {
     std::size_t line = 0;  // line of its [[disk]] header, for messages
     Vec2 position{0, 0};   // centre [length]; required, the disk must lie inside the box
     Vec2 velocity{0, 0};   // [length/time]; default at rest
-    float mass = 1.0f;     // [mass], > 0
-    float radius = 1.0f;   // [length], > 0
+    float mass = 1.0f;     // [mass], in [kMinMass, kMaxMass]
+    float radius = 1.0f;   // [length], in [kMinLength, kMaxLength]
 };
 
 // [output]: the files a run writes. Paths are relative to the working
@@ -236,14 +244,16 @@ struct OutputDef {
     std::uint64_t every = 100;  // steps between samples and checkpoints, >= 1
 };
 
+// The whole file: its world, its groups and disks, and what `carom run`
+// does with it.
 struct SceneFileDef {
     std::string path;            // the file, for messages
     WorldDef world;              // box (0 x 0 when `packing` sizes it), dt, gravity, boundary,
                                  //   collision scheme
     float packing = 0.0f;        // > 0: the box is square, sized so the disks cover this
                                  //   area fraction, in (0, 0.7]; instead of world's box
-    std::uint64_t steps = 1000;  // steps `carom run` takes
-    std::uint64_t seed = 1;      // random seed of the placement and the velocities
+    std::uint64_t steps = 1000;  // steps `carom run` takes, in [0, 2^63 - 1]
+    std::uint64_t seed = 1;      // random seed of the placement and the velocities, any value
     std::vector<GroupDef> groups;
     std::vector<DiskDef> disks;  // ids follow the groups' disks, in file order
     OutputDef output;

@@ -5,7 +5,9 @@
 #include <cstdint>
 #include <string_view>
 
-#include "engine/scene_file.h"
+#include <carom/io.h>
+
+#include "engine/carom.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     try {
