@@ -11,7 +11,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     try {
-        const carom::SceneFile scene =
+        const carom::SceneFileDef scene =
             carom::io::parseSceneFile(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.toml");
         std::uint64_t particles = scene.disks.size();
         for (const carom::GroupDef& group : scene.groups) particles += group.count;
