@@ -1,7 +1,10 @@
 #!/bin/sh
 # Installs what carom needs from Debian 12 packages. Idempotent.
 #   ./install-deps.sh          build dependencies (compiler, CMake, OpenCL, PoCL, libraries, the viewer's SDL2/ImGui)
-#   ./install-deps.sh --test   the same, plus what the tests need
+#   ./install-deps.sh --test   the same, plus what the tests need, and .venv: a virtual
+#                              environment with the Python tests' packages (PyPI)
+#   ./install-deps.sh --python the build dependencies, plus Python's headers and venv,
+#                              for `pip install .` (README, "Python")
 set -eu
 packages="cmake g++ make ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
           libcli11-dev nlohmann-json3-dev libtomlplusplus-dev
@@ -10,7 +13,10 @@ packages="cmake g++ make ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinf
 test_packages="doctest-dev xvfb xauth libgl1-mesa-dri libglx-mesa0"
 # The fuzzers (clang's libFuzzer) and the output file tests (Python; ASE comes from PyPI below).
 test_packages="$test_packages clang libclang-rt-14-dev python3 python3-pip"
-[ "${1:-}" = "--test" ] && packages="$packages $test_packages"
+# The Python package (pip install .): Python's headers, venv and pip.
+python_packages="python3-dev python3-venv python3-pip"
+[ "${1:-}" = "--test" ] && packages="$packages $test_packages $python_packages"
+[ "${1:-}" = "--python" ] && packages="$packages $python_packages"
 
 sudo=""
 [ "$(id -u)" -eq 0 ] || sudo="sudo"
@@ -32,4 +38,13 @@ fi
 if [ "${1:-}" = "--test" ] && ! python3 -c "import ase" 2>/dev/null; then
     echo "install-deps: installing ase from PyPI"
     python3 -m pip install --quiet ase 2>/dev/null || python3 -m pip install --quiet --break-system-packages ase
+fi
+
+# The Python tests (README, "Python"): pytest, gsd, nbclient and the
+# notebook's kernel and plots, in .venv, where `pip install .` puts carom.
+if [ "${1:-}" = "--test" ]; then
+    [ -x .venv/bin/python ] || python3 -m venv .venv
+    echo "install-deps: the Python test packages in .venv (PyPI)"
+    .venv/bin/python -m pip install --quiet --upgrade pip
+    .venv/bin/python -m pip install --quiet numpy gsd pytest nbclient nbformat ipykernel matplotlib
 fi

@@ -73,6 +73,9 @@ public:
     const std::optional<NonFiniteState>& nonFinite() const { return nonFinite_; }
     // Copies the current state into `particles` (in id order).
     virtual void readParticles(std::vector<Particle>& particles) = 0;
+    // The current state where the host holds it between steps, in id order,
+    // for World::diskMemory; null where it lives elsewhere (a device, doubles).
+    virtual std::shared_ptr<const std::vector<Particle>> sharedState() { return nullptr; }
     // Collisions, virial and wall impulses since setParticles or the last
     // resetContacts().
     const ContactTotals& contacts();

@@ -32,10 +32,13 @@ std::string CpuBackend::device() const {
 
 void CpuBackend::load(std::vector<Particle> particles) {
     const std::size_t n = particles.size();
-    state_ = std::move(particles);
+    if (state_.use_count() > 1 && state_->size() == n)
+        std::copy(particles.begin(), particles.end(), state_->begin());
+    else
+        state_ = std::make_shared<std::vector<Particle>>(std::move(particles));
     tallies_.assign(n, ContactTally{});
     if (world_.collisions == CollisionScheme::Simultaneous) {
-        next_.resize(n);
+        next_->resize(n);
         return;
     }
     events_.resize(n);
@@ -46,7 +49,7 @@ void CpuBackend::load(std::vector<Particle> particles) {
 
 void CpuBackend::advance(std::uint64_t substeps, float dt) {
     for (std::uint64_t s = 0; s < substeps; ++s) {
-        buildGrid(state_.data(), state_.size(), grid_);
+        buildGrid(state_->data(), state_->size(), grid_);
         const std::uint32_t nonFinite =
             world_.collisions == CollisionScheme::Pairwise ? stepPairwise(dt) : stepSimultaneous(dt);
         if (nonFinite != kAllFinite) {
@@ -57,11 +60,11 @@ void CpuBackend::advance(std::uint64_t substeps, float dt) {
 }
 
 std::uint32_t CpuBackend::stepSimultaneous(float dt) {
-    const auto count = static_cast<std::int64_t>(state_.size());
+    const auto count = static_cast<std::int64_t>(state_->size());
     const WorldDef& w = world_;
     const CaromBox box = caromBoxOf(w);
-    const Particle* in = state_.data();
-    Particle* out = next_.data();
+    const Particle* in = state_->data();
+    Particle* out = next_->data();
     const unsigned int* sorted = grid_.sortedIndices.data();
     const GridCell* cells = grid_.cells.data();
     ContactTally* tallies = tallies_.data();
@@ -77,7 +80,11 @@ std::uint32_t CpuBackend::stepSimultaneous(float dt) {
         carom_integrate_into(id, out, dt, w.gravity.x, w.gravity.y, box, tallies);
         if (!carom_is_finite(out[i])) nonFinite = std::min(nonFinite, id);
     }
-    std::swap(state_, next_);
+    // While a view holds the state's buffer, the step is copied into it, so that the view follows.
+    if (state_.use_count() > 1)
+        std::copy(next_->begin(), next_->end(), state_->begin());
+    else
+        std::swap(state_, next_);
     return nonFinite;
 }
 
@@ -92,9 +99,9 @@ unsigned int CpuBackend::nextEpoch() {
 }
 
 std::uint32_t CpuBackend::stepPairwise(float dt) {
-    const auto count = static_cast<std::int64_t>(state_.size());
+    const auto count = static_cast<std::int64_t>(state_->size());
     const CaromStepParams step = stepParams(dt);
-    Particle* state = state_.data();
+    Particle* state = state_->data();
     // State by id, so a disk's slot is its id: sortedIndices serves as both.
     const unsigned int* sorted = grid_.sortedIndices.data();
     const unsigned int* cellOf = grid_.cellOf.data();

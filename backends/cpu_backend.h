@@ -5,6 +5,9 @@
 // (bench/all_pairs_cpu.h) derives from it.
 #pragma once
 
+#include <memory>
+#include <vector>
+
 #include "backends/backend.h"
 
 namespace carom {
@@ -16,17 +19,22 @@ public:
     std::string device() const override;
     bool exactArithmetic() const override { return true; }
 
-    void readParticles(std::vector<Particle>& particles) override { particles = state_; }
+    void readParticles(std::vector<Particle>& particles) override { particles = *state_; }
+    std::shared_ptr<const std::vector<Particle>> sharedState() override { return state_; }
 
 protected:
-    std::vector<Particle> state_;        // the state before the step
-    std::vector<Particle> next_;         // simultaneous: written by the step, then swapped in
+    // The state before the step, shared with World::diskMemory's views: a
+    // view keeps its buffer alive, and while one does, the steps and loads of
+    // the same number of disks write into that buffer (views follow them).
+    std::shared_ptr<std::vector<Particle>> state_ = std::make_shared<std::vector<Particle>>();
+    // Simultaneous: written by the step, then swapped in (copied in while a view holds state_).
+    std::shared_ptr<std::vector<Particle>> next_ = std::make_shared<std::vector<Particle>>();
     std::vector<ContactTally> tallies_;  // by particle id
 
 private:
     void load(std::vector<Particle> particles) override;
     void advance(std::uint64_t substeps, float dt) override;
-    float maxSpeedSquared() override { return maxSpeedSquaredOf(state_.data(), state_.size()); }
+    float maxSpeedSquared() override { return maxSpeedSquaredOf(state_->data(), state_->size()); }
     void drainTallies(ContactTotals& totals) override { drainTallyArray(tallies_.data(), tallies_.size(), totals); }
     // One substep each; they return the lowest id of a disk the substep left
     // non-finite, or kAllFinite.

@@ -12,12 +12,12 @@ AllPairsCpuBackend::AllPairsCpuBackend(const WorldDef& world) : CpuBackend(world
 }
 
 void AllPairsCpuBackend::advance(std::uint64_t substeps, float dt) {
-    const auto count = static_cast<std::int64_t>(state_.size());
+    const auto count = static_cast<std::int64_t>(state_->size());
     const WorldDef& w = world_;
     const CaromBox box = caromBoxOf(w);
     for (std::uint64_t s = 0; s < substeps; ++s) {
-        const Particle* in = state_.data();
-        Particle* out = next_.data();
+        const Particle* in = state_->data();
+        Particle* out = next_->data();
         ContactTally* tallies = tallies_.data();
         // Rows of the N x N pair matrix cost the same: a static schedule balances them.
 #pragma omp parallel for schedule(static)

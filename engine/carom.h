@@ -56,7 +56,8 @@ void requireValidMotion(const std::vector<Particle>& particles, const WorldDef& 
 // refuses any), with the pair and the overlap. O(N): one grid search.
 // Not part of validateParticles, so that the viewer can upload a flicked or
 // dropped disk without being refused.
+// With DeepOverlaps::Refuse, such an overlap is refused rather than warned of.
 std::vector<std::string> validateStart(const std::vector<Particle>& particles, const WorldDef& world,
-                                       const std::string& what);
+                                       const std::string& what, DeepOverlaps deepOverlaps = DeepOverlaps::Warn);
 
 }  // namespace carom

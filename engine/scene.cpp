@@ -201,7 +201,7 @@ void validateParticles(const std::vector<Particle>& particles, const WorldDef& w
 }
 
 std::vector<std::string> validateStart(const std::vector<Particle>& particles, const WorldDef& world,
-                                       const std::string& what) {
+                                       const std::string& what, DeepOverlaps deepOverlaps) {
     validateParticles(particles, world, what);
     requireValidMotion(particles, world, what);
     const Overlaps overlaps = findOverlaps(particles, world);
@@ -231,8 +231,9 @@ std::vector<std::string> validateStart(const std::vector<Particle>& particles, c
         text.str("");
         text << overlaps.pairs << " pair(s) of disks overlap, the deepest particles " << i << " and " << j << " by "
              << overlaps.deepest << " (" << 100 * overlaps.deepest / (double(particles[i].radius) + particles[j].radius)
-             << " % of their contact distance), more than a step closes (" << stepClosing
-             << "); they separate as they move apart (the simultaneous scheme also pushes them apart)";
+             << " % of their contact distance), more than a step closes (" << stepClosing << ")";
+        if (deepOverlaps == DeepOverlaps::Refuse) fail(what, ": ", text.str(), "; allowed: overlaps up to that depth");
+        text << "; they separate as they move apart (the simultaneous scheme also pushes them apart)";
         warnings.push_back(text.str());
     }
     return warnings;

@@ -3,6 +3,7 @@
 #include <carom/version.h>
 
 #include <algorithm>
+#include <cstddef>
 #include <utility>
 
 #include "backends/event_driven_backend.h"
@@ -66,8 +67,8 @@ const char* computeEngineName(ComputeEngine engine) {
 }
 
 void World::Impl::start(std::vector<Particle> particles, std::uint64_t startStep, double startTime,
-                        std::uint64_t collisions, const std::string& source) {
-    warnings = validateStart(particles, def, source);
+                        std::uint64_t collisions, const std::string& source, DeepOverlaps deepOverlaps) {
+    warnings = validateStart(particles, def, source, deepOverlaps);
     if (std::string slow = gridCostWarning(particles, def); !slow.empty()) warnings.push_back(std::move(slow));
     load(std::move(particles), startStep, collisions);
     motionStep = startStep;
@@ -100,12 +101,12 @@ World::~World() = default;
 World::World(World&&) noexcept = default;
 World& World::operator=(World&&) noexcept = default;
 
-void World::setDisks(const Disk* disks, std::size_t count, const std::string& source) {
+void World::setDisks(const Disk* disks, std::size_t count, const std::string& source, DeepOverlaps deepOverlaps) {
     if (count == 0) throw Error("setDisks: a world needs at least 1 disk, got 0");
     if (count > kMaxParticles)
         throw Error("setDisks: " + std::to_string(count) + " disks; allowed: at most " + std::to_string(kMaxParticles) +
                     " (kMaxParticles)");
-    impl_->start(particlesOf(disks, count), 0, 0.0, 0, source);
+    impl_->start(particlesOf(disks, count), 0, 0.0, 0, source, deepOverlaps);
 }
 
 void World::setDisk(std::size_t id, const Disk& disk) {
@@ -138,6 +139,24 @@ void World::getDisks(Disk* out, std::size_t capacity) const {
 std::vector<Disk> World::disks() const { return disksOf(impl_->current()); }
 
 std::size_t World::diskCount() const { return impl_->backend->particleCount(); }
+
+static_assert(offsetof(Particle, position) == DiskMemory::kPosition * sizeof(float) &&
+                  offsetof(Particle, velocity) == DiskMemory::kVelocity * sizeof(float) &&
+                  offsetof(Particle, mass) == DiskMemory::kMass * sizeof(float) &&
+                  offsetof(Particle, radius) == DiskMemory::kRadius * sizeof(float) &&
+                  sizeof(Particle) % sizeof(float) == 0,
+              "DiskMemory's offsets are Particle's");
+
+DiskMemory World::diskMemory() const {
+    std::shared_ptr<const std::vector<Particle>> state = impl_->backend->sharedState();
+    if (!state || state->empty()) return {};
+    DiskMemory memory;
+    memory.base = &state->front().position.x;
+    memory.count = state->size();
+    memory.stride = sizeof(Particle) / sizeof(float);
+    memory.owner = std::move(state);
+    return memory;
+}
 
 void World::step(std::uint64_t steps) {
     if (diskCount() == 0) throw Error("step: the world has no disks yet; call setDisks first");

@@ -52,7 +52,7 @@ struct World::Impl {
     // Starts from `particles`, which hold step `step` of a scene in which
     // `collisions` pairs collided so far; `source` names them in messages.
     void start(std::vector<Particle> particles, std::uint64_t step, double time, std::uint64_t collisions,
-               const std::string& source);
+               const std::string& source, DeepOverlaps deepOverlaps = DeepOverlaps::Warn);
     // Replaces the state with an edited one, at the same step and collision count.
     void edit(std::vector<Particle> particles);
     // Loads `particles` as the state at `step`, with `collisions` so far.

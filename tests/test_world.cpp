@@ -174,6 +174,59 @@ TEST_CASE("world: the deepest overlap of two disks, and none escaped") {
     CHECK(world.maxOverlap() == 0.0);
 }
 
+TEST_CASE("world: deep overlaps are warned of, or refused on request, keeping the disks") {
+    WorldDef def;
+    def.width = def.height = 20.0f;
+    World world(def);
+    const Disk apart[] = {{{5.0f, 5.0f}, {0, 0}, 1, 1}, {{9.0f, 5.0f}, {0, 0}, 1, 1}};
+    const Disk deep[] = {{{5.0f, 5.0f}, {0, 0}, 1, 1}, {{6.5f, 5.0f}, {0, 0}, 1, 1}};
+    world.setDisks(deep, 2);
+    REQUIRE(world.warnings().size() == 1);
+    CHECK(world.warnings()[0].find("particles 0 and 1 by 0.5") != std::string::npos);
+    world.setDisks(apart, 2);
+    CHECK_THROWS_WITH_AS(world.setDisks(deep, 2, "mine", DeepOverlaps::Refuse),
+                         doctest::Contains("mine: 1 pair(s) of disks overlap, the deepest particles 0 and 1 by 0.5"),
+                         Error);
+    CHECK(world.disks()[1].position.x == 9.0f);
+}
+
+// The CPU engine's memory, read without a copy, follows the world through
+// steps (both schemes: the simultaneous one writes into the viewed buffer)
+// and stays alive, unchanged, when the world replaces its disks by another number.
+CAROM_BACKEND_TEST_CASE("world: disk memory follows the steps and outlives a new set of disks") {
+    const Scene scene = gas(300, 0.3f);
+    for (CollisionScheme scheme : {CollisionScheme::Pairwise, CollisionScheme::Simultaneous}) {
+        CAPTURE(collisionSchemeName(scheme));
+        WorldDef spec = worldFor(scene, def.engine, Boundary::Walls);
+        spec.collisions = scheme;
+        World world(spec);
+        world.setDisks(scene.disks);
+        const DiskMemory memory = world.diskMemory();
+        if (def.engine != ComputeEngine::Cpu) {
+            CHECK(memory.base == nullptr);
+            continue;
+        }
+        REQUIRE(memory.base != nullptr);
+        REQUIRE(memory.count == scene.disks.size());
+        for (int step = 0; step < 3; ++step) {
+            world.step(1);
+            CHECK(world.diskMemory().base == memory.base);
+            const std::vector<Disk> disks = world.disks();
+            for (std::size_t i = 0; i < disks.size(); ++i) {
+                const float* record = memory.base + i * memory.stride;
+                REQUIRE(std::memcmp(record + DiskMemory::kPosition, &disks[i].position, 8) == 0);
+                REQUIRE(std::memcmp(record + DiskMemory::kVelocity, &disks[i].velocity, 8) == 0);
+                REQUIRE(record[DiskMemory::kMass] == disks[i].mass);
+                REQUIRE(record[DiskMemory::kRadius] == disks[i].radius);
+            }
+        }
+        const std::vector<Disk> before = world.disks();
+        world.setDisks(std::vector<Disk>(scene.disks.begin(), scene.disks.begin() + 10));
+        CHECK(world.diskMemory().base != memory.base);
+        CHECK(std::memcmp(memory.base + (before.size() - 1) * memory.stride, &before.back().position, 8) == 0);
+    }
+}
+
 TEST_CASE("world: bad input is refused in library terms, naming the value") {
     WorldDef def;
     CHECK_THROWS_WITH_AS(World{def}, "box width must be a finite number > 0, got 0", Error);

@@ -85,6 +85,13 @@ enum class ComputeEngine {
     OpenClResident,
 };
 
+// What World::setDisks does with disks that overlap deeper than two disks
+// close in one step (2 x the fastest speed x dt, plus rounding): such
+// overlaps did not come from a run, and the disks push through each other
+// as they separate. Warn (the default) accepts them with a warning in
+// World::warnings(); Refuse throws Error naming the deepest pair.
+enum class DeepOverlaps { Warn, Refuse };
+
 // Names as the command line and scene files spell them ("walls", "periodic";
 // "simultaneous", "pairwise", "events"; "cpu", "opencl-host-grid",
 // "opencl-resident"); the parsers throw Error naming the value otherwise.

@@ -123,6 +123,24 @@ struct Device {
 // OpenCL, or the machine no OpenCL platform or device.
 std::vector<Device> listDevices();
 
+// The disks where the CPU engine keeps them, for reading without a copy
+// (World::diskMemory): `count` records of `stride` floats from `base`, in id
+// order, each holding position x, y, velocity x, y, mass and radius at the
+// offsets below (the rest of a record is the engine's). `owner` keeps the
+// memory alive, whatever the world does: while a DiskMemory holds it, steps
+// and edits that keep the number of disks write into it (it follows the
+// world); setDisks or addDisks of another number leave it as it was.
+struct DiskMemory {
+    std::shared_ptr<const void> owner;
+    const float* base = nullptr;  // null where the engine keeps no such memory
+    std::size_t count = 0;
+    std::size_t stride = 0;  // [floats]
+    static constexpr std::size_t kPosition = 0;
+    static constexpr std::size_t kVelocity = 2;
+    static constexpr std::size_t kMass = 4;
+    static constexpr std::size_t kRadius = 5;
+};
+
 class World {
 public:
     // Checks every field of `def` (finite, in range, an engine this build
@@ -134,12 +152,15 @@ public:
 
     // Replaces every disk. Disk i gets id i. Throws Error, and keeps the
     // disks it had, when a disk is out of range or outside the box, two
-    // centres coincide, or the step is out of range for their speeds.
+    // centres coincide, the step is out of range for their speeds, or (with
+    // DeepOverlaps::Refuse) two disks overlap deeper than a step closes.
     // Resets the step count, the time and the measurements. `source` names
     // the disks in errors and warnings (a file they came from).
-    void setDisks(const Disk* disks, std::size_t count, const std::string& source = "disks");
-    void setDisks(const std::vector<Disk>& disks, const std::string& source = "disks") {
-        setDisks(disks.data(), disks.size(), source);
+    void setDisks(const Disk* disks, std::size_t count, const std::string& source = "disks",
+                  DeepOverlaps deepOverlaps = DeepOverlaps::Warn);
+    void setDisks(const std::vector<Disk>& disks, const std::string& source = "disks",
+                  DeepOverlaps deepOverlaps = DeepOverlaps::Warn) {
+        setDisks(disks.data(), disks.size(), source, deepOverlaps);
     }
     // What the last setDisks found less accurate or slower than usual, though
     // allowed: a step of few float spacings, disks overlapping deeper than a
@@ -160,6 +181,11 @@ public:
     void getDisks(Disk* out, std::size_t capacity) const;
     std::vector<Disk> disks() const;
     std::size_t diskCount() const;
+    // The CPU engine's own disks, without a copy (DiskMemory above), with the
+    // pairwise and simultaneous schemes; empty (base null) on the OpenCL
+    // engines and with CollisionScheme::Events, which keep them elsewhere.
+    // Read it between calls to the world, not during one.
+    DiskMemory diskMemory() const;
 
     // Advances by `steps` steps of dt. Throws Error when a step would need
     // more than kMaxSubsteps substeps, or leaves a disk non-finite (the

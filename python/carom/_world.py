@@ -1,0 +1,402 @@
+"""carom.World: a box of disks, stepped by carom's C++ engine (carom._carom)."""
+from __future__ import annotations
+
+import operator
+import os
+import secrets
+from typing import Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _carom
+from ._carom import Error, InputError
+
+Pair = Tuple[float, float]
+Range = Union[float, Tuple[float, float]]
+
+_FLOAT32_MAX = float(np.finfo(np.float32).max)
+_PIPELINES = {"seed": "opencl-host-grid", "resident": "opencl-resident"}
+
+
+def _real_array(name: str, value, shape: tuple) -> np.ndarray:
+    """`value` as a C-contiguous float32 array of `shape` (-1: any length),
+    refusing what float32 cannot hold, with the index and the value."""
+    array = np.asarray(value)
+    if array.dtype.kind not in "fiu":
+        raise InputError(f"{name}: arrays of {array.dtype} are not numbers; allowed: float or integer arrays")
+    if array.ndim != len(shape) or any(want not in (-1, got) for want, got in zip(shape, array.shape)):
+        wanted = "(" + ", ".join("N" if d == -1 else str(d) for d in shape) + ("," if len(shape) == 1 else "") + ")"
+        raise InputError(f"{name}: shape {array.shape}; allowed: {wanted}")
+    wide = array.astype(np.float64, copy=False)
+    for bad, why in ((~np.isfinite(wide), "is not finite"),
+                     (np.abs(wide) > _FLOAT32_MAX, f"is beyond float32's range (+-{_FLOAT32_MAX:.4g})")):
+        if bad.any():
+            index = np.unravel_index(int(np.argmax(bad)), bad.shape)
+            where = ", ".join(str(int(i)) for i in index)
+            raise InputError(f"{name}[{where}] = {array[index].item()!r} {why}; allowed: finite float32 numbers")
+    narrow = np.ascontiguousarray(wide, dtype=np.float32)
+    lost = (narrow == 0) & (wide != 0)
+    if lost.any():
+        index = np.unravel_index(int(np.argmax(lost)), lost.shape)
+        where = ", ".join(str(int(i)) for i in index)
+        raise InputError(f"{name}[{where}] = {array[index].item()!r} rounds to 0 in float32; allowed: 0 or |x| >= 1.2e-38")
+    return narrow
+
+
+def _disk_arrays(positions, velocities, masses, radii):
+    positions = _real_array("positions", positions, (-1, 2))
+    n = len(positions)
+    arrays = (positions, _real_array("velocities", velocities, (n, 2)),
+              _real_array("masses", masses, (n,)), _real_array("radii", radii, (n,)))
+    return arrays
+
+
+def _range(name: str, value: Range) -> Pair:
+    """A value, or (min, max) of a uniform draw."""
+    if np.ndim(value) == 0:
+        return float(value), float(value)
+    return _pair(name, value)
+
+
+def _pair(name: str, value) -> Pair:
+    try:
+        x, y = value
+        return float(x), float(y)
+    except (TypeError, ValueError):
+        raise InputError(f"{name}: {value!r} is not a pair of numbers; allowed: (x, y)") from None
+
+
+def _whole(name: str, value, minimum: int = 0) -> int:
+    if isinstance(value, bool):
+        raise InputError(f"{name}: {value!r} is not a whole number; allowed: int >= {minimum}")
+    try:
+        number = operator.index(value)
+    except TypeError:
+        raise InputError(f"{name}: {value!r} is not a whole number; allowed: int >= {minimum}") from None
+    if number < minimum:
+        raise InputError(f"{name}: {number} is out of range; allowed: int >= {minimum}")
+    return number
+
+
+def _engine_name(engine: str, device, pipeline: Optional[str]) -> Tuple[str, str]:
+    """The C++ engine name and device selector for `engine`, `device` and `pipeline`."""
+    if engine not in ("cpu", "opencl"):
+        raise InputError(f"engine: {engine!r}; allowed: 'cpu', 'opencl'")
+    selector = "" if device is None else str(device)
+    if engine == "cpu":
+        if device is not None or pipeline is not None:
+            raise InputError("device and pipeline: OpenCL only; allowed with engine='opencl'")
+        return "cpu", ""
+    if pipeline is None:
+        pipeline = "resident" if _device_type(selector) == "GPU" else "seed"
+    if pipeline not in _PIPELINES:
+        raise InputError(f"pipeline: {pipeline!r}; allowed: 'seed', 'resident', None")
+    return _PIPELINES[pipeline], selector
+
+
+def _device_type(selector: str) -> str:
+    """The type of the device `selector` picks, as WorldDef::device does ('' if none)."""
+    try:
+        devices = _carom.devices()
+    except Error:
+        return ""
+    if selector == "":
+        gpus = [d for d in devices if d["type"] == "GPU"]
+        return "GPU" if gpus else ""
+    for d in devices:
+        if (selector.isdigit() and d["index"] == int(selector)) or (not selector.isdigit() and selector in d["name"]):
+            return d["type"]
+    return ""
+
+
+class World:
+    """A box of disks that steps forward in time: carom's C++ engine.
+
+    Units are yours (length, mass, time); the box is [0, W] x [0, H].
+
+    box: (W, H), the box's sides [length].
+    boundary: "walls" (reflecting) or "periodic".
+    dt: the time step [time].
+    gravity: (gx, gy) [length/time^2].
+    collisions: "pairwise" (default: binary elastic collisions at their exact
+        times, energy conserved to rounding), "simultaneous" (the seed's
+        scheme, heats dense gases) or "events" (exact event-driven dynamics in
+        double, CPU only; dt only says when to sample).
+    engine: "cpu" (OpenMP) or "opencl".
+    device: OpenCL only, an index of carom.devices() or part of a device name;
+        None: the first GPU, else the first device.
+    pipeline: OpenCL only, "seed" (the host builds the grid, best on CPU
+        devices) or "resident" (state and grid stay on the device, best on
+        GPUs); None: resident on a GPU, seed otherwise. Both give the same bits.
+    max_travel: > 0 splits each step so no disk moves more than this fraction
+        of the smallest radius per substep; 0 = off.
+    seed: the random seed of place(); None draws one from the OS, kept in
+        world.seed so that the run can be repeated.
+
+    Every refusal of bad input raises carom.InputError (a ValueError) naming
+    the value and what is allowed. A World is not thread-safe.
+    """
+
+    def __init__(self, box: Sequence[float], boundary: str = "walls", dt: float = 0.01,
+                 gravity: Sequence[float] = (0.0, 0.0), collisions: str = "pairwise", engine: str = "cpu",
+                 device: Union[int, str, None] = None, pipeline: Optional[str] = None, max_travel: float = 0.0,
+                 seed: Optional[int] = None):
+        width, height = _pair("box", box)
+        engine_name, selector = _engine_name(engine, device, pipeline)
+        core = _carom.World(width, height, float(dt), _pair("gravity", gravity), boundary, collisions, engine_name,
+                            selector, float(max_travel))
+        self._adopt(core, seed)
+
+    def _adopt(self, core: "_carom.World", seed: Optional[int]) -> None:
+        self._core = core
+        self.seed = secrets.randbits(63) if seed is None else _whole("seed", seed)
+        self._ids = np.zeros(0, dtype=np.uint32)
+
+    @classmethod
+    def _from_core(cls, core: "_carom.World", seed: Optional[int] = None) -> "World":
+        world = cls.__new__(cls)
+        world._adopt(core, seed)
+        return world
+
+    @classmethod
+    def from_scene(cls, path: Union[str, os.PathLike], engine: str = "cpu", device: Union[int, str, None] = None,
+                   pipeline: Optional[str] = None, max_travel: float = 0.0) -> "World":
+        """The world of a scene file, its disks placed as `carom run --scene path` places them.
+        world.scene_steps is the number of steps `carom run` would take."""
+        engine_name, selector = _engine_name(engine, device, pipeline)
+        core, steps = _carom.World.from_scene_file(os.fspath(path), engine_name, selector, float(max_travel))
+        world = cls._from_core(core)
+        world.scene_steps = steps
+        return world
+
+    @classmethod
+    def from_checkpoint(cls, path: Union[str, os.PathLike], engine: str = "cpu", device: Union[int, str, None] = None,
+                        pipeline: Optional[str] = None, max_travel: float = 0.0) -> "World":
+        """The world a checkpoint holds (save_checkpoint, `carom run --checkpoint`), continuing bit for bit."""
+        engine_name, selector = _engine_name(engine, device, pipeline)
+        return cls._from_core(_carom.World.from_checkpoint(os.fspath(path), engine_name, selector, float(max_travel)))
+
+    def save_checkpoint(self, path: Union[str, os.PathLike]) -> None:
+        """Writes everything the world needs to continue bit for bit (`carom run --resume` reads it too);
+        the file is replaced whole or not at all."""
+        self._core.save_checkpoint(os.fspath(path))
+
+    # The disks.
+
+    def set_disks(self, positions, velocities, masses, radii, allow_overlaps: bool = False) -> None:
+        """Replaces every disk: arrays of shape (N, 2), (N, 2), (N,), (N,), of any
+        real dtype (stored as float32). Disk i gets id i; the step count, the
+        time and the measurements restart. Refuses (carom.InputError, naming
+        the index and the value, the disks kept as they were) values that are
+        not finite or out of range, disks outside the box, coincident centres,
+        and disks overlapping deeper than a step closes unless allow_overlaps.
+        """
+        arrays = _disk_arrays(positions, velocities, masses, radii)
+        self._core.set_disks(*arrays, refuse_deep_overlaps=not allow_overlaps)
+
+    def add_disks(self, positions, velocities, masses, radii) -> None:
+        """Appends disks (ids N, N+1, ...) between steps; checked like set_disks, except for overlaps."""
+        self._core.add_disks(*_disk_arrays(positions, velocities, masses, radii))
+
+    def set_disk(self, id: int, position: Sequence[float], velocity: Sequence[float], mass: float,
+                 radius: float) -> None:
+        """Replaces disk `id` between steps (a drag, a throw)."""
+        self._core.set_disk(_whole("id", id), _pair("position", position), _pair("velocity", velocity),
+                            float(mass), float(radius))
+
+    def place(self, count: int, radius: Range = 1.0, mass: Range = 1.0, speed: float = 1.0,
+              temperature: Optional[float] = None) -> None:
+        """Replaces the disks with `count` disks on a jittered hexagonal lattice
+        filling the box, as a scene file's [[group]] places them: radius and mass
+        fixed or uniform in (min, max); one speed in random directions, or
+        Maxwell-Boltzmann velocities at kT = temperature. Random from world.seed."""
+        temperature = 0.0 if temperature is None else float(temperature)
+        if not temperature >= 0.0:
+            raise InputError(f"temperature: {temperature}; allowed: > 0, or None for one speed")
+        self._core.place(_whole("count", count, 1), _range("radius", radius), _range("mass", mass), float(speed),
+                         temperature, self.seed)
+
+    def __len__(self) -> int:
+        return self._core.disk_count
+
+    @property
+    def n(self) -> int:
+        """The number of disks."""
+        return self._core.disk_count
+
+    @property
+    def positions(self) -> np.ndarray:
+        """Centres, float32 (N, 2), read-only, row i = disk i [length]. On the CPU
+        engine (pairwise, simultaneous) a view of the engine's own memory: no
+        copy, it follows the steps; after set_disks or add_disks change N it
+        keeps the old disks. On OpenCL and with collisions="events" a copy."""
+        return self._core.disk_arrays()[0]
+
+    @property
+    def velocities(self) -> np.ndarray:
+        """Velocities, float32 (N, 2), read-only [length/time]; a view or a copy as positions."""
+        return self._core.disk_arrays()[1]
+
+    @property
+    def masses(self) -> np.ndarray:
+        """Masses, float32 (N,), read-only [mass]; a view or a copy as positions."""
+        return self._core.disk_arrays()[2]
+
+    @property
+    def radii(self) -> np.ndarray:
+        """Radii, float32 (N,), read-only [length]; a view or a copy as positions."""
+        return self._core.disk_arrays()[3]
+
+    @property
+    def ids(self) -> np.ndarray:
+        """Disk ids, uint32 (N,), read-only: rows are always in id order, so ids[i] == i."""
+        if len(self._ids) != self.n:
+            self._ids = np.arange(self.n, dtype=np.uint32)
+            self._ids.flags.writeable = False
+        return self._ids
+
+    @property
+    def exact_positions(self) -> np.ndarray:
+        """collisions="events" only: the centres in double, as the engine holds them (float64 (N, 2), a copy)."""
+        return self._core.exact_positions()
+
+    # Time.
+
+    def step(self, n: int = 1) -> None:
+        """Advances n steps of dt. Ctrl-C stops between two steps. Raises
+        carom.InputError when a step leaves a disk non-finite or needs too many
+        substeps (the world keeps the step it reached)."""
+        self._core.step(_whole("n", n))
+
+    @property
+    def step_count(self) -> int:
+        """Steps taken since set_disks (or the scene a checkpoint continues)."""
+        return self._core.step_count
+
+    @property
+    def time(self) -> float:
+        """Simulated time [time]: the sum of the steps' dt."""
+        return self._core.time
+
+    @property
+    def dt(self) -> float:
+        """The time step [time]; settable between steps."""
+        return self._core.dt
+
+    @dt.setter
+    def dt(self, value: float) -> None:
+        self._core.set_motion(float(value), self._core.gravity)
+
+    @property
+    def gravity(self) -> Pair:
+        """(gx, gy) [length/time^2]; settable between steps."""
+        return tuple(self._core.gravity)
+
+    @gravity.setter
+    def gravity(self, value: Sequence[float]) -> None:
+        self._core.set_motion(self._core.dt, _pair("gravity", value))
+
+    @property
+    def box(self) -> Pair:
+        """(W, H) [length]."""
+        return self._core.width, self._core.height
+
+    @property
+    def boundary(self) -> str:
+        return self._core.boundary
+
+    @property
+    def collision_scheme(self) -> str:
+        """"pairwise", "simultaneous" or "events"."""
+        return self._core.collisions_scheme
+
+    @property
+    def engine(self) -> str:
+        """"cpu", "opencl-host-grid" (pipeline seed) or "opencl-resident"."""
+        return self._core.engine
+
+    @property
+    def device_name(self) -> str:
+        return self._core.device_name
+
+    @property
+    def bitwise_reproducible(self) -> bool:
+        """Whether results are bitwise the CPU engine's (always on the CPU; on
+        OpenCL devices that round divide and sqrt correctly)."""
+        return self._core.bitwise_reproducible
+
+    @property
+    def warnings(self) -> list:
+        """What the last set_disks found less accurate or slower than usual, though allowed."""
+        return list(self._core.warnings)
+
+    # Observables: the numbers of `carom run --json`.
+
+    @property
+    def kinetic_energy(self) -> float:
+        """sum m v^2 / 2, in double [mass length^2/time^2]."""
+        return self._core.kinetic_energy
+
+    @property
+    def potential_energy(self) -> float:
+        """-sum m g.x in the world's gravity (0 without)."""
+        return self._core.potential_energy
+
+    @property
+    def total_energy(self) -> float:
+        """kinetic + potential; with collisions="events", of the engine's exact double state."""
+        return self._core.total_energy
+
+    @property
+    def momentum(self) -> Pair:
+        """sum m v [mass length/time]."""
+        return tuple(self._core.momentum)
+
+    @property
+    def temperature(self) -> float:
+        """kT (k = 1): E_kin / N with walls; (E_kin - P^2/2M) / (N - 1) in a periodic box."""
+        return self._core.temperature
+
+    @property
+    def collisions(self) -> int:
+        """Pairs that received an impulse since the scene began, each pair once."""
+        return self._core.collision_count
+
+    @property
+    def max_overlap(self) -> float:
+        """The deepest overlap of two disks, 0 if none [length]."""
+        return self._core.max_overlap
+
+    def measurements(self) -> dict:
+        """Collisions, pressure, Z and more over the interval since set_disks or
+        reset_measurements() (carom/world.h, Measurements)."""
+        return self._core.measurements()
+
+    def reset_measurements(self) -> None:
+        """Starts a new interval for pressure, compressibility and collision_rate."""
+        self._core.reset_measurements()
+
+    @property
+    def pressure(self) -> float:
+        """Over the measurements' interval [mass/time^2]: from the collision virial
+        in a periodic box, from the walls' momentum otherwise."""
+        return self._core.measurements()["pressure"]
+
+    @property
+    def compressibility(self) -> float:
+        """Z = P A / (N kT) over the measurements' interval."""
+        return self._core.measurements()["compressibility"]
+
+    @property
+    def collision_rate(self) -> float:
+        """Collisions per disk per unit time over the measurements' interval [1/time]."""
+        return self._core.measurements()["collision_rate"]
+
+    def event_counts(self) -> dict:
+        """collisions="events" only: collisions, wall bounces, cell crossings, stale and overlapping events."""
+        return self._core.event_counts()
+
+    def __repr__(self) -> str:
+        w, h = self.box
+        return (f"carom.World(box=({w:g}, {h:g}), boundary={self.boundary!r}, collisions={self.collision_scheme!r}, "
+                f"engine={self.engine!r}, disks={self.n}, step={self.step_count})")

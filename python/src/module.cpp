@@ -1,0 +1,338 @@
+// carom._carom: the Python extension, nanobind over the public C++ API
+// (include/carom/). python/carom/ builds the Python API on it: argument
+// checks, NumPy conversions and the documentation live there.
+#include <carom/carom.h>
+#include <carom/io.h>
+
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/array.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/tuple.h>
+#include <nanobind/stl/vector.h>
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace nb = nanobind;
+using namespace nb::literals;
+
+namespace {
+
+using carom::Disk;
+using carom::DiskMemory;
+using carom::World;
+using carom::WorldDef;
+
+// Arrays from Python, already checked and converted by python/carom/_world.py.
+using Pairs = nb::ndarray<const float, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
+using Values = nb::ndarray<const float, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+// Read-only float32 arrays over a buffer of disk records.
+using ReadPairs = nb::ndarray<nb::numpy, const float, nb::ndim<2>>;
+using ReadValues = nb::ndarray<nb::numpy, const float, nb::ndim<1>>;
+
+static_assert(offsetof(Disk, position) == DiskMemory::kPosition * sizeof(float) &&
+                  offsetof(Disk, velocity) == DiskMemory::kVelocity * sizeof(float) &&
+                  offsetof(Disk, mass) == DiskMemory::kMass * sizeof(float) &&
+                  offsetof(Disk, radius) == DiskMemory::kRadius * sizeof(float),
+              "a Disk's fields lie where a DiskMemory record's do, so one code path reads both");
+
+std::vector<Disk> disksOf(const Pairs& positions, const Pairs& velocities, const Values& masses, const Values& radii) {
+    const std::size_t n = positions.shape(0);
+    std::vector<Disk> disks(n);
+    const float* x = positions.data();
+    const float* v = velocities.data();
+    for (std::size_t i = 0; i < n; ++i)
+        disks[i] = Disk{{x[2 * i], x[2 * i + 1]}, {v[2 * i], v[2 * i + 1]}, masses.data()[i], radii.data()[i]};
+    return disks;
+}
+
+// positions, velocities, masses and radii over `count` records of `stride`
+// floats from `base`; `owner` keeps them alive as long as any of the arrays.
+nb::tuple arraysOver(const float* base, std::size_t count, std::size_t stride, std::shared_ptr<const void> owner) {
+    static const float kNoDisks[DiskMemory::kRadius + 1] = {};
+    if (count == 0) base = kNoDisks;
+    nb::capsule keep(new std::shared_ptr<const void>(std::move(owner)),
+                     [](void* p) noexcept { delete static_cast<std::shared_ptr<const void>*>(p); });
+    const auto s = static_cast<std::int64_t>(stride);
+    return nb::make_tuple(ReadPairs(base + DiskMemory::kPosition, {count, 2}, keep, {s, 1}),
+                          ReadPairs(base + DiskMemory::kVelocity, {count, 2}, keep, {s, 1}),
+                          ReadValues(base + DiskMemory::kMass, {count}, keep, {s}),
+                          ReadValues(base + DiskMemory::kRadius, {count}, keep, {s}));
+}
+
+nb::tuple arraysOf(std::vector<Disk> disks) {
+    auto copy = std::make_shared<std::vector<Disk>>(std::move(disks));
+    const float* base = copy->empty() ? nullptr : &copy->front().position.x;
+    const std::size_t count = copy->size();
+    return arraysOver(base, count, sizeof(Disk) / sizeof(float), std::move(copy));
+}
+
+// The CPU engine's own memory where it has it, else a copy.
+nb::tuple diskArrays(const World& world) {
+    DiskMemory memory = world.diskMemory();
+    if (memory.base == nullptr) return arraysOf(world.disks());
+    const float* base = memory.base;
+    const std::size_t count = memory.count, stride = memory.stride;
+    return arraysOver(base, count, stride, std::move(memory.owner));
+}
+
+// Steps in chunks of about a tenth of a second, so that Ctrl-C stops a long
+// call between two steps (the world holds the last step it took).
+void stepInterruptibly(World& world, std::uint64_t steps) {
+    using Clock = std::chrono::steady_clock;
+    std::uint64_t chunk = 1;
+    while (steps > 0) {
+        const std::uint64_t n = std::min(chunk, steps);
+        const Clock::time_point start = Clock::now();
+        world.step(n);
+        steps -= n;
+        if (PyErr_CheckSignals() != 0) throw nb::python_error();
+        if (Clock::now() - start < std::chrono::milliseconds(50) && chunk < (std::uint64_t(1) << 40)) chunk *= 2;
+    }
+}
+
+nb::dict dictOf(const carom::Measurements& m) {
+    nb::dict d;
+    d["time"] = m.time;
+    d["steps"] = m.steps;
+    d["collisions"] = m.collisions;
+    d["collision_rate"] = m.collisionRate;
+    d["temperature"] = m.temperature;
+    d["pressure"] = m.pressure;
+    d["compressibility"] = m.compressibility;
+    d["collision_virial"] = m.collisionVirial;
+    d["wall_pressure"] = m.wallPressure;
+    d["substeps"] = m.substeps;
+    d["late_contacts"] = m.lateContacts;
+    d["max_rounds"] = m.maxRounds;
+    return d;
+}
+
+nb::dict dictOf(const carom::EventCounts& c) {
+    nb::dict d;
+    d["collisions"] = c.collisions;
+    d["wall_bounces"] = c.wallBounces;
+    d["cell_crossings"] = c.cellCrossings;
+    d["stale"] = c.stale;
+    d["overlapping"] = c.overlapping;
+    return d;
+}
+
+WorldDef worldDef(float width, float height, float dt, std::array<float, 2> gravity, const std::string& boundary,
+                  const std::string& collisions, const std::string& engine, const std::string& device,
+                  float maxTravel) {
+    WorldDef def;
+    def.width = width;
+    def.height = height;
+    def.dt = dt;
+    def.gravity = {gravity[0], gravity[1]};
+    def.boundary = carom::parseBoundary(boundary);
+    def.collisions = carom::parseCollisionScheme(collisions);
+    def.engine = carom::parseComputeEngine(engine);
+    def.device = device;
+    def.maxTravel = maxTravel;
+    return def;
+}
+
+}  // namespace
+
+NB_MODULE(_carom, m) {
+    m.doc() = "carom's C++ library; use the package `carom`, which builds its API on this module.";
+
+    // carom.Error: everything carom raises; carom.InputError (also a
+    // ValueError): the library's refusals of bad input (carom::Error).
+    // The types live as long as the process (the translator may run until its end).
+    static PyObject* error = PyErr_NewException("carom.Error", PyExc_Exception, nullptr);
+    static PyObject* inputError =
+        PyErr_NewException("carom.InputError", nb::make_tuple(nb::handle(error), nb::handle(PyExc_ValueError)).ptr(), nullptr);
+    m.attr("Error") = nb::handle(error);
+    m.attr("InputError") = nb::handle(inputError);
+    nb::register_exception_translator([](const std::exception_ptr& p, void*) {
+        try {
+            std::rethrow_exception(p);
+        } catch (const carom::Error& e) {
+            PyErr_SetString(inputError, e.what());
+        }
+    });
+
+    m.attr("VERSION") = carom::version();
+    m.def("engine_available", [](const std::string& engine) { return carom::engineAvailable(carom::parseComputeEngine(engine)); },
+          "engine"_a);
+    m.def("devices", [] {
+        nb::list out;
+        for (const carom::Device& d : carom::listDevices()) {
+            nb::dict entry;
+            entry["index"] = d.index;
+            entry["name"] = d.name;
+            entry["platform"] = d.platform;
+            entry["type"] = d.type;
+            entry["version"] = d.version;
+            entry["memory_bytes"] = d.memoryBytes;
+            entry["bitwise_reproducible"] = d.correctlyRoundedDivideSqrt;
+            out.append(entry);
+        }
+        return out;
+    });
+
+    m.def(
+        "make_scene",
+        [](std::uint32_t particles, float packing, float width, float height, std::array<float, 2> radius,
+           std::array<float, 2> mass, float speed, std::uint64_t seed) {
+            carom::SceneDef def;
+            def.particles = particles;
+            def.packing = packing;
+            def.width = width;
+            def.height = height;
+            def.radiusMin = radius[0];
+            def.radiusMax = radius[1];
+            def.massMin = mass[0];
+            def.massMax = mass[1];
+            def.speed = speed;
+            def.seed = seed;
+            carom::Scene scene = carom::makeScene(def);
+            return nb::make_tuple(scene.width, scene.height, arraysOf(std::move(scene.disks)));
+        },
+        "particles"_a, "packing"_a, "width"_a, "height"_a, "radius"_a, "mass"_a, "speed"_a, "seed"_a);
+
+    m.def(
+        "read_state", [](const std::string& path) { return arraysOf(carom::io::readState(path)); }, "path"_a);
+    m.def(
+        "write_state",
+        [](const std::string& path, const World& world) { carom::io::writeState(path, world.disks()); }, "path"_a,
+        "world"_a);
+    m.def(
+        "write_xyz",
+        [](const std::string& path, const World& world, bool append) {
+            carom::io::TrajectoryWriter writer =
+                append ? carom::io::TrajectoryWriter(path, world) : carom::io::TrajectoryWriter(path);
+            writer.write(world);
+            writer.close();
+        },
+        "path"_a, "world"_a, "append"_a);
+
+    nb::class_<World>(m, "World")
+        .def(nb::new_([](float width, float height, float dt, std::array<float, 2> gravity,
+                         const std::string& boundary, const std::string& collisions, const std::string& engine,
+                         const std::string& device, float maxTravel) {
+                 return World(worldDef(width, height, dt, gravity, boundary, collisions, engine, device, maxTravel));
+             }),
+             "width"_a, "height"_a, "dt"_a, "gravity"_a, "boundary"_a, "collisions"_a, "engine"_a, "device"_a,
+             "max_travel"_a)
+        .def_static(
+            "from_scene_file",
+            [](const std::string& path, const std::string& engine, const std::string& device, float maxTravel) {
+                carom::SceneFileDef file = carom::io::readSceneFile(path);
+                file.world.engine = carom::parseComputeEngine(engine);
+                file.world.device = device;
+                file.world.maxTravel = maxTravel;
+                carom::Scene scene = carom::makeScene(file);
+                WorldDef def = file.world;
+                def.width = scene.width;
+                def.height = scene.height;
+                World world(def);
+                world.setDisks(scene.disks, path);
+                return nb::make_tuple(std::move(world), file.steps);
+            },
+            "path"_a, "engine"_a, "device"_a, "max_travel"_a)
+        .def_static(
+            "from_checkpoint",
+            [](const std::string& path, const std::string& engine, const std::string& device, float maxTravel) {
+                carom::io::CheckpointFile file = carom::io::readCheckpoint(path);
+                WorldDef def = file.world();
+                def.engine = carom::parseComputeEngine(engine);
+                def.device = device;
+                def.maxTravel = maxTravel;
+                return carom::io::loadCheckpoint(std::move(file), def);
+            },
+            "path"_a, "engine"_a, "device"_a, "max_travel"_a)
+        .def(
+            "save_checkpoint", [](const World& w, const std::string& path) { carom::io::saveCheckpoint(path, w); },
+            "path"_a)
+        .def(
+            "set_disks",
+            [](World& w, const Pairs& positions, const Pairs& velocities, const Values& masses, const Values& radii,
+               bool refuseDeepOverlaps) {
+                w.setDisks(disksOf(positions, velocities, masses, radii), "set_disks",
+                           refuseDeepOverlaps ? carom::DeepOverlaps::Refuse : carom::DeepOverlaps::Warn);
+            },
+            "positions"_a, "velocities"_a, "masses"_a, "radii"_a, "refuse_deep_overlaps"_a)
+        .def(
+            "add_disks",
+            [](World& w, const Pairs& positions, const Pairs& velocities, const Values& masses, const Values& radii) {
+                const std::vector<Disk> disks = disksOf(positions, velocities, masses, radii);
+                w.addDisks(disks.data(), disks.size());
+            },
+            "positions"_a, "velocities"_a, "masses"_a, "radii"_a)
+        .def(
+            "set_disk",
+            [](World& w, std::size_t id, std::array<float, 2> position, std::array<float, 2> velocity, float mass,
+               float radius) {
+                w.setDisk(id, Disk{{position[0], position[1]}, {velocity[0], velocity[1]}, mass, radius});
+            },
+            "id"_a, "position"_a, "velocity"_a, "mass"_a, "radius"_a)
+        .def(
+            "place",
+            [](World& w, std::uint32_t count, std::array<float, 2> radius, std::array<float, 2> mass, float speed,
+               float temperature, std::uint64_t seed) {
+                carom::SceneFileDef file;
+                file.path = "place";
+                file.world = w.def();
+                file.seed = seed;
+                carom::GroupDef group;
+                group.name = "place";
+                group.count = count;
+                group.radiusMin = radius[0];
+                group.radiusMax = radius[1];
+                group.massMin = mass[0];
+                group.massMax = mass[1];
+                group.speed = speed;
+                group.temperature = temperature;
+                file.groups.push_back(group);
+                w.setDisks(carom::makeScene(file).disks, "place");
+            },
+            "count"_a, "radius"_a, "mass"_a, "speed"_a, "temperature"_a, "seed"_a)
+        .def("step", &stepInterruptibly, "steps"_a)
+        .def("disk_arrays", &diskArrays)
+        .def("exact_positions",
+             [](const World& w) {
+                 auto exact = std::make_shared<std::vector<std::array<double, 2>>>(w.exactPositions());
+                 nb::capsule keep(new std::shared_ptr<const void>(exact),
+                                  [](void* p) noexcept { delete static_cast<std::shared_ptr<const void>*>(p); });
+                 static const double kNone[2] = {};
+                 const double* data = exact->empty() ? kNone : exact->front().data();
+                 return nb::ndarray<nb::numpy, const double, nb::ndim<2>>(data, {exact->size(), 2}, keep);
+             })
+        .def("set_motion", [](World& w, float dt, std::array<float, 2> g) { w.setMotion(dt, {g[0], g[1]}); }, "dt"_a,
+             "gravity"_a)
+        .def("measurements", [](const World& w) { return dictOf(w.measurements()); })
+        .def("reset_measurements", &World::resetMeasurements)
+        .def("event_counts", [](const World& w) { return dictOf(w.eventCounts()); })
+        .def_prop_ro("disk_count", &World::diskCount)
+        .def_prop_ro("step_count", &World::stepCount)
+        .def_prop_ro("time", &World::time)
+        .def_prop_ro("width", [](const World& w) { return w.def().width; })
+        .def_prop_ro("height", [](const World& w) { return w.def().height; })
+        .def_prop_ro("dt", [](const World& w) { return w.def().dt; })
+        .def_prop_ro("gravity", [](const World& w) { return std::array<float, 2>{w.def().gravity.x, w.def().gravity.y}; })
+        .def_prop_ro("boundary", [](const World& w) { return carom::boundaryName(w.def().boundary); })
+        .def_prop_ro("collisions_scheme", [](const World& w) { return carom::collisionSchemeName(w.def().collisions); })
+        .def_prop_ro("engine", [](const World& w) { return carom::computeEngineName(w.def().engine); })
+        .def_prop_ro("max_travel", [](const World& w) { return w.def().maxTravel; })
+        .def_prop_ro("kinetic_energy", &World::kineticEnergy)
+        .def_prop_ro("potential_energy", &World::potentialEnergy)
+        .def_prop_ro("total_energy", &World::totalEnergy)
+        .def_prop_ro("momentum", &World::momentum)
+        .def_prop_ro("temperature", &World::temperature)
+        .def_prop_ro("collision_count", &World::collisionCount)
+        .def_prop_ro("max_overlap", &World::maxOverlap)
+        .def_prop_ro("escaped_count", &World::escapedCount)
+        .def_prop_ro("warnings", &World::warnings)
+        .def_prop_ro("bitwise_reproducible", &World::bitwiseReproducible)
+        .def_prop_ro("device_name", &World::deviceName);
+}

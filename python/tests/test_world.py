@@ -1,0 +1,293 @@
+"""carom.World: the same bits and numbers as `carom run`, views that are views,
+and every refusal naming the value."""
+import gc
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+import carom
+
+
+def run_cli(carom_exe, args, tmp_path):
+    """`carom run ARGS --json --output-state`: the JSON summary and the final disks."""
+    state = tmp_path / "final.csv"
+    done = subprocess.run([carom_exe, "run", *args, "--json", "--quiet", "--output-state", str(state)],
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    return json.loads(done.stdout), carom.read_state(state)
+
+
+def cli_backend(engine):
+    return ["--backend", "cpu"] if engine == "cpu" else ["--backend", "opencl", "--pipeline", "seed"]
+
+
+def assert_same_as_cli(world, summary, final):
+    """The world's disks and observables are the command line's, bit for bit."""
+    if not world.bitwise_reproducible:
+        pytest.skip(f"{world.device_name} does not round divide and sqrt correctly: not bitwise the CPU's")
+    for name in ("positions", "velocities", "masses", "radii"):
+        assert np.array_equal(getattr(world, name), getattr(final, name)), name
+    assert world.step_count == summary["step"]
+    energy = summary["energy"]
+    assert world.kinetic_energy == energy["kinetic"]["final"]
+    assert world.potential_energy == energy["potential"]["final"]
+    # With events, the engine's exact double state (the JSON's float samples sum to "total").
+    exact = world.collision_scheme == "events"
+    assert world.total_energy == energy["exact_total" if exact else "total"]["final"]
+    assert list(world.momentum) == summary["momentum"]["final"]
+    assert world.collisions == summary["collisions"]
+    assert world.temperature == summary["temperature"]
+    assert world.collision_rate == summary["collision_rate"]
+    assert world.max_overlap == summary["max_overlap"]
+    pressure = summary["pressure"] if world.boundary == "periodic" else summary["wall_pressure"]
+    assert world.pressure == pressure["virial" if world.boundary == "periodic" else "mean"]
+    assert world.compressibility == pressure["Z"]
+
+
+@pytest.mark.parametrize("scene", ["ideal_gas.toml", "gravity_settle.toml", "mixture.toml"])
+def test_a_scene_file_runs_as_the_command_line_runs_it(engine, carom_exe, scenes, scene, tmp_path):
+    summary, final = run_cli(carom_exe, ["--scene", str(scenes / scene), "--steps", "150", *cli_backend(engine)],
+                             tmp_path)
+    world = carom.World.from_scene(scenes / scene, engine=engine, pipeline=None if engine == "cpu" else "seed")
+    assert world.scene_steps > 0
+    world.step(150)
+    assert_same_as_cli(world, summary, final)
+
+
+@pytest.mark.parametrize("boundary", ["walls", "periodic"])
+@pytest.mark.parametrize("collisions", ["pairwise", "simultaneous"])
+def test_a_generated_gas_runs_as_the_command_line_runs_it(engine, carom_exe, boundary, collisions, tmp_path):
+    options = ["--particles", "600", "--packing", "0.45", "--radius-min", "0.5", "--radius-max", "1",
+               "--mass-min", "1", "--mass-max", "3", "--speed", "2", "--seed", "5"]
+    summary, final = run_cli(carom_exe, [*options, "--boundary", boundary, "--collisions", collisions, "--steps",
+                                         "120", *cli_backend(engine)], tmp_path)
+    scene = carom.make_scene(particles=600, packing=0.45, radius=(0.5, 1), mass=(1, 3), speed=2, seed=5)
+    assert scene.box == tuple(summary["box"])
+    world = carom.World(box=scene.box, boundary=boundary, collisions=collisions, engine=engine,
+                        pipeline=None if engine == "cpu" else "seed")
+    world.set_disks(scene.positions, scene.velocities, scene.masses, scene.radii, allow_overlaps=True)
+    for chunk in (1, 19, 100):  # chunks change nothing
+        world.step(chunk)
+    assert_same_as_cli(world, summary, final)
+
+
+def test_the_events_scheme_runs_as_the_command_line_runs_it(carom_exe, tmp_path):
+    summary, final = run_cli(carom_exe, ["--particles", "300", "--packing", "0.3", "--collisions", "events",
+                                         "--steps", "100", "--backend", "cpu"], tmp_path)
+    scene = carom.make_scene(particles=300, packing=0.3)
+    world = carom.World(box=scene.box, collisions="events")
+    world.set_disks(scene.positions, scene.velocities, scene.masses, scene.radii)
+    world.step(100)
+    assert_same_as_cli(world, summary, final)
+    assert world.event_counts()["collisions"] == summary["events"]["collisions"]
+    assert world.exact_positions.dtype == np.float64
+    assert np.array_equal(world.exact_positions.astype(np.float32), world.positions)
+
+
+def gas(engine="cpu", collisions="pairwise", particles=400, **kwargs):
+    world = carom.World(box=(60, 60), boundary="periodic", collisions=collisions, engine=engine, seed=11, **kwargs)
+    world.place(particles, radius=(0.5, 1.0), speed=1.5)
+    return world
+
+
+@pytest.mark.parametrize("collisions", ["pairwise", "simultaneous"])
+def test_cpu_arrays_are_views_of_the_engines_memory(collisions):
+    world = gas(collisions=collisions)
+    positions, velocities = world.positions, world.velocities
+    assert np.shares_memory(positions, world.positions)
+    assert positions.dtype == np.float32 and positions.shape == (400, 2) and positions.strides == (32, 4)
+    assert world.masses.shape == (400,) and world.radii.dtype == np.float32
+    for array in (positions, velocities, world.masses, world.radii, world.ids):
+        assert not array.flags.writeable
+        with pytest.raises(ValueError):
+            array[0] = 1
+    for _ in range(3):
+        world.step(2)
+        assert np.shares_memory(positions, world.positions)  # the view follows the steps
+        assert np.array_equal(positions, np.array(world.positions))
+    assert np.array_equal(world.ids, np.arange(400))
+
+
+def test_a_view_outlives_its_world_and_a_new_set_of_disks():
+    world = gas()
+    positions = world.positions
+    kept = positions.copy()
+    world.place(50)  # another number of disks: the view keeps the old ones
+    assert not np.shares_memory(positions, world.positions)
+    assert np.array_equal(positions, kept)
+    velocities = world.velocities
+    kept = velocities.copy()
+    del world
+    gc.collect()
+    assert np.array_equal(velocities, kept)
+
+
+def test_opencl_and_events_arrays_are_fresh_copies(engine):
+    worlds = [gas(collisions="events")] + ([gas(engine=engine)] if engine != "cpu" else [])
+    for world in worlds:
+        first = world.positions
+        assert not first.flags.writeable
+        assert not np.shares_memory(first, world.positions)
+        world.step(1)
+        assert not np.array_equal(first, world.positions)
+
+
+def test_the_opencl_pipelines_agree_bit_for_bit(engine):
+    if engine == "cpu":
+        pytest.skip("OpenCL only")
+    seed = gas(engine=engine, pipeline="seed")
+    resident = gas(engine=engine, pipeline="resident")
+    cpu = gas()
+    for world in (seed, resident, cpu):
+        world.step(50)
+    assert np.array_equal(seed.positions, resident.positions)
+    if seed.bitwise_reproducible:
+        assert np.array_equal(seed.velocities, cpu.velocities)
+
+
+def test_a_checkpoint_continues_bit_for_bit(engine, tmp_path):
+    world = gas(engine=engine)
+    world.step(30)
+    world.save_checkpoint(tmp_path / "w.ckpt")
+    resumed = carom.World.from_checkpoint(tmp_path / "w.ckpt", engine=engine)
+    assert resumed.step_count == 30 and resumed.time == world.time
+    world.step(40)
+    resumed.step(40)
+    assert np.array_equal(world.positions, resumed.positions)
+    assert np.array_equal(world.velocities, resumed.velocities)
+    assert world.collisions == resumed.collisions
+
+
+def test_a_state_written_and_read_is_the_same_bits(tmp_path):
+    world = gas()
+    world.step(5)
+    carom.write_state(tmp_path / "s.csv", world)
+    state = carom.read_state(tmp_path / "s.csv")
+    assert np.array_equal(state.positions, world.positions) and np.array_equal(state.masses, world.masses)
+
+
+def test_xyz_frames_replace_or_append(tmp_path):
+    world = gas(particles=20)
+    path = tmp_path / "t.xyz"
+    carom.write_xyz(path, world)
+    world.step(3)
+    carom.write_xyz(path, world, mode="a")
+    lines = path.read_text().splitlines()
+    assert lines.count("20") == 2 and len(lines) == 2 * 22
+    carom.write_xyz(path, world)
+    assert len(path.read_text().splitlines()) == 22
+    with pytest.raises(carom.InputError, match="mode: 'x'; allowed: 'w', 'a'"):
+        carom.write_xyz(path, world, mode="x")
+
+
+def test_placement_is_deterministic_in_the_seed():
+    a, b = gas(), gas()
+    assert np.array_equal(a.positions, b.positions)
+    c = carom.World(box=(60, 60), boundary="periodic")
+    assert 0 <= c.seed < 2**63  # drawn, and kept so the run can be repeated
+    c.place(400, radius=(0.5, 1.0), speed=1.5)
+    replay = carom.World(box=(60, 60), boundary="periodic", seed=c.seed)
+    replay.place(400, radius=(0.5, 1.0), speed=1.5)
+    assert np.array_equal(c.velocities, replay.velocities)
+    thermal = carom.World(box=(60, 60), seed=2)
+    thermal.place(2000, radius=0.3, temperature=2.0)
+    assert thermal.temperature == pytest.approx(2.0, rel=0.1)
+
+
+def test_energy_is_conserved_and_motion_can_change():
+    world = carom.World(box=(40, 40), gravity=(0, -0.5), seed=4)
+    world.place(300, radius=0.5, speed=1.0)
+    start = world.total_energy
+    world.step(500)
+    assert abs(world.total_energy - start) < 1e-5 * start
+    world.dt = 0.005
+    world.gravity = (0.0, 0.0)
+    assert world.dt == pytest.approx(0.005) and world.gravity == (0.0, 0.0)
+    time = world.time
+    world.step(10)
+    assert world.time == pytest.approx(time + 0.05)
+
+
+REFUSALS = [
+    (lambda: carom.World(box=(-1, 10)), "box width must be a finite number > 0, got -1"),
+    (lambda: carom.World(box=10), "box: 10 is not a pair of numbers"),
+    (lambda: carom.World(box=(10, 10), boundary="open"), "'open'"),
+    (lambda: carom.World(box=(10, 10), collisions="soft"), "'soft'"),
+    (lambda: carom.World(box=(10, 10), engine="cuda"), "engine: 'cuda'; allowed: 'cpu', 'opencl'"),
+    (lambda: carom.World(box=(10, 10), pipeline="resident"), "OpenCL only"),
+    (lambda: carom.World(box=(10, 10), dt=0), "dt must be a finite number > 0, got 0"),
+    (lambda: carom.World(box=(10, 10), seed=-2), "seed: -2 is out of range"),
+    (lambda: gas().step(-1), "n: -1 is out of range; allowed: int >= 0"),
+    (lambda: gas().step(2.5), "n: 2.5 is not a whole number"),
+    (lambda: gas().place(0), "count: 0 is out of range"),
+    (lambda: carom.World.from_scene("no/such/scene.toml"), "no/such/scene.toml"),
+    (lambda: carom.make_scene(particles=10, packing=0.95), "0.95"),
+]
+
+
+@pytest.mark.parametrize("make, message", REFUSALS, ids=[m for _, m in REFUSALS])
+def test_bad_arguments_are_refused_naming_the_value(make, message):
+    with pytest.raises(carom.InputError) as error:
+        make()
+    assert message in str(error.value)
+    assert isinstance(error.value, ValueError) and isinstance(error.value, carom.Error)
+
+
+BAD_DISKS = [
+    ({"positions": np.zeros((3, 3))}, "positions: shape (3, 3); allowed: (N, 2)"),
+    ({"velocities": np.zeros((2, 2))}, "velocities: shape (2, 2); allowed: (3, 2)"),
+    ({"masses": np.ones((3, 1))}, "masses: shape (3, 1); allowed: (3,)"),
+    ({"radii": np.array(["1", "1", "1"])}, "radii: arrays of <U1 are not numbers"),
+    ({"masses": np.array([1, 2j, 1])}, "masses: arrays of complex128 are not numbers"),
+    ({"velocities": [[0, 0], [np.inf, 0], [0, 0]]}, "velocities[1, 0] = inf is not finite"),
+    ({"masses": [1, 1, np.nan]}, "masses[2] = nan is not finite"),
+    ({"masses": [1, 1e39, 1]}, "masses[1] = 1e+39 is beyond float32's range"),
+    ({"radii": [1, 1, 1e-46]}, "radii[2] = 1e-46 rounds to 0 in float32"),
+    ({"radii": [1, 1, 1e-40]}, "particle 2: radius 9.99995e-41 is outside [1e-18, 1e+18]"),
+    ({"masses": [1, -1, 1]}, "particle 1: mass must be a finite number > 0, got -1"),
+    ({"positions": [[1, 1], [5, 5], [9.5, 5]]}, "particle 2: position (9.5, 5) puts the disk outside the box"),
+    ({"positions": [[2, 2], [5, 5], [5, 5]]}, "particles 1 and 2 have the same centre (5, 5)"),
+    ({"positions": [[2, 2], [5, 5], [6, 5]]}, "the deepest particles 1 and 2 by 1"),
+]
+
+
+@pytest.mark.parametrize("change, message", BAD_DISKS, ids=[m for _, m in BAD_DISKS])
+def test_bad_disks_are_refused_naming_the_index_and_value(engine, change, message):
+    disks = {"positions": [[2, 2], [5, 5], [8, 8]], "velocities": np.zeros((3, 2)), "masses": np.ones(3),
+             "radii": np.ones(3)}
+    disks.update(change)
+    world = carom.World(box=(10, 10), engine=engine)
+    world.set_disks(np.array([[2.0, 2.0]]), np.zeros((1, 2)), [1.0], [1.0])
+    with pytest.raises(carom.InputError) as error:
+        world.set_disks(**disks)
+    assert message in str(error.value)
+    assert len(world) == 1  # kept as it was
+
+
+def test_deep_overlaps_are_allowed_on_request_with_a_warning():
+    world = carom.World(box=(10, 10))
+    world.set_disks([[5, 5], [6, 5]], np.zeros((2, 2)), [1, 1], [1, 1], allow_overlaps=True)
+    assert "particles 0 and 1 by 1" in world.warnings[0]
+
+
+def test_any_float_dtype_is_taken():
+    for dtype in (np.float16, np.float32, np.float64, np.int32):
+        world = carom.World(box=(10, 10))
+        world.set_disks(np.array([[2, 2], [6, 6]], dtype=dtype), np.zeros((2, 2), dtype=dtype),
+                        np.ones(2, dtype=dtype), np.ones(2, dtype=dtype))
+        assert world.positions[1, 0] == 6.0
+
+
+def test_a_failed_step_names_the_step_and_keeps_the_world():
+    world = carom.World(box=(10, 10), dt=1e18)
+    with pytest.raises(carom.InputError):
+        world.set_disks([[5, 5]], [[1e18, 0]], [1], [1])
+
+
+def test_devices_and_version():
+    assert carom.__version__.count(".") == 2
+    for device in carom.devices():
+        assert {"index", "name", "type", "bitwise_reproducible"} <= device.keys()
+    assert carom.engines()[0] == "cpu"
