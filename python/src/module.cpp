@@ -30,7 +30,7 @@ using carom::World;
 using carom::WorldDef;
 
 // Arrays from Python, already checked and converted by python/carom/_world.py.
-using Pairs = nb::ndarray<const float, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
+using Pairs = nb::ndarray<const float, nb::shape<-1, 2>, nb::c_contig, nb::device::cpu>;
 using Values = nb::ndarray<const float, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 // Read-only float32 arrays over a buffer of disk records.
 using ReadPairs = nb::ndarray<nb::numpy, const float, nb::ndim<2>>;
@@ -44,6 +44,10 @@ static_assert(offsetof(Disk, position) == DiskMemory::kPosition * sizeof(float) 
 
 std::vector<Disk> disksOf(const Pairs& positions, const Pairs& velocities, const Values& masses, const Values& radii) {
     const std::size_t n = positions.shape(0);
+    if (velocities.shape(0) != n || masses.shape(0) != n || radii.shape(0) != n)
+        throw carom::Error("positions, velocities, masses and radii: " + std::to_string(n) + ", " +
+                           std::to_string(velocities.shape(0)) + ", " + std::to_string(masses.shape(0)) + " and " +
+                           std::to_string(radii.shape(0)) + " disks; allowed: the same number in each");
     std::vector<Disk> disks(n);
     const float* x = positions.data();
     const float* v = velocities.data();
