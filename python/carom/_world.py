@@ -4,6 +4,7 @@ from __future__ import annotations
 import operator
 import os
 import secrets
+import tempfile
 from typing import Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -145,18 +146,59 @@ class World:
         engine_name, selector = _engine_name(engine, device, pipeline)
         core = _carom.World(width, height, float(dt), _pair("gravity", gravity), boundary, collisions, engine_name,
                             selector, float(max_travel))
-        self._adopt(core, seed)
+        self._adopt(core, selector, seed)
 
-    def _adopt(self, core: "_carom.World", seed: Optional[int]) -> None:
+    def _adopt(self, core: "_carom.World", device: str, seed: Optional[int]) -> None:
         self._core = core
+        self._device = device  # the selector asked for, which a copy asks for again
         self.seed = secrets.randbits(63) if seed is None else _whole("seed", seed)
         self._ids = np.zeros(0, dtype=np.uint32)
 
     @classmethod
-    def _from_core(cls, core: "_carom.World", seed: Optional[int] = None) -> "World":
+    def _from_core(cls, core: "_carom.World", device: str, seed: Optional[int] = None) -> "World":
         world = cls.__new__(cls)
-        world._adopt(core, seed)
+        world._adopt(core, device, seed)
         return world
+
+    # Copies and pickles: a checkpoint in memory, so that a copy continues bit
+    # for bit on the same engine (its measurements' interval restarts).
+
+    def __getstate__(self) -> dict:
+        core = self._core
+        state = {"engine": core.engine, "device": self._device, "max_travel": core.max_travel, "seed": self.seed,
+                 "world": (core.width, core.height, core.dt, tuple(core.gravity), core.boundary,
+                           core.collisions_scheme)}
+        if core.disk_count > 0:
+            with tempfile.TemporaryDirectory() as folder:
+                path = os.path.join(folder, "world.ckpt")
+                core.save_checkpoint(path)
+                with open(path, "rb") as file:
+                    state["checkpoint"] = file.read()
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        if "checkpoint" not in state:
+            width, height, dt, gravity, boundary, collisions = state["world"]
+            core = _carom.World(width, height, dt, gravity, boundary, collisions, state["engine"], state["device"],
+                                state["max_travel"])
+        else:
+            with tempfile.TemporaryDirectory() as folder:
+                path = os.path.join(folder, "world.ckpt")
+                with open(path, "wb") as file:
+                    file.write(state["checkpoint"])
+                core = _carom.World.from_checkpoint(path, state["engine"], state["device"], state["max_travel"])
+        self._adopt(core, state["device"], state["seed"])
+
+    def copy(self) -> "World":
+        """An independent world in the same state, on the same engine: both continue bit for bit alike."""
+        duplicate = World.__new__(World)
+        duplicate.__setstate__(self.__getstate__())
+        return duplicate
+
+    __copy__ = copy
+
+    def __deepcopy__(self, memo) -> "World":
+        return self.copy()
 
     @classmethod
     def from_scene(cls, path: Union[str, os.PathLike], engine: str = "cpu", device: Union[int, str, None] = None,
@@ -165,7 +207,7 @@ class World:
         world.scene_steps is the number of steps `carom run` would take."""
         engine_name, selector = _engine_name(engine, device, pipeline)
         core, steps = _carom.World.from_scene_file(os.fspath(path), engine_name, selector, float(max_travel))
-        world = cls._from_core(core)
+        world = cls._from_core(core, selector)
         world.scene_steps = steps
         return world
 
@@ -174,7 +216,8 @@ class World:
                         pipeline: Optional[str] = None, max_travel: float = 0.0) -> "World":
         """The world a checkpoint holds (save_checkpoint, `carom run --checkpoint`), continuing bit for bit."""
         engine_name, selector = _engine_name(engine, device, pipeline)
-        return cls._from_core(_carom.World.from_checkpoint(os.fspath(path), engine_name, selector, float(max_travel)))
+        core = _carom.World.from_checkpoint(os.fspath(path), engine_name, selector, float(max_travel))
+        return cls._from_core(core, selector)
 
     def save_checkpoint(self, path: Union[str, os.PathLike]) -> None:
         """Writes everything the world needs to continue bit for bit (`carom run --resume` reads it too);

@@ -160,6 +160,23 @@ def test_a_checkpoint_continues_bit_for_bit(engine, tmp_path):
     assert world.collisions == resumed.collisions
 
 
+def test_a_copy_or_a_pickle_continues_bit_for_bit(engine):
+    import copy
+    import pickle
+    world = gas(engine=engine)
+    world.step(20)
+    twins = [world.copy(), copy.deepcopy(world), pickle.loads(pickle.dumps(world))]
+    world.step(30)
+    for twin in twins:
+        assert twin.engine == world.engine and twin.seed == world.seed and twin.step_count == 20
+        twin.step(30)
+        assert np.array_equal(twin.positions, world.positions)
+        assert np.array_equal(twin.velocities, world.velocities)
+        assert twin.collisions == world.collisions and twin.time == world.time
+    empty = pickle.loads(pickle.dumps(carom.World(box=(5, 6), dt=0.02, boundary="periodic", engine=engine)))
+    assert empty.box == (5, 6) and empty.dt == pytest.approx(0.02) and empty.boundary == "periodic" and len(empty) == 0
+
+
 def test_a_state_written_and_read_is_the_same_bits(tmp_path):
     world = gas()
     world.step(5)
