@@ -118,6 +118,13 @@ void World::setDisk(std::size_t id, const Disk& disk) {
     impl_->edit(std::move(edited));
 }
 
+void World::editDisks(const Disk* disks, std::size_t count) {
+    if (count != diskCount())
+        throw Error("editDisks: " + std::to_string(count) + " disks; allowed: " + std::to_string(diskCount()) +
+                    " (diskCount(): an edit keeps the number of disks)");
+    impl_->edit(particlesOf(disks, count));
+}
+
 void World::addDisks(const Disk* disks, std::size_t count) {
     if (diskCount() == 0) return setDisks(disks, count);
     std::vector<Particle> edited = impl_->current();

@@ -357,6 +357,22 @@ TEST_CASE("world: a disk dragged and disks dropped keep the step and collision c
     CHECK(world.diskCount() == scene.disks.size() + 1);
 }
 
+TEST_CASE("world: an edit of every disk keeps the step and collision counts, and the number of disks") {
+    const Scene scene = gas(200, 0.3f);
+    World world(worldFor(scene, ComputeEngine::Cpu, Boundary::Periodic));
+    world.setDisks(scene.disks);
+    world.step(20);
+    const std::uint64_t collisions = world.collisionCount();
+    std::vector<Disk> faster = world.disks();
+    for (Disk& d : faster) d.velocity = {2 * d.velocity.x, 2 * d.velocity.y};
+    world.editDisks(faster.data(), faster.size());
+    CHECK(world.stepCount() == 20);
+    CHECK(world.collisionCount() == collisions);
+    CHECK(world.disks()[7].velocity.x == faster[7].velocity.x);
+    CHECK_THROWS_WITH_AS(world.editDisks(faster.data(), 5),
+                         "editDisks: 5 disks; allowed: 200 (diskCount(): an edit keeps the number of disks)", Error);
+}
+
 TEST_CASE("world: time sums the steps' dt across a change of dt") {
     const Scene scene = gas(200, 0.3f);
     World world(worldFor(scene, ComputeEngine::Cpu, Boundary::Periodic));

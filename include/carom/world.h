@@ -175,6 +175,8 @@ public:
     // keeping the disks as they were, for an id out of range or a bad disk.
     void setDisk(std::size_t id, const Disk& disk);
     void addDisks(const Disk* disks, std::size_t count);
+    // Replaces every disk at once, as setDisk does one: `count` must be diskCount().
+    void editDisks(const Disk* disks, std::size_t count);
 
     // Copies the disks, in id order, into `out`, which has room for
     // `capacity`; throws Error when that is less than diskCount().

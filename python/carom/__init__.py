@@ -23,14 +23,14 @@ import numpy as np
 from . import _carom
 from ._carom import Error, InputError
 from ._gsd import GSDWriter
-from ._world import World, _pair, _range, _whole
+from ._world import World, _choice, _number, _pair, _path, _range, _whole
 
 __version__ = _carom.VERSION
 __all__ = ["World", "Scene", "make_scene", "devices", "engines", "read_state", "write_state", "write_xyz",
            "GSDWriter", "Error", "InputError", "__version__"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Scene:
     """Disks placed by make_scene: the box and read-only float32 arrays in id order."""
     box: Tuple[float, float]  # (W, H) [length]
@@ -47,9 +47,9 @@ def make_scene(particles: int = 1000, packing: float = 0.3, radius=1.0, mass=1.0
     `carom bench`. The box is square, sized so the disks cover `packing` of
     it, unless `box` is given. radius and mass: a value or (min, max)."""
     width, height = (0.0, 0.0) if box is None else _pair("box", box)
-    width, height, arrays = _carom.make_scene(_whole("particles", particles, 1), float(packing), width, height,
-                                              _range("radius", radius), _range("mass", mass), float(speed),
-                                              _whole("seed", seed))
+    width, height, arrays = _carom.make_scene(_whole("particles", particles, 1, 2**32 - 1),
+                                              _number("packing", packing), width, height, _range("radius", radius),
+                                              _range("mass", mass), _number("speed", speed), _whole("seed", seed))
     return Scene((width, height), *arrays)
 
 
@@ -72,19 +72,25 @@ def engines() -> List[str]:
 def read_state(path: Union[str, os.PathLike]) -> Scene:
     """A state CSV (`carom run --output-state`, write_state): its disks, in id order.
     The box is not in the file: Scene.box is (0, 0)."""
-    return Scene((0.0, 0.0), *_carom.read_state(os.fspath(path)))
+    return Scene((0.0, 0.0), *_carom.read_state(_path("path", path)))
 
 
 def write_state(path: Union[str, os.PathLike], world: World) -> None:
     """The world's disks as a state CSV (`carom run --state` reads it), bit for bit; written whole or not at all."""
-    _carom.write_state(os.fspath(path), world._core)
+    _carom.write_state(_path("path", path), _world_of(world)._core)
 
 
 def write_xyz(path: Union[str, os.PathLike], world: World, mode: str = "w") -> None:
     """One extended XYZ frame of the world (the format of `carom run --trajectory`,
     which OVITO and ASE read). mode "w" replaces the file; "a" appends to a
-    trajectory whose last frame is at an earlier step, with the same disk count.
-    The file is replaced whole or not at all."""
-    if mode not in ("w", "a"):
-        raise InputError(f"mode: {mode!r}; allowed: 'w', 'a'")
-    _carom.write_xyz(os.fspath(path), world._core, mode == "a")
+    trajectory whose last frame is at the same or an earlier step, with the
+    same disk count. The file is replaced whole or not at all, so each call
+    copies it: for long trajectories GSDWriter, which appends, is faster."""
+    _choice("mode", mode, ("w", "a"))
+    _carom.write_xyz(_path("path", path), _world_of(world)._core, mode == "a")
+
+
+def _world_of(world) -> World:
+    if not isinstance(world, World):
+        raise InputError(f"world: {type(world).__name__}; allowed: a carom.World")
+    return world

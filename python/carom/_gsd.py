@@ -6,6 +6,7 @@ import gsd.hoomd
 import numpy as np
 
 from ._carom import Error, InputError
+from ._world import World, _path
 
 
 class GSDWriter:
@@ -48,7 +49,7 @@ class GSDWriter:
     def __init__(self, path, mode="w"):
         if mode not in ("w", "a"):
             raise InputError(f"mode: {mode!r}; allowed: 'w', 'a'")
-        path = os.fspath(path)
+        path = _path("path", path)
         if os.path.isdir(path):
             raise InputError(f"path: {path!r} is a directory; allowed: a file's path")
         folder = os.path.dirname(os.path.abspath(path))
@@ -66,6 +67,8 @@ class GSDWriter:
         """
         if self._trajectory is None:
             raise Error(f"GSDWriter({self.path!r}) is closed; open a new GSDWriter to write")
+        if not isinstance(world, World):
+            raise InputError(f"world: {type(world).__name__}; allowed: a carom.World")
         n = len(world.radii)
         if n == 0:
             raise InputError("world: 0 disks; allowed: a world with disks (set_disks or place first)")

@@ -47,42 +47,77 @@ def _real_array(name: str, value, shape: tuple) -> np.ndarray:
 def _disk_arrays(positions, velocities, masses, radii):
     positions = _real_array("positions", positions, (-1, 2))
     n = len(positions)
-    arrays = (positions, _real_array("velocities", velocities, (n, 2)),
-              _real_array("masses", masses, (n,)), _real_array("radii", radii, (n,)))
-    return arrays
+    return (positions, _real_array("velocities", velocities, (n, 2)),
+            _real_array("masses", masses, (n,)), _real_array("radii", radii, (n,)))
+
+
+def _number(name: str, value) -> float:
+    """A finite number that float32 holds (the engine's precision), refused naming the value otherwise."""
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name}: {value!r} is not a number; allowed: a finite number") from None
+    if not (abs(number) <= _FLOAT32_MAX):
+        raise InputError(f"{name}: {value!r} is not finite in float32; allowed: finite numbers within "
+                         f"+-{_FLOAT32_MAX:.4g}")
+    return number
 
 
 def _range(name: str, value: Range) -> Pair:
     """A value, or (min, max) of a uniform draw."""
     if np.ndim(value) == 0:
-        return float(value), float(value)
-    return _pair(name, value)
+        number = _number(name, value)
+        return number, number
+    low, high = _pair(name, value)
+    if low > high:
+        raise InputError(f"{name}: ({low:g}, {high:g}); allowed: (min, max) with min <= max")
+    return low, high
 
 
 def _pair(name: str, value) -> Pair:
     try:
         x, y = value
-        return float(x), float(y)
     except (TypeError, ValueError):
         raise InputError(f"{name}: {value!r} is not a pair of numbers; allowed: (x, y)") from None
+    return _number(name, x), _number(name, y)
 
 
-def _whole(name: str, value, minimum: int = 0) -> int:
+def _whole(name: str, value, minimum: int = 0, maximum: int = 2**64 - 1) -> int:
+    allowed = f"allowed: whole numbers from {minimum} to {maximum}"
     if isinstance(value, bool):
-        raise InputError(f"{name}: {value!r} is not a whole number; allowed: int >= {minimum}")
+        raise InputError(f"{name}: {value!r} is not a whole number; {allowed}")
     try:
         number = operator.index(value)
     except TypeError:
-        raise InputError(f"{name}: {value!r} is not a whole number; allowed: int >= {minimum}") from None
-    if number < minimum:
-        raise InputError(f"{name}: {number} is out of range; allowed: int >= {minimum}")
+        raise InputError(f"{name}: {value!r} is not a whole number; {allowed}") from None
+    if not minimum <= number <= maximum:
+        raise InputError(f"{name}: {number} is out of range; {allowed}")
     return number
+
+
+def _choice(name: str, value, allowed: Sequence[str]) -> str:
+    if value not in allowed:
+        raise InputError(f"{name}: {value!r}; allowed: " + ", ".join(repr(a) for a in allowed))
+    return value
+
+
+def _path(name: str, value) -> str:
+    try:
+        path = os.fspath(value)
+    except TypeError:
+        raise InputError(f"{name}: {value!r} is not a path; allowed: str or os.PathLike") from None
+    if isinstance(path, bytes):
+        path = os.fsdecode(path)
+    if "\0" in path or path == "":
+        raise InputError(f"{name}: {path!r}; allowed: a non-empty path without NUL characters")
+    return path
 
 
 def _engine_name(engine: str, device, pipeline: Optional[str]) -> Tuple[str, str]:
     """The C++ engine name and device selector for `engine`, `device` and `pipeline`."""
-    if engine not in ("cpu", "opencl"):
-        raise InputError(f"engine: {engine!r}; allowed: 'cpu', 'opencl'")
+    _choice("engine", engine, ("cpu", "opencl"))
+    if device is not None and (isinstance(device, bool) or not isinstance(device, (int, str))):
+        raise InputError(f"device: {device!r}; allowed: an index of carom.devices(), part of a name, or None")
     selector = "" if device is None else str(device)
     if engine == "cpu":
         if device is not None or pipeline is not None:
@@ -90,9 +125,7 @@ def _engine_name(engine: str, device, pipeline: Optional[str]) -> Tuple[str, str
         return "cpu", ""
     if pipeline is None:
         pipeline = "resident" if _device_type(selector) == "GPU" else "seed"
-    if pipeline not in _PIPELINES:
-        raise InputError(f"pipeline: {pipeline!r}; allowed: 'seed', 'resident', None")
-    return _PIPELINES[pipeline], selector
+    return _PIPELINES[_choice("pipeline", pipeline, ("seed", "resident", None))], selector
 
 
 def _device_type(selector: str) -> str:
@@ -143,16 +176,31 @@ class World:
                  device: Union[int, str, None] = None, pipeline: Optional[str] = None, max_travel: float = 0.0,
                  seed: Optional[int] = None):
         width, height = _pair("box", box)
+        _choice("boundary", boundary, ("walls", "periodic"))
+        _choice("collisions", collisions, ("pairwise", "simultaneous", "events"))
+        if collisions == "events" and engine != "cpu":
+            raise InputError(f"collisions='events' runs on engine='cpu' only (one thread, in double); got engine={engine!r}")
         engine_name, selector = _engine_name(engine, device, pipeline)
-        core = _carom.World(width, height, float(dt), _pair("gravity", gravity), boundary, collisions, engine_name,
-                            selector, float(max_travel))
+        if not _number("max_travel", max_travel) >= 0:
+            raise InputError(f"max_travel: {max_travel!r}; allowed: >= 0 (0 = off)")
+        core = _carom.World(width, height, _number("dt", dt), _pair("gravity", gravity), boundary, collisions,
+                            engine_name, selector, float(max_travel))
         self._adopt(core, selector, seed)
 
     def _adopt(self, core: "_carom.World", device: str, seed: Optional[int]) -> None:
         self._core = core
         self._device = device  # the selector asked for, which a copy asks for again
-        self.seed = secrets.randbits(63) if seed is None else _whole("seed", seed)
+        self.seed = secrets.randbits(63) if seed is None else seed
         self._ids = np.zeros(0, dtype=np.uint32)
+
+    @property
+    def seed(self) -> int:
+        """The random seed of place(), 0 <= seed < 2**64; settable."""
+        return self._seed
+
+    @seed.setter
+    def seed(self, value: int) -> None:
+        self._seed = _whole("seed", value)
 
     @classmethod
     def _from_core(cls, core: "_carom.World", device: str, seed: Optional[int] = None) -> "World":
@@ -167,7 +215,7 @@ class World:
         core = self._core
         state = {"engine": core.engine, "device": self._device, "max_travel": core.max_travel, "seed": self.seed,
                  "world": (core.width, core.height, core.dt, tuple(core.gravity), core.boundary,
-                           core.collisions_scheme)}
+                           core.collision_scheme)}
         if core.disk_count > 0:
             with tempfile.TemporaryDirectory() as folder:
                 path = os.path.join(folder, "world.ckpt")
@@ -191,8 +239,10 @@ class World:
 
     def copy(self) -> "World":
         """An independent world in the same state, on the same engine: both continue bit for bit alike."""
-        duplicate = World.__new__(World)
+        duplicate = type(self).__new__(type(self))
         duplicate.__setstate__(self.__getstate__())
+        if hasattr(self, "scene_steps"):
+            duplicate.scene_steps = self.scene_steps
         return duplicate
 
     __copy__ = copy
@@ -202,11 +252,13 @@ class World:
 
     @classmethod
     def from_scene(cls, path: Union[str, os.PathLike], engine: str = "cpu", device: Union[int, str, None] = None,
-                   pipeline: Optional[str] = None, max_travel: float = 0.0) -> "World":
+                   pipeline: Optional[str] = None, max_travel: Optional[float] = None) -> "World":
         """The world of a scene file, its disks placed as `carom run --scene path` places them.
+        max_travel: None keeps the file's (its max_travel, or dt = "auto").
         world.scene_steps is the number of steps `carom run` would take."""
         engine_name, selector = _engine_name(engine, device, pipeline)
-        core, steps = _carom.World.from_scene_file(os.fspath(path), engine_name, selector, float(max_travel))
+        travel = None if max_travel is None else _number("max_travel", max_travel)
+        core, steps = _carom.World.from_scene_file(_path("path", path), engine_name, selector, travel)
         world = cls._from_core(core, selector)
         world.scene_steps = steps
         return world
@@ -214,15 +266,18 @@ class World:
     @classmethod
     def from_checkpoint(cls, path: Union[str, os.PathLike], engine: str = "cpu", device: Union[int, str, None] = None,
                         pipeline: Optional[str] = None, max_travel: float = 0.0) -> "World":
-        """The world a checkpoint holds (save_checkpoint, `carom run --checkpoint`), continuing bit for bit."""
+        """The world a checkpoint holds (save_checkpoint, `carom run --checkpoint`), continuing bit for bit.
+        A checkpoint does not hold max_travel (nor the engine): pass the saved world's to continue
+        its substeps alike (copy() and pickle keep it)."""
         engine_name, selector = _engine_name(engine, device, pipeline)
-        core = _carom.World.from_checkpoint(os.fspath(path), engine_name, selector, float(max_travel))
+        core = _carom.World.from_checkpoint(_path("path", path), engine_name, selector,
+                                            _number("max_travel", max_travel))
         return cls._from_core(core, selector)
 
     def save_checkpoint(self, path: Union[str, os.PathLike]) -> None:
         """Writes everything the world needs to continue bit for bit (`carom run --resume` reads it too);
         the file is replaced whole or not at all."""
-        self._core.save_checkpoint(os.fspath(path))
+        self._core.save_checkpoint(_path("path", path))
 
     # The disks.
 
@@ -235,29 +290,54 @@ class World:
         and disks overlapping deeper than a step closes unless allow_overlaps.
         """
         arrays = _disk_arrays(positions, velocities, masses, radii)
-        self._core.set_disks(*arrays, refuse_deep_overlaps=not allow_overlaps)
+        try:
+            self._core.set_disks(*arrays, refuse_deep_overlaps=not allow_overlaps)
+        except InputError as error:
+            if "more than a step closes" not in str(error):
+                raise
+            raise InputError(f"{error}; set_disks(..., allow_overlaps=True) accepts deeper ones") from None
+
+    # Edits between steps keep the step count, the time and the collision
+    # count (the measurements' interval restarts). They check ranges and the
+    # box, not overlaps: overlapping disks separate as they move apart, but two
+    # disks with the same centre never collide.
+
+    def edit(self, positions=None, velocities=None, masses=None, radii=None) -> None:
+        """Replaces the given arrays of every disk at once (the others stay),
+        e.g. world.edit(velocities=2 * world.velocities). Shapes as set_disks."""
+        current = [positions, velocities, masses, radii]
+        kept = self._core.disk_arrays()
+        arrays = _disk_arrays(*(kept[i] if given is None else given for i, given in enumerate(current)))
+        if len(arrays[0]) != self.n:
+            raise InputError(f"positions: {len(arrays[0])} disks; allowed: {self.n} (an edit keeps the number of "
+                             "disks: add_disks adds, set_disks replaces)")
+        self._core.edit_disks(*arrays)
 
     def add_disks(self, positions, velocities, masses, radii) -> None:
-        """Appends disks (ids N, N+1, ...) between steps; checked like set_disks, except for overlaps."""
+        """Appends disks (ids N, N+1, ...) between steps; arrays as set_disks."""
         self._core.add_disks(*_disk_arrays(positions, velocities, masses, radii))
 
     def set_disk(self, id: int, position: Sequence[float], velocity: Sequence[float], mass: float,
                  radius: float) -> None:
         """Replaces disk `id` between steps (a drag, a throw)."""
-        self._core.set_disk(_whole("id", id), _pair("position", position), _pair("velocity", velocity),
-                            float(mass), float(radius))
+        arrays = _disk_arrays([position], [velocity], [mass], [radius])
+        position, velocity, mass, radius = (a.ravel().tolist() for a in arrays)
+        self._core.set_disk(_whole("id", id), position, velocity, mass[0], radius[0])
 
-    def place(self, count: int, radius: Range = 1.0, mass: Range = 1.0, speed: float = 1.0,
+    def place(self, count: int, radius: Range = 1.0, mass: Range = 1.0, speed: Optional[float] = None,
               temperature: Optional[float] = None) -> None:
         """Replaces the disks with `count` disks on a jittered hexagonal lattice
         filling the box, as a scene file's [[group]] places them: radius and mass
-        fixed or uniform in (min, max); one speed in random directions, or
-        Maxwell-Boltzmann velocities at kT = temperature. Random from world.seed."""
-        temperature = 0.0 if temperature is None else float(temperature)
-        if not temperature >= 0.0:
-            raise InputError(f"temperature: {temperature}; allowed: > 0, or None for one speed")
-        self._core.place(_whole("count", count, 1), _range("radius", radius), _range("mass", mass), float(speed),
-                         temperature, self.seed)
+        fixed or uniform in (min, max); one speed (default 1) in random
+        directions, or Maxwell-Boltzmann velocities at kT = temperature (> 0),
+        not both. Random from world.seed."""
+        if temperature is not None and speed is not None:
+            raise InputError(f"speed={speed!r} and temperature={temperature!r}; allowed: one of them")
+        if temperature is not None and not _number("temperature", temperature) > 0:
+            raise InputError(f"temperature: {temperature!r}; allowed: > 0 (kT), or None for one speed")
+        self._core.place(_whole("count", count, 1, 2**32 - 1), _range("radius", radius), _range("mass", mass),
+                         _number("speed", 1.0 if speed is None else speed),
+                         0.0 if temperature is None else float(temperature), self.seed)
 
     def __len__(self) -> int:
         return self._core.disk_count
@@ -271,8 +351,9 @@ class World:
     def positions(self) -> np.ndarray:
         """Centres, float32 (N, 2), read-only, row i = disk i [length]. On the CPU
         engine (pairwise, simultaneous) a view of the engine's own memory: no
-        copy, it follows the steps; after set_disks or add_disks change N it
-        keeps the old disks. On OpenCL and with collisions="events" a copy."""
+        copy, it follows the steps and edits (keep a .copy() to compare with
+        later); after set_disks or add_disks change N it keeps the old disks.
+        On OpenCL and with collisions="events" a fresh copy."""
         return self._core.disk_arrays()[0]
 
     @property
@@ -301,7 +382,12 @@ class World:
     @property
     def exact_positions(self) -> np.ndarray:
         """collisions="events" only: the centres in double, as the engine holds them (float64 (N, 2), a copy)."""
+        self._events_only("exact_positions")
         return self._core.exact_positions()
+
+    def _events_only(self, what: str) -> None:
+        if self.collision_scheme != "events":
+            raise InputError(f"{what}: collisions={self.collision_scheme!r}; allowed: collisions='events'")
 
     # Time.
 
@@ -309,7 +395,10 @@ class World:
         """Advances n steps of dt. Ctrl-C stops between two steps. Raises
         carom.InputError when a step leaves a disk non-finite or needs too many
         substeps (the world keeps the step it reached)."""
-        self._core.step(_whole("n", n))
+        n = _whole("n", n)
+        if self.n == 0 and n > 0:
+            raise InputError("step: the world has no disks yet; allowed after set_disks or place")
+        self._core.step(n)
 
     @property
     def step_count(self) -> int:
@@ -328,7 +417,7 @@ class World:
 
     @dt.setter
     def dt(self, value: float) -> None:
-        self._core.set_motion(float(value), self._core.gravity)
+        self._core.set_motion(_number("dt", value), self._core.gravity)
 
     @property
     def gravity(self) -> Pair:
@@ -351,12 +440,17 @@ class World:
     @property
     def collision_scheme(self) -> str:
         """"pairwise", "simultaneous" or "events"."""
-        return self._core.collisions_scheme
+        return self._core.collision_scheme
 
     @property
     def engine(self) -> str:
-        """"cpu", "opencl-host-grid" (pipeline seed) or "opencl-resident"."""
-        return self._core.engine
+        """"cpu" or "opencl"."""
+        return "cpu" if self._core.engine == "cpu" else "opencl"
+
+    @property
+    def pipeline(self) -> Optional[str]:
+        """OpenCL's pipeline, "seed" or "resident"; None on the CPU."""
+        return {"opencl-host-grid": "seed", "opencl-resident": "resident"}.get(self._core.engine)
 
     @property
     def device_name(self) -> str:
@@ -437,6 +531,7 @@ class World:
 
     def event_counts(self) -> dict:
         """collisions="events" only: collisions, wall bounces, cell crossings, stale and overlapping events."""
+        self._events_only("event_counts")
         return self._core.event_counts()
 
     def __repr__(self) -> str:

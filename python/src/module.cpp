@@ -7,6 +7,7 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/array.h>
+#include <nanobind/stl/optional.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/tuple.h>
 #include <nanobind/stl/vector.h>
@@ -15,6 +16,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -230,11 +232,12 @@ NB_MODULE(_carom, m) {
              "max_travel"_a)
         .def_static(
             "from_scene_file",
-            [](const std::string& path, const std::string& engine, const std::string& device, float maxTravel) {
+            [](const std::string& path, const std::string& engine, const std::string& device,
+               std::optional<float> maxTravel) {
                 carom::SceneFileDef file = carom::io::readSceneFile(path);
                 file.world.engine = carom::parseComputeEngine(engine);
                 file.world.device = device;
-                file.world.maxTravel = maxTravel;
+                if (maxTravel) file.world.maxTravel = *maxTravel;  // else the file's (dt = "auto" sets it)
                 carom::Scene scene = carom::makeScene(file);
                 WorldDef def = file.world;
                 def.width = scene.width;
@@ -274,6 +277,13 @@ NB_MODULE(_carom, m) {
             },
             "positions"_a, "velocities"_a, "masses"_a, "radii"_a)
         .def(
+            "edit_disks",
+            [](World& w, const Pairs& positions, const Pairs& velocities, const Values& masses, const Values& radii) {
+                const std::vector<Disk> disks = disksOf(positions, velocities, masses, radii);
+                w.editDisks(disks.data(), disks.size());
+            },
+            "positions"_a, "velocities"_a, "masses"_a, "radii"_a)
+        .def(
             "set_disk",
             [](World& w, std::size_t id, std::array<float, 2> position, std::array<float, 2> velocity, float mass,
                float radius) {
@@ -285,11 +295,11 @@ NB_MODULE(_carom, m) {
             [](World& w, std::uint32_t count, std::array<float, 2> radius, std::array<float, 2> mass, float speed,
                float temperature, std::uint64_t seed) {
                 carom::SceneFileDef file;
-                file.path = "place";
+                file.path = "World.place";
                 file.world = w.def();
                 file.seed = seed;
                 carom::GroupDef group;
-                group.name = "place";
+                group.name = "the disks";
                 group.count = count;
                 group.radiusMin = radius[0];
                 group.radiusMax = radius[1];
@@ -298,7 +308,7 @@ NB_MODULE(_carom, m) {
                 group.speed = speed;
                 group.temperature = temperature;
                 file.groups.push_back(group);
-                w.setDisks(carom::makeScene(file).disks, "place");
+                w.setDisks(carom::makeScene(file).disks, "World.place");
             },
             "count"_a, "radius"_a, "mass"_a, "speed"_a, "temperature"_a, "seed"_a)
         .def("step", &stepInterruptibly, "steps"_a)
@@ -325,7 +335,7 @@ NB_MODULE(_carom, m) {
         .def_prop_ro("dt", [](const World& w) { return w.def().dt; })
         .def_prop_ro("gravity", [](const World& w) { return std::array<float, 2>{w.def().gravity.x, w.def().gravity.y}; })
         .def_prop_ro("boundary", [](const World& w) { return carom::boundaryName(w.def().boundary); })
-        .def_prop_ro("collisions_scheme", [](const World& w) { return carom::collisionSchemeName(w.def().collisions); })
+        .def_prop_ro("collision_scheme", [](const World& w) { return carom::collisionSchemeName(w.def().collisions); })
         .def_prop_ro("engine", [](const World& w) { return carom::computeEngineName(w.def().engine); })
         .def_prop_ro("max_travel", [](const World& w) { return w.def().maxTravel; })
         .def_prop_ro("kinetic_energy", &World::kineticEnergy)

@@ -105,8 +105,8 @@ def test_cpu_arrays_are_views_of_the_engines_memory(collisions):
             array[0] = 1
     for _ in range(3):
         world.step(2)
-        assert np.shares_memory(positions, world.positions)  # the view follows the steps
-        assert np.array_equal(positions, np.array(world.positions))
+        assert np.shares_memory(positions, world.positions)  # the view follows the steps:
+        assert np.array_equal(positions, world.copy().positions)  # it equals an independent copy
     assert np.array_equal(world.ids, np.arange(400))
 
 
@@ -236,7 +236,32 @@ REFUSALS = [
     (lambda: carom.World(box=(10, 10), pipeline="resident"), "OpenCL only"),
     (lambda: carom.World(box=(10, 10), dt=0), "dt must be a finite number > 0, got 0"),
     (lambda: carom.World(box=(10, 10), seed=-2), "seed: -2 is out of range"),
-    (lambda: gas().step(-1), "n: -1 is out of range; allowed: int >= 0"),
+    (lambda: gas().step(-1), "n: -1 is out of range; allowed: whole numbers from 0 to 18446744073709551615"),
+    (lambda: gas().step(2**64), "n: 18446744073709551616 is out of range"),
+    (lambda: gas().place(2**32), "count: 4294967296 is out of range; allowed: whole numbers from 1 to 4294967295"),
+    (lambda: gas().place(10, temperature=0), "temperature: 0; allowed: > 0"),
+    (lambda: gas().place(10, speed=2, temperature=1), "speed=2 and temperature=1; allowed: one of them"),
+    (lambda: gas().place(10, radius=(2, 1)), "radius: (2, 1); allowed: (min, max) with min <= max"),
+    (lambda: gas().place(10, radius=None), "radius: None is not a number"),
+    (lambda: carom.World(box=(10, 10)).step(1), "step: the world has no disks yet"),
+    (lambda: carom.World(box=(1e39, 10)), "box: 1e+39 is not finite in float32"),
+    (lambda: carom.World(box=(10, 10), dt="x"), "dt: 'x' is not a number"),
+    (lambda: carom.World(box=(10, 10), boundary=None), "boundary: None; allowed: 'walls', 'periodic'"),
+    (lambda: carom.World(box=(10, 10), max_travel=-1), "max_travel: -1; allowed: >= 0"),
+    (lambda: carom.World(box=(10, 10), collisions="events", engine="opencl"),
+     "collisions='events' runs on engine='cpu' only"),
+    (lambda: carom.World(box=(10, 10), seed=2**64), "seed: 18446744073709551616 is out of range"),
+    (lambda: setattr(gas(), "seed", -1), "seed: -1 is out of range"),
+    (lambda: gas().exact_positions, "exact_positions: collisions='pairwise'; allowed: collisions='events'"),
+    (lambda: gas().event_counts(), "event_counts: collisions='pairwise'"),
+    (lambda: gas().set_disk(400, (1, 1), (0, 0), 1, 1), "setDisk: id 400 is not a disk; allowed: 0..399"),
+    (lambda: gas().set_disk(0, (np.nan, 1), (0, 0), 1, 1), "positions[0, 0] = nan is not finite"),
+    (lambda: gas().add_disks([[1, 1]], [[0, 0]], [1], [-1]), "radius must be a finite number > 0, got -1"),
+    (lambda: gas().edit(velocities=np.zeros((3, 2))), "velocities: shape (3, 2); allowed: (400, 2)"),
+    (lambda: gas().save_checkpoint("a.ckpt\0.txt"), "path: 'a.ckpt\\x00.txt'; allowed: a non-empty path without NUL"),
+    (lambda: carom.World.from_checkpoint(carom.__file__), "__init__.py"),
+    (lambda: carom.write_xyz("t.xyz", "world"), "world: str; allowed: a carom.World"),
+    (lambda: carom.GSDWriter("t.gsd", mode="x"), "mode: 'x'; allowed: 'w', 'a'"),
     (lambda: gas().step(2.5), "n: 2.5 is not a whole number"),
     (lambda: gas().place(0), "count: 0 is out of range"),
     (lambda: carom.World.from_scene("no/such/scene.toml"), "no/such/scene.toml"),
@@ -298,9 +323,37 @@ def test_any_float_dtype_is_taken():
 
 
 def test_a_failed_step_names_the_step_and_keeps_the_world():
-    world = carom.World(box=(10, 10), dt=1e18)
-    with pytest.raises(carom.InputError):
-        world.set_disks([[5, 5]], [[1e18, 0]], [1], [1])
+    world = carom.World(box=(100, 100), gravity=(0, -1e15), dt=1.0, max_travel=0.5)
+    world.set_disks([[50, 50], [20, 20]], [[1, 0], [0, 1]], [1, 1], [1, 1])
+    with pytest.raises(carom.InputError, match="would need .* substeps"):
+        world.step(10)
+    assert world.step_count == 0  # the step it reached
+
+
+def test_an_edit_keeps_the_clock_and_a_view_follows_it():
+    world = gas()
+    world.step(10)
+    view = world.velocities
+    world.edit(velocities=2 * world.velocities)
+    assert world.step_count == 10 and world.time == pytest.approx(0.1)
+    assert np.shares_memory(view, world.velocities)  # the same memory, rewritten
+    assert np.array_equal(view, world.velocities)
+    replacement = carom.World(box=(60, 60), boundary="periodic", seed=12)
+    replacement.place(400, radius=(0.5, 1.0), speed=1.5)
+    world.set_disks(replacement.positions, replacement.velocities, replacement.masses, replacement.radii)
+    assert np.shares_memory(view, world.velocities) and np.array_equal(view, replacement.velocities)
+
+
+def test_a_scene_with_max_travel_runs_as_the_command_line_runs_it(carom_exe, tmp_path):
+    scene = tmp_path / "travel.toml"
+    scene.write_text('box = [200.0, 200.0]\ndt = "auto"\nsteps = 40\nseed = 3\n'
+                     '[[group]]\ncount = 30\nradius = 3.0\nspeed = 5.0\n'
+                     '[[group]]\ncount = 200\nradius = 0.2\nspeed = 5.0\n')
+    summary, final = run_cli(carom_exe, ["--scene", str(scene), "--backend", "cpu"], tmp_path)
+    world = carom.World.from_scene(scene)
+    world.step(world.scene_steps)
+    assert world.measurements()["substeps"] == summary["substeps"] > 40
+    assert_same_as_cli(world, summary, final)
 
 
 def test_devices_and_version():
