@@ -20,25 +20,13 @@
 """
 import argparse
 import json
-import os
-import platform
 import statistics
 import time
 
 import numpy as np
 
 import carom
-
-
-def machine():
-    cpu = platform.processor() or platform.machine()
-    try:
-        with open("/proc/cpuinfo") as f:
-            cpu = next(line.split(":", 1)[1].strip() for line in f if line.startswith("model name"))
-    except (OSError, StopIteration):
-        pass
-    return {"cpu": cpu, "cores": os.cpu_count(), "omp_num_threads": os.environ.get("OMP_NUM_THREADS"),
-            "python": platform.python_version(), "numpy": np.__version__, "carom": carom.__version__}
+from machine import machine  # bench/machine.py
 
 
 def world_of(particles, packing, collisions):
@@ -103,7 +91,8 @@ def main():
     parser.add_argument("--json", help="write the results as JSON to this file")
     args = parser.parse_args()
 
-    result = {"date": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "machine": machine(),
+    result = {"date": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+              "machine": {**machine(), "numpy": np.__version__, "carom": carom.__version__},
               "step": step_overhead(args), "positions": positions_read(args.read_particles)}
     m, s, p = result["machine"], result["step"], result["positions"]
     print(f"{result['date']}, {m['cpu']}, {m['cores']} cores, OMP_NUM_THREADS={m['omp_num_threads'] or 'unset'}, "

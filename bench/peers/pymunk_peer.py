@@ -42,6 +42,9 @@ try:
     import pymunk
 except ImportError:
     sys.exit("pymunk_peer: pymunk is not installed; run: python3 -m pip install pymunk")
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir))
+from machine import machine  # noqa: E402  (bench/machine.py)
+
 try:
     import carom  # carom's Python API (pip install . from the repository): --carom-python
     carom_import_error = None
@@ -82,21 +85,6 @@ def python_scene(args):
                scene.masses, scene.radii]
     particles = [tuple(float(v) for v in row) for row in zip(*(c.tolist() for c in columns))]
     return float(scene.box[0]), float(scene.box[1]), particles, scene
-
-
-def machine():
-    cpu = platform.processor() or platform.machine()
-    try:
-        with open("/proc/cpuinfo") as f:
-            cpu = next(line.split(":", 1)[1].strip() for line in f if line.startswith("model name"))
-    except (OSError, StopIteration):
-        pass
-    try:
-        load = round(os.getloadavg()[0], 2)
-    except OSError:
-        load = None
-    return {"cpu": cpu, "cores": os.cpu_count(), "omp_num_threads": os.environ.get("OMP_NUM_THREADS"),
-            "load_average_1min": load, "platform": platform.platform()}
 
 
 def cpu_seconds():

@@ -58,6 +58,14 @@ std::vector<Disk> disksOf(const Pairs& positions, const Pairs& velocities, const
     return disks;
 }
 
+// World::addDisks or World::editDisks with the arrays' disks.
+template <void (World::*edit)(const Disk*, std::size_t)>
+void editWith(World& world, const Pairs& positions, const Pairs& velocities, const Values& masses,
+              const Values& radii) {
+    const std::vector<Disk> disks = disksOf(positions, velocities, masses, radii);
+    (world.*edit)(disks.data(), disks.size());
+}
+
 // positions, velocities, masses and radii over `count` records of `stride`
 // floats from `base`; `owner` keeps them alive as long as any of the arrays.
 nb::tuple arraysOver(const float* base, std::size_t count, std::size_t stride, std::shared_ptr<const void> owner) {
@@ -269,20 +277,8 @@ NB_MODULE(_carom, m) {
                            refuseDeepOverlaps ? carom::DeepOverlaps::Refuse : carom::DeepOverlaps::Warn);
             },
             "positions"_a, "velocities"_a, "masses"_a, "radii"_a, "refuse_deep_overlaps"_a)
-        .def(
-            "add_disks",
-            [](World& w, const Pairs& positions, const Pairs& velocities, const Values& masses, const Values& radii) {
-                const std::vector<Disk> disks = disksOf(positions, velocities, masses, radii);
-                w.addDisks(disks.data(), disks.size());
-            },
-            "positions"_a, "velocities"_a, "masses"_a, "radii"_a)
-        .def(
-            "edit_disks",
-            [](World& w, const Pairs& positions, const Pairs& velocities, const Values& masses, const Values& radii) {
-                const std::vector<Disk> disks = disksOf(positions, velocities, masses, radii);
-                w.editDisks(disks.data(), disks.size());
-            },
-            "positions"_a, "velocities"_a, "masses"_a, "radii"_a)
+        .def("add_disks", &editWith<&World::addDisks>, "positions"_a, "velocities"_a, "masses"_a, "radii"_a)
+        .def("edit_disks", &editWith<&World::editDisks>, "positions"_a, "velocities"_a, "masses"_a, "radii"_a)
         .def(
             "set_disk",
             [](World& w, std::size_t id, std::array<float, 2> position, std::array<float, 2> velocity, float mass,
