@@ -365,3 +365,26 @@ def test_devices_and_version():
     for device in carom.devices():
         assert {"index", "name", "type", "bitwise_reproducible"} <= device.keys()
     assert carom.engines()[0] == "cpu"
+
+
+def test_a_signal_stops_a_long_step_between_two_steps():
+    import signal
+
+    class Stop(Exception):
+        pass
+
+    def stop(*_):
+        raise Stop
+
+    world = gas(particles=100)
+    previous = signal.signal(signal.SIGALRM, stop)
+    signal.setitimer(signal.ITIMER_REAL, 0.3)
+    try:
+        with pytest.raises(Stop):
+            world.step(10**7)  # minutes of steps, were the signal not seen
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+    assert 0 < world.step_count < 10**7
+    assert world.time == pytest.approx(world.step_count * world.dt)
+    world.step(1)  # the world goes on from the step it reached
