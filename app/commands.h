@@ -64,7 +64,7 @@ struct ValidateOptions {
     std::string json;                          // every check and measurement as JSON; empty = none
     std::string backend = "cpu";               // runs the equation of state, convergence, relaxation and exact cases
     std::string device;                        // OpenCL device selector (also for the conservation runs)
-    std::string pipeline = "seed";
+    std::string pipeline = "auto";
     std::uint64_t seed = 1;
     float dt = 0.0f;              // the step; addValidateOptions sets the suite's default (app/validate/checks.h)
     std::uint32_t particles = 0;  // N of the equation-of-state runs; 0 = the suite's default

@@ -136,9 +136,10 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
         ->check(forOpenCL("no devices to choose from"));
     command
         .add_option("--pipeline", o.backend.pipeline,
-                    "OpenCL pipeline: seed (host builds the grid, state read back each step) or resident "
-                    "(grid and state stay on the device)")
-        ->check(CLI::IsMember({"seed", "resident"}))
+                    "OpenCL pipeline: seed (host builds the grid, state read back each step), resident "
+                    "(grid and state stay on the device: the fast one on GPUs), or auto: resident on a GPU, "
+                    "seed on other devices (on CPUs, e.g. PoCL, seed is faster)")
+        ->check(CLI::IsMember({"auto", "seed", "resident"}))
         ->check(forOpenCL("one pipeline"))
         ->capture_default_str();
 
@@ -222,7 +223,7 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
 
 WorldDef withEngine(WorldDef world, const SceneOptions& o) {
     BackendOptions def = o.backend;
-    const bool openclAsked = o.given.count("--backend") || !def.device.empty() || def.pipeline != "seed";
+    const bool openclAsked = o.given.count("--backend") || !def.device.empty() || def.pipeline != "auto";
     if (world.collisions == CollisionScheme::Events && !openclAsked) def.kind = "cpu";
     if (world.collisions == CollisionScheme::Events && def.kind != "cpu")
         throw Error(
@@ -234,7 +235,8 @@ WorldDef withEngine(WorldDef world, const SceneOptions& o) {
 
 EngineDef engineOf(const BackendOptions& backend) {
     if (backend.kind == "cpu") return EngineDef{};
-    const bool resident = backend.pipeline == "resident";
+    const bool resident = backend.pipeline == "auto" ? findDevice(backend.device).type == "GPU"
+                                                     : backend.pipeline == "resident";
     return EngineDef{resident ? ComputeEngine::OpenClResident : ComputeEngine::OpenClHostGrid, backend.device};
 }
 

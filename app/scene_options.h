@@ -19,8 +19,9 @@ struct BackendOptions {
     std::string kind = "cpu";       // "cpu" (OpenMP) or "opencl"
     std::string device;             // OpenCL only: index from `carom devices` or part of the
                                     //   device name; empty = first GPU, else first device
-    std::string pipeline = "seed";  // OpenCL only: "seed" (host grid, state read back each
-                                    //   step) or "resident" (grid and state stay on the device)
+    std::string pipeline = "auto";  // OpenCL only: "seed" (host grid, state read back each
+                                    //   step), "resident" (grid and state stay on the device),
+                                    //   or "auto": resident on a GPU, seed on other devices
 };
 
 struct SceneOptions {
@@ -63,7 +64,8 @@ struct Setup {
 Setup makeSetup(const SceneOptions& options);
 
 // The engine --backend KIND --pipeline PIPELINE --device DEVICE name
-// (the values CLI11 has already checked).
+// (the values CLI11 has already checked); --pipeline auto looks up the
+// device's type (carom::findDevice), so it throws Error when none matches.
 EngineDef engineOf(const BackendOptions& backend);
 
 // `world` with the compute engine and device the options ask for

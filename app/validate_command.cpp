@@ -58,8 +58,9 @@ void addValidateOptions(CLI::App& command, ValidateOptions& o) {
                        "first device); also used by the OpenCL conservation runs");
     command
         .add_option("--pipeline", o.pipeline,
-                    "OpenCL pipeline of the heavy runs: seed or resident (the conservation checks run both)")
-        ->check(CLI::IsMember({"seed", "resident"}))
+                    "OpenCL pipeline of the heavy runs: seed, resident, or auto (resident on a GPU, seed on "
+                    "other devices); the conservation checks run both")
+        ->check(CLI::IsMember({"auto", "seed", "resident"}))
         ->capture_default_str();
     command.add_option("--seed", o.seed, "Random seed of the initial positions and velocities")
         ->transform(wholeNumber(0))
@@ -80,7 +81,7 @@ void addValidateOptions(CLI::App& command, ValidateOptions& o) {
 int validateCommand(const ValidateOptions& o) {
     validation::SuiteOptions suite;
     suite.quick = o.quick;
-    if (o.backend == "cpu" && o.pipeline != "seed")
+    if (o.backend == "cpu" && o.pipeline != "auto")
         throw Error("--pipeline " + o.pipeline + " needs --backend opencl; the CPU backend has one pipeline");
     suite.backend = engineOf(BackendOptions{o.backend, o.device, o.pipeline});
     suite.seed = o.seed;

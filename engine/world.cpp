@@ -45,15 +45,30 @@ bool engineAvailable(ComputeEngine engine) {
     return engine == ComputeEngine::Cpu || std::find(built.begin(), built.end(), "opencl") != built.end();
 }
 
+#ifdef CAROM_HAVE_OPENCL
+namespace {
+Device deviceOf(const opencl::DeviceInfo& d) {
+    return Device{d.index,   d.name, d.platformName, d.type, d.version, d.globalMemoryBytes,
+                  d.correctlyRoundedDivideSqrt};
+}
+}  // namespace
+#endif
+
 std::vector<Device> listDevices() {
 #ifdef CAROM_HAVE_OPENCL
     std::vector<Device> devices;
-    for (const opencl::DeviceInfo& d : opencl::listDevices())
-        devices.push_back(Device{d.index, d.name, d.platformName, d.type, d.version, d.globalMemoryBytes,
-                                 d.correctlyRoundedDivideSqrt});
+    for (const opencl::DeviceInfo& d : opencl::listDevices()) devices.push_back(deviceOf(d));
     return devices;
 #else
     throw Error("listDevices: this carom was built without OpenCL; allowed: ComputeEngine::Cpu");
+#endif
+}
+
+Device findDevice(const std::string& selector) {
+#ifdef CAROM_HAVE_OPENCL
+    return deviceOf(opencl::selectDevice(selector));
+#else
+    throw Error("findDevice: this carom was built without OpenCL; allowed: ComputeEngine::Cpu");
 #endif
 }
 

@@ -49,7 +49,7 @@ carom_bench_profile_test(cpu_pairwise cpu "buildGrid (host, serial)")
 if(OpenCL_FOUND)
     carom_cli_test(run_resident pass "\"backend\": \"opencl\""
                    "run|--backend|opencl|--pipeline|resident|--particles|100|--steps|10|--json")
-    carom_cli_test(pipeline_unknown fail "--pipeline: fast not in \\{seed,resident\\}" "${run}|--pipeline|fast")
+    carom_cli_test(pipeline_unknown fail "--pipeline: fast not in \\{auto,seed,resident\\}" "${run}|--pipeline|fast")
     carom_cli_test(pipeline_resident_on_cpu fail "--pipeline: 'resident' needs --backend opencl"
                    "${run}|--pipeline|resident")
     carom_bench_profile_test(seed_pairwise opencl-seed

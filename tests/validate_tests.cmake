@@ -13,7 +13,7 @@ carom_cli_test(validate_zero_particles fail "--particles: '0' is out of range; a
                "${validate}|--particles|0")
 carom_cli_test(validate_negative_particles fail "--particles" "${validate}|--particles|-5")
 carom_cli_test(validate_unknown_backend fail "--backend: cuda not in \\{cpu" "${validate}|--backend|cuda")
-carom_cli_test(validate_unknown_pipeline fail "--pipeline: fast not in \\{seed,resident\\}"
+carom_cli_test(validate_unknown_pipeline fail "--pipeline: fast not in \\{auto,seed,resident\\}"
                "${validate}|--pipeline|fast")
 carom_cli_test(validate_resident_on_cpu fail "--pipeline resident needs --backend opencl"
                "${validate}|--backend|cpu|--pipeline|resident")

@@ -122,6 +122,10 @@ struct Device {
 // Every OpenCL device of every platform. Throws Error when this build has no
 // OpenCL, or the machine no OpenCL platform or device.
 std::vector<Device> listDevices();
+// The device WorldDef::device = `selector` runs on (empty: the first GPU,
+// else the first device). Throws Error, as World's constructor does, when
+// none matches or this build has no OpenCL.
+Device findDevice(const std::string& selector);
 
 // The disks where the CPU engine keeps them, for reading without a copy
 // (World::diskMemory): `count` records of `stride` floats from `base`, in id

@@ -10,7 +10,7 @@ from typing import Optional, Sequence, Tuple, Union
 import numpy as np
 
 from . import _carom
-from ._carom import Error, InputError
+from ._carom import InputError
 
 Pair = Tuple[float, float]
 Range = Union[float, Tuple[float, float]]
@@ -123,24 +123,9 @@ def _engine_name(engine: str, device, pipeline: Optional[str]) -> Tuple[str, str
         if device is not None or pipeline is not None:
             raise InputError("device and pipeline: OpenCL only; allowed with engine='opencl'")
         return "cpu", ""
-    if pipeline is None:
-        pipeline = "resident" if _device_type(selector) == "GPU" else "seed"
+    if pipeline is None:  # as the command line's --pipeline auto
+        pipeline = "resident" if _carom.find_device(selector)["type"] == "GPU" else "seed"
     return _PIPELINES[_choice("pipeline", pipeline, ("seed", "resident", None))], selector
-
-
-def _device_type(selector: str) -> str:
-    """The type of the device `selector` picks, as WorldDef::device does ('' if none)."""
-    try:
-        devices = _carom.devices()
-    except Error:
-        return ""
-    if selector == "":
-        gpus = [d for d in devices if d["type"] == "GPU"]
-        return "GPU" if gpus else ""
-    for d in devices:
-        if (selector.isdigit() and d["index"] == int(selector)) or (not selector.isdigit() and selector in d["name"]):
-            return d["type"]
-    return ""
 
 
 class World:

@@ -128,6 +128,18 @@ nb::dict dictOf(const carom::Measurements& m) {
     return d;
 }
 
+nb::dict dictOf(const carom::Device& d) {
+    nb::dict entry;
+    entry["index"] = d.index;
+    entry["name"] = d.name;
+    entry["platform"] = d.platform;
+    entry["type"] = d.type;
+    entry["version"] = d.version;
+    entry["memory_bytes"] = d.memoryBytes;
+    entry["bitwise_reproducible"] = d.correctlyRoundedDivideSqrt;
+    return entry;
+}
+
 nb::dict dictOf(const carom::EventCounts& c) {
     nb::dict d;
     d["collisions"] = c.collisions;
@@ -180,19 +192,11 @@ NB_MODULE(_carom, m) {
           "engine"_a);
     m.def("devices", [] {
         nb::list out;
-        for (const carom::Device& d : carom::listDevices()) {
-            nb::dict entry;
-            entry["index"] = d.index;
-            entry["name"] = d.name;
-            entry["platform"] = d.platform;
-            entry["type"] = d.type;
-            entry["version"] = d.version;
-            entry["memory_bytes"] = d.memoryBytes;
-            entry["bitwise_reproducible"] = d.correctlyRoundedDivideSqrt;
-            out.append(entry);
-        }
+        for (const carom::Device& d : carom::listDevices()) out.append(dictOf(d));
         return out;
     });
+    m.def("find_device", [](const std::string& selector) { return dictOf(carom::findDevice(selector)); },
+          "selector"_a);
 
     m.def(
         "make_scene",

@@ -147,6 +147,12 @@ def test_the_opencl_pipelines_agree_bit_for_bit(engine):
         assert np.array_equal(seed.velocities, cpu.velocities)
 
 
+def test_the_default_pipeline_is_resident_on_a_gpu_and_seed_elsewhere():
+    for device in carom.devices():
+        world = carom.World(box=(10, 10), engine="opencl", device=device["index"])
+        assert world.pipeline == ("resident" if device["type"] == "GPU" else "seed"), device
+
+
 def test_a_checkpoint_continues_bit_for_bit(engine, tmp_path):
     world = gas(engine=engine)
     world.step(30)
