@@ -262,12 +262,11 @@ NB_MODULE(_carom, m) {
         .def_static(
             "from_checkpoint",
             [](const std::string& path, const std::string& engine, const std::string& device, float maxTravel) {
-                carom::io::CheckpointFile file = carom::io::readCheckpoint(path);
-                WorldDef def = file.world();
+                WorldDef def;  // loadCheckpoint takes only the engine, the device and maxTravel from it
                 def.engine = carom::parseComputeEngine(engine);
                 def.device = device;
                 def.maxTravel = maxTravel;
-                return carom::io::loadCheckpoint(std::move(file), def);
+                return carom::io::loadCheckpoint(path, def);
             },
             "path"_a, "engine"_a, "device"_a, "max_travel"_a)
         .def(
