@@ -96,9 +96,9 @@ void OpenClBackend::checkNonFinite() {
 // (whose steps until then stay as cheap, carom_count_into_cell).
 void OpenClBackend::advance(std::uint64_t steps, float dt) {
     const bool waits = waitsEachStep();
-    for (std::uint64_t s = 0; s < steps && !nonFinite(); ++s) {
-        enqueueStep(dt);
-        if (!waits && (s + 1) % kStepsPerSync == 0) finish();
+    for (std::uint64_t s = 0; s < steps && !nonFinite();) {
+        s += enqueueSteps(std::min(steps - s, waits ? 1 : kStepsPerSync - s % kStepsPerSync), dt);
+        if (!waits && s % kStepsPerSync == 0) finish();
     }
     if (!waits) finish();
 }

@@ -48,6 +48,13 @@ protected:
     virtual void loadState(std::vector<Particle> particles) = 0;
     // Enqueues one substep of dt.
     virtual void enqueueStep(float dt) = 0;
+    // Enqueues up to `steps` (>= 1) substeps of dt and returns how many: one
+    // unless the pipeline can run several in one launch.
+    virtual std::uint64_t enqueueSteps(std::uint64_t steps, float dt) {
+        (void)steps;
+        enqueueStep(dt);
+        return 1;
+    }
     // Whether enqueueStep ends in a wait of its own; else advance() waits
     // every kStepsPerSync steps and at its end.
     virtual bool waitsEachStep() const { return false; }

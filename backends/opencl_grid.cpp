@@ -16,12 +16,19 @@ std::size_t powerOfTwoAtMost(std::size_t limit) {
     return p;
 }
 
-// Local memory of a scan work-group: the tile, padded by one word in 32
-// (carom_padded), and one run sum per work-item.
-std::size_t scanTileBytes(std::size_t tileLength) { return (tileLength + tileLength / 32) * sizeof(cl_uint); }
-std::size_t scanLocalBytes(std::size_t group) { return scanTileBytes(group * kScanItems) + group * sizeof(cl_uint); }
-
 }  // namespace
+
+std::size_t DeviceGrid::scanTileBytes(std::size_t groupSize, std::size_t items) {
+    const std::size_t tileLength = groupSize * items;
+    return (tileLength + tileLength / 32) * sizeof(cl_uint);
+}
+
+std::size_t DeviceGrid::scanGroupSize(const DeviceInfo& device, std::size_t kernelLimit, std::size_t maxGroupSize,
+                                      std::size_t items) {
+    std::size_t group = powerOfTwoAtMost(std::min(maxGroupSize, kernelLimit));
+    while (group > 1 && scanTileBytes(group, items) + scanRunBytes(group) > device.localMemoryBytes) group /= 2;
+    return group;
+}
 
 DeviceGrid::DeviceGrid(cl_context context, const DeviceInfo& device, cl_program program, GridGeometry geometry,
                        std::size_t particleCount, Profiler* profiler, std::size_t maxScanGroupSize)
@@ -42,8 +49,7 @@ DeviceGrid::DeviceGrid(cl_context context, const DeviceInfo& device, cl_program 
         groupSize_ = std::min(groupSize_, kernelWorkGroupLimit(k, device.id));
     const std::size_t scanLimit = std::min(kernelWorkGroupLimit(scanCountsKernel_.get(), device.id),
                                            kernelWorkGroupLimit(scanKernel_.get(), device.id));
-    scanGroupSize_ = powerOfTwoAtMost(std::min(maxScanGroupSize, scanLimit));
-    while (scanGroupSize_ > 1 && scanLocalBytes(scanGroupSize_) > device.localMemoryBytes) scanGroupSize_ /= 2;
+    scanGroupSize_ = scanGroupSize(device, scanLimit, maxScanGroupSize, kScanItems);
     tileLength_ = scanGroupSize_ * kScanItems;
 
     counts_ = createBuffer(context, cellCount * sizeof(cl_uint), "cell counts");
@@ -71,10 +77,10 @@ void DeviceGrid::build(cl_command_queue queue, cl_mem ids, cl_mem sortedIds) {
     scanCellCounts(queue);
     const cl_uint tileLength = cl_uint(tileLength_);
     setKernelArgs(scatterKernel_.get(), cellOf_.get(), rankInCell_.get(), cells_.get(), cellTileOffsets(), tileLength,
-                  cl_uint(particleCount_), cellOrder_.get());
+                  cl_uint(particleCount_), ids, cellOrder_.get(), sortedIds);
     enqueue1d(queue, scatterKernel_.get(), particleCount_, groupSize_, "scatterToCells", profiler_);
     const cl_uint cellCount = cl_uint(levelSizes_[0]);
-    setKernelArgs(sortKernel_.get(), cells_.get(), cellTileOffsets(), tileLength, cellCount, cellOrder_.get(), ids,
+    setKernelArgs(sortKernel_.get(), cells_.get(), cellTileOffsets(), tileLength, cellCount, cellOrder_.get(),
                   sortedIds, nextCounts_.get());
     enqueue1d(queue, sortKernel_.get(), cellCount, groupSize_, "sortCellSegments", profiler_);
 }
@@ -83,7 +89,7 @@ void DeviceGrid::build(cl_command_queue queue, cl_mem ids, cl_mem sortedIds) {
 // tile's total lands in the level above), then adds the scanned tile sums
 // back downwards to level 1: scatterToCells and sortCellSegments add level 0's.
 void DeviceGrid::scanCellCounts(cl_command_queue queue) {
-    const std::size_t tileBytes = scanTileBytes(tileLength_), runBytes = scanGroupSize_ * sizeof(cl_uint);
+    const std::size_t tileBytes = scanTileBytes(scanGroupSize_, kScanItems), runBytes = scanRunBytes(scanGroupSize_);
     setKernelArgs(scanCountsKernel_.get(), counts_.get(), cl_uint(levelSizes_[0]), cells_.get(), tileSums_[0].get());
     setLocalArg(scanCountsKernel_.get(), 4, tileBytes);
     setLocalArg(scanCountsKernel_.get(), 5, runBytes);

@@ -42,8 +42,20 @@ public:
     // build(), with its `sortedIds`.
     Grid read(cl_command_queue queue, cl_mem sortedIds) const;
     std::size_t scanLevels() const { return levelSizes_.size(); }
+    std::size_t cellCount() const { return levelSizes_[0]; }
+
+    // The largest power-of-two work-group of at most maxGroupSize and
+    // kernelLimit work-items whose scan tile of `items` values per work-item
+    // fits the device's local memory, and the local memory its scan takes:
+    // the tile (padded by one word in 32: carom_padded) and a run sum per
+    // work-item (kernels/grid.cl, carom_scan_tile).
+    static std::size_t scanGroupSize(const DeviceInfo& device, std::size_t kernelLimit, std::size_t maxGroupSize,
+                                     std::size_t items);
+    static std::size_t scanTileBytes(std::size_t groupSize, std::size_t items);
+    static std::size_t scanRunBytes(std::size_t groupSize) { return groupSize * sizeof(cl_uint); }
 
     cl_mem cells() const { return cells_.get(); }
+    cl_mem counts() const { return counts_.get(); }
     cl_mem nextCounts() const { return nextCounts_.get(); }
     cl_mem cellOrder() const { return cellOrder_.get(); }
     cl_mem cellOf() const { return cellOf_.get(); }

@@ -17,6 +17,20 @@ namespace {
 // work-groups reduce the largest speed.
 constexpr std::size_t kFinishGroupsPerComputeUnit = 16;
 
+// Up to this many disks, simultaneous steps run in one work-group
+// (stepSmallSystem): below it, the four launches of the grid build and the
+// step cost more than one compute unit takes for the whole step. Measured on
+// an H200 (bench/results/nvidia-h200-small-system.txt): 18 us a step at
+// 1 000 disks in one work-group against 23-34 us in launches, even at 2 000.
+constexpr std::size_t kSmallSystemParticles = 2048;
+// The most steps one launch of stepSmallSystem runs.
+constexpr std::uint64_t kSmallSystemSteps = 16;
+// Its work-group, at most (the largest the scan tile's local memory allows),
+// and the values each work-item scans (CAROM_SMALL_SYSTEM_SCAN_ITEMS in
+// kernels/resident.cl): a small tile, so that the work-group can be large.
+constexpr std::size_t kSmallSystemGroupSize = 1024;
+constexpr std::size_t kSmallSystemScanItems = 4;
+
 }  // namespace
 
 OpenClResidentBackend::OpenClResidentBackend(const WorldDef& world, const std::string& device, bool profiling)
@@ -25,6 +39,10 @@ OpenClResidentBackend::OpenClResidentBackend(const WorldDef& world, const std::s
     finishAndCountKernel_ = createKernel(program_.get(), "finishPairwiseAndCount");
     // finishPairwiseAndCount reduces in a work-group too.
     fitWorkGroups({fusedKernel_.get(), finishAndCountKernel_.get()}, {finishAndCountKernel_.get()});
+    smallSystemKernel_ = createKernel(program_.get(), "stepSmallSystem");
+    smallSystemGroupSize_ = opencl::DeviceGrid::scanGroupSize(
+        device_, kernelWorkGroupLimit(smallSystemKernel_.get(), device_.id), kSmallSystemGroupSize,
+        kSmallSystemScanItems);
     speedBits_ = createBuffer(context_.get(), 2 * sizeof(cl_uint), "largest speed squared");
 }
 
@@ -49,6 +67,7 @@ void OpenClResidentBackend::loadState(std::vector<Particle> particles) {
     deviceGrid_.count(queue_.get(), state_.get());
     speedKnown_ = false;
     unconfirmed_ = false;
+    smallSystem_ = world_.collisions == CollisionScheme::Simultaneous && n <= kSmallSystemParticles;
     if (world_.collisions != CollisionScheme::Pairwise) return;
     pairwise_ = DevicePairwise(context_.get(), device_, program_.get(), n, queue_.get(), profiler_.get());
     check(clEnqueueWriteBuffer(queue_.get(), pairwise_.lengths(), CL_TRUE,
@@ -61,8 +80,31 @@ void OpenClResidentBackend::loadState(std::vector<Particle> particles) {
                    reductionGroupSize_;
 }
 
-void OpenClResidentBackend::enqueueStep(float dt) {
+void OpenClResidentBackend::enqueueStep(float dt) { enqueueSteps(1, dt); }
+
+std::uint64_t OpenClResidentBackend::enqueueSteps(std::uint64_t steps, float dt) {
+    if (smallSystem_) return stepSmallSystem(steps, dt);
     world_.collisions == CollisionScheme::Pairwise ? stepPairwise(dt) : stepSimultaneous(dt);
+    return 1;
+}
+
+std::uint64_t OpenClResidentBackend::stepSmallSystem(std::uint64_t steps, float dt) {
+    steps = std::min(steps, kSmallSystemSteps);
+    const cl_uint firstStepIndex = nextStepIndex();
+    for (std::uint64_t s = 1; s < steps; ++s) nextStepIndex();
+    setKernelArgs(smallSystemKernel_.get(), state_.get(), next_.get(), ids_.get(), sortedIds_.get(),
+                  deviceGrid_.cells(), deviceGrid_.counts(), deviceGrid_.cellOrder(), deviceGrid_.cellOf(),
+                  deviceGrid_.rankInCell(), stepParams(dt), cl_uint(steps), tallies_.get(), firstStepIndex,
+                  firstNonFinite_.get());
+    setLocalArg(smallSystemKernel_.get(), 14, opencl::DeviceGrid::scanTileBytes(smallSystemGroupSize_, kSmallSystemScanItems));
+    setLocalArg(smallSystemKernel_.get(), 15, opencl::DeviceGrid::scanRunBytes(smallSystemGroupSize_));
+    enqueue1d(queue_.get(), smallSystemKernel_.get(), smallSystemGroupSize_, smallSystemGroupSize_, "stepSmallSystem",
+              profiler_.get());
+    if (steps % 2 == 1) {
+        std::swap(state_, next_);
+        std::swap(ids_, sortedIds_);
+    }
+    return steps;
 }
 
 void OpenClResidentBackend::stepSimultaneous(float dt) {

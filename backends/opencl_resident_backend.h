@@ -3,8 +3,10 @@
 // there (DeviceGrid, kernels/grid.cl) and one fused kernel resolves,
 // integrates and counts the new positions into the next grid
 // (kernels/resident.cl; pairwise: the rounds, then a kernel that finishes
-// the step and counts). The host reads the state only when asked
-// (readParticles). Bitwise equal to the seed pipeline.
+// the step and counts). A small system's simultaneous steps run whole in
+// one work-group instead, several per launch (stepSmallSystem). The host
+// reads the state only when asked (readParticles). Bitwise equal to the
+// seed pipeline.
 #pragma once
 
 #include "backends/opencl_backend.h"
@@ -29,6 +31,7 @@ private:
     void releaseState() override;
     void loadState(std::vector<Particle> particles) override;
     void enqueueStep(float dt) override;
+    std::uint64_t enqueueSteps(std::uint64_t steps, float dt) override;
     // A pairwise step ends in a wait of its own (confirmStep).
     bool waitsEachStep() const override { return world_.collisions == CollisionScheme::Pairwise; }
     // Pairwise: waits for the last step's rounds (and runs the rest if its
@@ -36,11 +39,17 @@ private:
     void confirmStep() override;
     float maxSpeedSquared() override;
     void stepSimultaneous(float dt);
+    // Simultaneous steps of a small system, up to kSmallSystemSteps in one
+    // launch of stepSmallSystem; returns how many.
+    std::uint64_t stepSmallSystem(std::uint64_t steps, float dt);
     void stepPairwise(float dt);
     void enqueuePairwiseFinish(const CaromStepParams& step, cl_uint stepIndex);
 
     opencl::Kernel fusedKernel_;           // resolveIntegrateAndCount
     opencl::Kernel finishAndCountKernel_;  // pairwise: finishPairwiseAndCount
+    opencl::Kernel smallSystemKernel_;     // stepSmallSystem
+    std::size_t smallSystemGroupSize_ = 1; // its one work-group: a power of two
+    bool smallSystem_ = false;             // simultaneous steps run in stepSmallSystem
     opencl::DeviceGrid deviceGrid_;
     opencl::Buffer ids_;               // the particle id in each slot of state_
     opencl::Buffer sortedIds_;         // sortedIndices, then the ids of next_'s slots

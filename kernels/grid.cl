@@ -12,9 +12,9 @@
  *   scanTiles,           starts, tile by tile, with the tile sums scanned
  *   addTileOffsets       level by level; the cells' own level gets its tile
  *                        offsets added by the next two kernels, saving a pass
- *   scatterToCells       each slot to start + rank of its cell
- *   sortCellSegments     each cell's slots into ascending particle id, and
- *                        their ids in that order: sortedIndices
+ *   scatterToCells       each slot, and its id, to start + rank of its cell
+ *   sortCellSegments     each cell's slots and ids into ascending id: the ids
+ *                        are then sortedIndices
  *
  * Arrival ranks depend on thread scheduling; sorting each cell's few slots by
  * id makes the result deterministic and equal to the host's ascending-id
@@ -23,8 +23,9 @@
  * barriers. */
 #include "physics.h"
 
-/* Values each work-item scans in a tile; a tile is get_local_size(0) times
- * this. The host sizes the local buffers to match (backends/opencl_grid.cpp). */
+/* Values each work-item scans in a tile of the grid build's scan kernels; a
+ * tile is get_local_size(0) times this. The host sizes the local buffers to
+ * match (backends/opencl_grid.cpp). */
 #define CAROM_SCAN_ITEMS 16
 
 /* Counts the particle in slot i into its cell. `counts` must start at zero.
@@ -60,22 +61,22 @@ static inline uint carom_padded(uint k)
     return k + k / 32;
 }
 
-/* The exclusive prefix sum of this work-group's tile of `values` (n in all),
- * left in `tile` (padded); returns the tile's total. The local size must be a
- * power of two. */
-static inline uint carom_scan_tile(__global const uint* values, uint n, __local uint* tile, __local uint* runSums)
+/* The exclusive prefix sum of the tile of `values` (n in all) that starts at
+ * `first`, `items` values per work-item, left in `tile` (padded); returns
+ * the tile's total. The local size must be a power of two. */
+static inline uint carom_scan_tile(
+    __global const uint* values, uint n, uint first, uint items, __local uint* tile, __local uint* runSums)
 {
     const uint lid = get_local_id(0);
     const uint size = get_local_size(0);
-    const uint tileLength = size * CAROM_SCAN_ITEMS;
-    const uint first = get_group_id(0) * tileLength;
+    const uint tileLength = size * items;
     for (uint k = lid; k < tileLength; k += size) tile[carom_padded(k)] = first + k < n ? values[first + k] : 0u;
     barrier(CLK_LOCAL_MEM_FENCE);
 
-    /* Each work-item owns a run of CAROM_SCAN_ITEMS consecutive values. */
-    const uint runStart = lid * CAROM_SCAN_ITEMS;
+    /* Each work-item owns a run of `items` consecutive values. */
+    const uint runStart = lid * items;
     uint run = 0;
-    for (uint k = 0; k < CAROM_SCAN_ITEMS; ++k) run += tile[carom_padded(runStart + k)];
+    for (uint k = 0; k < items; ++k) run += tile[carom_padded(runStart + k)];
     runSums[lid] = run;
     barrier(CLK_LOCAL_MEM_FENCE);
 
@@ -88,7 +89,7 @@ static inline uint carom_scan_tile(__global const uint* values, uint n, __local 
     }
 
     uint prefix = runSums[lid] - run;
-    for (uint k = 0; k < CAROM_SCAN_ITEMS; ++k) {
+    for (uint k = 0; k < items; ++k) {
         const uint at = carom_padded(runStart + k);
         const uint value = tile[at];
         tile[at] = prefix;
@@ -108,11 +109,11 @@ __kernel void scanCountsIntoCells(__global const uint* counts,
                                   __local uint* tile,
                                   __local uint* runSums)
 {
-    const uint total = carom_scan_tile(counts, n, tile, runSums);
     const uint lid = get_local_id(0);
     const uint size = get_local_size(0);
     const uint tileLength = size * CAROM_SCAN_ITEMS;
     const uint first = get_group_id(0) * tileLength;
+    const uint total = carom_scan_tile(counts, n, first, CAROM_SCAN_ITEMS, tile, runSums);
     for (uint k = lid; k < tileLength && first + k < n; k += size) {
         GridCell cell;
         cell.start = tile[carom_padded(k)];
@@ -126,11 +127,11 @@ __kernel void scanCountsIntoCells(__global const uint* counts,
 __kernel void scanTiles(
     __global uint* values, uint n, __global uint* tileSums, __local uint* tile, __local uint* runSums)
 {
-    const uint total = carom_scan_tile(values, n, tile, runSums);
     const uint lid = get_local_id(0);
     const uint size = get_local_size(0);
     const uint tileLength = size * CAROM_SCAN_ITEMS;
     const uint first = get_group_id(0) * tileLength;
+    const uint total = carom_scan_tile(values, n, first, CAROM_SCAN_ITEMS, tile, runSums);
     for (uint k = lid; k < tileLength && first + k < n; k += size) values[first + k] = tile[carom_padded(k)];
     if (lid == 0) tileSums[get_group_id(0)] = total;
 }
@@ -151,30 +152,66 @@ static inline uint carom_cell_start(__global const GridCell* cells,
     return cells[c].start + tileOffsets[c / tileLength];
 }
 
+/* Slot `slot` to the start of its cell plus its arrival rank, with its id:
+ * the id is read here, in slot order, rather than gathered by the sort. */
+static inline void carom_scatter_slot(uint slot,
+                                      uint cellStart,
+                                      __global const uint* rankInCell,
+                                      __global const uint* ids,
+                                      __global uint* cellOrder,
+                                      __global uint* sortedIds)
+{
+    const uint at = cellStart + rankInCell[slot];
+    cellOrder[at] = slot;
+    sortedIds[at] = ids[slot];
+}
+
 __kernel void scatterToCells(__global const uint* cellOf,
                              __global const uint* rankInCell,
                              __global const GridCell* cells,
                              __global const uint* tileOffsets,
                              uint tileLength,
                              uint count,
-                             __global uint* cellOrder)
+                             __global const uint* ids,
+                             __global uint* cellOrder,
+                             __global uint* sortedIds)
 {
     const uint slot = get_global_id(0);
     if (slot >= count) return;
-    cellOrder[carom_cell_start(cells, cellOf[slot], tileOffsets, tileLength) + rankInCell[slot]] = slot;
+    carom_scatter_slot(slot, carom_cell_start(cells, cellOf[slot], tileOffsets, tileLength), rankInCell, ids, cellOrder,
+                       sortedIds);
+}
+
+/* Sorts a cell's slots and ids, as scattered in arrival order, into ascending
+ * id (insertion sort: a cell is about one diameter wide, so it holds a
+ * handful of disks; most hold none or one, which costs no write). */
+static inline void carom_sort_cell(GridCell cell, __global uint* cellOrder, __global uint* sortedIds)
+{
+    __global uint* slots = cellOrder + cell.start;
+    __global uint* sorted = sortedIds + cell.start;
+    for (uint a = 1; a < cell.count; ++a) {
+        const uint slot = slots[a];
+        const uint id = sorted[a];
+        uint b = a;
+        for (; b > 0 && sorted[b - 1] > id; --b) {
+            slots[b] = slots[b - 1];
+            sorted[b] = sorted[b - 1];
+        }
+        if (b == a) continue;
+        slots[b] = slot;
+        sorted[b] = id;
+    }
 }
 
 /* Per cell: completes the cell's start (adds its tile's offset); zeroes the
  * cell's count in `nextCounts`, which the step counts the new positions
- * into; sorts the cell's slots by particle id (insertion sort: a cell is
- * about one diameter wide, so it holds a handful of disks); and writes their
- * ids in that order to sortedIds. */
+ * into; sorts the cell's slots and ids by id: sortedIds is then
+ * sortedIndices. */
 __kernel void sortCellSegments(__global GridCell* cells,
                                __global const uint* tileOffsets,
                                uint tileLength,
                                uint cellCount,
                                __global uint* cellOrder,
-                               __global const uint* ids,
                                __global uint* sortedIds,
                                __global uint* nextCounts)
 {
@@ -184,17 +221,5 @@ __kernel void sortCellSegments(__global GridCell* cells,
     GridCell cell = cells[c];
     cell.start = carom_cell_start(cells, c, tileOffsets, tileLength);
     cells[c] = cell;
-    __global uint* slots = cellOrder + cell.start;
-    __global uint* sorted = sortedIds + cell.start;
-    for (uint a = 0; a < cell.count; ++a) {
-        const uint slot = slots[a];
-        const uint id = ids[slot];
-        uint b = a;
-        for (; b > 0 && sorted[b - 1] > id; --b) {
-            slots[b] = slots[b - 1];
-            sorted[b] = sorted[b - 1];
-        }
-        slots[b] = slot;
-        sorted[b] = id;
-    }
+    carom_sort_cell(cell, cellOrder, sortedIds);
 }

@@ -140,52 +140,67 @@ TEST_CASE("resident grid: the scan gives the same grid with one to four levels")
     CHECK(mostLevels >= 4);
 }
 
+// Both schemes, below and above the size whose simultaneous steps run in one
+// work-group (OpenClResidentBackend, kSmallSystemParticles = 2048).
 TEST_CASE("resident grid: stays the shared builder's as the state evolves") {
-    SceneDef scene;
-    scene.particles = 5000;
-    scene.packing = 0.45f;
-    scene.radiusMin = 0.4f;
-    scene.radiusMax = 1.0f;
-    scene.speed = 3.0f;
-    const InitialState s = makeInitialState(scene);
-    const WorldDef world = box(s.width, s.height);
-    auto backend = makeOpenCl<OpenClResidentBackend>(world);
-    backend->setParticles(s.particles);
-    for (int round = 0; round < 4; ++round) {
-        CAPTURE(round);
-        backend->step(37);
-        checkSameGrid(backend->readDeviceGrid(), hostGrid(read(*backend), backend->gridGeometry()));
-    }
+    for (const CollisionScheme scheme : {CollisionScheme::Simultaneous, CollisionScheme::Pairwise})
+        for (const std::uint32_t particles : {2000u, 5000u}) {
+            CAPTURE(scheme);
+            CAPTURE(particles);
+            SceneDef scene;
+            scene.particles = particles;
+            scene.packing = 0.45f;
+            scene.radiusMin = 0.4f;
+            scene.radiusMax = 1.0f;
+            scene.speed = 3.0f;
+            const InitialState s = makeInitialState(scene);
+            WorldDef world = box(s.width, s.height);
+            world.collisions = scheme;
+            auto backend = makeOpenCl<OpenClResidentBackend>(world);
+            backend->setParticles(s.particles);
+            for (int round = 0; round < 4; ++round) {
+                CAPTURE(round);
+                backend->step(37);
+                checkSameGrid(backend->readDeviceGrid(), hostGrid(read(*backend), backend->gridGeometry()));
+            }
+        }
 }
 
 TEST_CASE("resident pipeline: steps in several calls, with reads between, equal the CPU bitwise") {
-    SceneDef scene;
-    scene.particles = 4000;
-    scene.packing = 0.5f;
-    const InitialState s = makeInitialState(scene);
-    const WorldDef world = box(s.width, s.height);
-    auto resident = makeOpenCl<OpenClResidentBackend>(world);
-    if (!resident->exactArithmetic()) {
-        MESSAGE("the device lacks correctly rounded divide/sqrt: no bitwise comparison");
-        return;
-    }
-    auto cpu = makeBackend(EngineDef{}, world);
-    resident->setParticles(s.particles);
-    cpu->setParticles(s.particles);
-    for (std::uint64_t steps : {1, 63, 64, 65, 7}) {  // around the backend's sync interval
-        CAPTURE(steps);
-        resident->step(steps);
-        cpu->step(steps);
-        CHECK(bitwiseEqual(read(*resident), read(*cpu)));
-        CHECK(resident->collisions() == cpu->collisions());
-    }
-    // A new state replaces the old one entirely.
-    resident->setParticles(s.particles);
-    cpu->setParticles(s.particles);
-    resident->step(10);
-    cpu->step(10);
-    CHECK(bitwiseEqual(read(*resident), read(*cpu)));
-    CHECK(resident->collisions() == cpu->collisions());
+    for (const CollisionScheme scheme : {CollisionScheme::Simultaneous, CollisionScheme::Pairwise})
+        for (const std::uint32_t particles : {2000u, 4000u}) {
+            CAPTURE(scheme);
+            CAPTURE(particles);
+            SceneDef scene;
+            scene.particles = particles;
+            scene.packing = 0.5f;
+            const InitialState s = makeInitialState(scene);
+            WorldDef world = box(s.width, s.height);
+            world.collisions = scheme;
+            auto resident = makeOpenCl<OpenClResidentBackend>(world);
+            if (!resident->exactArithmetic()) {
+                MESSAGE("the device lacks correctly rounded divide/sqrt: no bitwise comparison");
+                return;
+            }
+            auto cpu = makeBackend(EngineDef{}, world);
+            resident->setParticles(s.particles);
+            cpu->setParticles(s.particles);
+            // Around the backend's sync interval (64) and the small system's steps per launch (16).
+            for (std::uint64_t steps : {1, 63, 64, 65, 7, 16, 17, 15}) {
+                CAPTURE(steps);
+                resident->step(steps);
+                cpu->step(steps);
+                CHECK(bitwiseEqual(read(*resident), read(*cpu)));
+                CHECK(resident->collisions() == cpu->collisions());
+            }
+            // A new state replaces the old one entirely.
+            resident->setParticles(s.particles);
+            cpu->setParticles(s.particles);
+            resident->step(10);
+            cpu->step(10);
+            CHECK(bitwiseEqual(read(*resident), read(*cpu)));
+            CHECK(resident->collisions() == cpu->collisions());
+        }
 }
 
 TEST_CASE("pipelines: a value that is not a ComputeEngine is refused") {
