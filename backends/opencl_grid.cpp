@@ -24,9 +24,11 @@ std::size_t DeviceGrid::scanTileBytes(std::size_t groupSize, std::size_t items) 
 }
 
 std::size_t DeviceGrid::scanGroupSize(const DeviceInfo& device, std::size_t kernelLimit, std::size_t maxGroupSize,
-                                      std::size_t items) {
+                                      std::size_t items, std::size_t otherBytesPerItem) {
     std::size_t group = powerOfTwoAtMost(std::min(maxGroupSize, kernelLimit));
-    while (group > 1 && scanTileBytes(group, items) + scanRunBytes(group) > device.localMemoryBytes) group /= 2;
+    while (group > 1 &&
+           scanTileBytes(group, items) + scanRunBytes(group) + group * otherBytesPerItem > device.localMemoryBytes)
+        group /= 2;
     return group;
 }
 

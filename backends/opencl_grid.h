@@ -45,12 +45,13 @@ public:
     std::size_t cellCount() const { return levelSizes_[0]; }
 
     // The largest power-of-two work-group of at most maxGroupSize and
-    // kernelLimit work-items whose scan tile of `items` values per work-item
-    // fits the device's local memory, and the local memory its scan takes:
-    // the tile (padded by one word in 32: carom_padded) and a run sum per
-    // work-item (kernels/grid.cl, carom_scan_tile).
+    // kernelLimit work-items whose scan tile of `items` values per work-item,
+    // with otherBytesPerItem more local memory per work-item, fits the
+    // device's local memory; and the local memory its scan takes: the tile
+    // (padded by one word in 32: carom_padded) and a run sum per work-item
+    // (kernels/grid.cl, carom_scan_tile).
     static std::size_t scanGroupSize(const DeviceInfo& device, std::size_t kernelLimit, std::size_t maxGroupSize,
-                                     std::size_t items);
+                                     std::size_t items, std::size_t otherBytesPerItem = 0);
     static std::size_t scanTileBytes(std::size_t groupSize, std::size_t items);
     static std::size_t scanRunBytes(std::size_t groupSize) { return groupSize * sizeof(cl_uint); }
 

@@ -1,6 +1,7 @@
 #include "backends/opencl_pairwise.h"
 
 #include <algorithm>
+#include <limits>
 
 #include "backends/backend.h"
 
@@ -99,6 +100,25 @@ void DevicePairwise::enqueueStep(cl_command_queue queue, const StepBuffers& buff
 }
 
 cl_uint DevicePairwise::nonFiniteIndex() { return kCounts; }
+
+cl_uint DevicePairwise::lengthCount() { return kCounts; }
+
+DevicePairwise::Lists DevicePairwise::lists() const {
+    return {events_.get(),     pending_[0].get(),  pending_[1].get(),  changed_.get(), dirty_.get(),
+            pendingMarks_.get(), changedMarks_.get(), dirtyMarks_.get(), counts_.get()};
+}
+
+cl_uint DevicePairwise::reserveStepEpochs(cl_command_queue queue) {
+    if (epoch_ > std::numeric_limits<unsigned int>::max() - (kMaxPairwiseRounds + 1)) {
+        for (cl_mem marks : {pendingMarks_.get(), changedMarks_.get(), dirtyMarks_.get()})
+            enqueueZero(queue, marks, particleCount_ * sizeof(cl_uint), "pairwise marks");
+        epoch_ = 0;
+    }
+    const cl_uint first = epoch_ + 1;
+    epoch_ += kMaxPairwiseRounds + 1;
+    lastRound_ = kMaxPairwiseRounds;  // the kernel runs every round there is: complete() runs none
+    return first;
+}
 
 const cl_uint* DevicePairwise::nonFiniteRecord() const { return hostCounts_.data() + kCounts; }
 

@@ -59,6 +59,18 @@ public:
     // Waits for the step's rounds; runs the rest if the batch fell short.
     Completion complete(cl_command_queue queue);
 
+    // For a kernel that runs a whole step in one work-group instead of
+    // enqueueStep (stepSmallPairwise, kernels/small_system.cl): the lists,
+    // the number of lengths it zeroes, and the epochs its rounds may take,
+    // firstEpoch .. firstEpoch + kMaxPairwiseRounds (the marks are cleared
+    // when they would wrap). complete() then reads its rounds.
+    struct Lists {
+        cl_mem events, pending0, pending1, changed, dirty, pendingMarks, changedMarks, dirtyMarks, lengths;
+    };
+    Lists lists() const;
+    static cl_uint lengthCount();
+    cl_uint reserveStepEpochs(cl_command_queue queue);
+
 private:
     unsigned int nextEpoch(cl_command_queue queue);
     void enqueueRound(cl_command_queue queue, unsigned int round);

@@ -17,11 +17,13 @@ namespace {
 // work-groups reduce the largest speed.
 constexpr std::size_t kFinishGroupsPerComputeUnit = 16;
 
-// Up to this many disks, simultaneous steps run in one work-group
-// (stepSmallSystem): below it, the four launches of the grid build and the
-// step cost more than one compute unit takes for the whole step. Measured on
-// an H200 (bench/results/nvidia-h200-small-system.txt): 18 us a step at
-// 1 000 disks in one work-group against 23-34 us in launches, even at 2 000.
+// Up to this many disks, steps run whole in one work-group
+// (kernels/small_system.cl): below it, the launches of the grid build and
+// the step cost more than one compute unit takes for the whole step.
+// Measured on an H200 (bench/results/nvidia-h200-small-system.txt), one
+// work-group against launches: simultaneous 19 against 33 us a step at 1 000
+// disks, even at 2 000; pairwise 93 against 163 us at 1 000, 136 against 172
+// at 2 000, 209 against 176 at 4 000.
 constexpr std::size_t kSmallSystemParticles = 2048;
 // The most steps one launch of stepSmallSystem runs.
 constexpr std::uint64_t kSmallSystemSteps = 16;
@@ -40,9 +42,14 @@ OpenClResidentBackend::OpenClResidentBackend(const WorldDef& world, const std::s
     // finishPairwiseAndCount reduces in a work-group too.
     fitWorkGroups({fusedKernel_.get(), finishAndCountKernel_.get()}, {finishAndCountKernel_.get()});
     smallSystemKernel_ = createKernel(program_.get(), "stepSmallSystem");
+    smallPairwiseKernel_ = createKernel(program_.get(), "stepSmallPairwise");
     smallSystemGroupSize_ = opencl::DeviceGrid::scanGroupSize(
         device_, kernelWorkGroupLimit(smallSystemKernel_.get(), device_.id), kSmallSystemGroupSize,
         kSmallSystemScanItems);
+    // The pairwise one also reduces the largest speed: a float per work-item.
+    smallPairwiseGroupSize_ = opencl::DeviceGrid::scanGroupSize(
+        device_, kernelWorkGroupLimit(smallPairwiseKernel_.get(), device_.id), kSmallSystemGroupSize,
+        kSmallSystemScanItems, sizeof(cl_float));
     speedBits_ = createBuffer(context_.get(), 2 * sizeof(cl_uint), "largest speed squared");
 }
 
@@ -67,7 +74,7 @@ void OpenClResidentBackend::loadState(std::vector<Particle> particles) {
     deviceGrid_.count(queue_.get(), state_.get());
     speedKnown_ = false;
     unconfirmed_ = false;
-    smallSystem_ = world_.collisions == CollisionScheme::Simultaneous && n <= kSmallSystemParticles;
+    smallSystem_ = n <= kSmallSystemParticles;
     if (world_.collisions != CollisionScheme::Pairwise) return;
     pairwise_ = DevicePairwise(context_.get(), device_, program_.get(), n, queue_.get(), profiler_.get());
     check(clEnqueueWriteBuffer(queue_.get(), pairwise_.lengths(), CL_TRUE,
@@ -83,7 +90,7 @@ void OpenClResidentBackend::loadState(std::vector<Particle> particles) {
 void OpenClResidentBackend::enqueueStep(float dt) { enqueueSteps(1, dt); }
 
 std::uint64_t OpenClResidentBackend::enqueueSteps(std::uint64_t steps, float dt) {
-    if (smallSystem_) return stepSmallSystem(steps, dt);
+    if (smallSystem_ && world_.collisions == CollisionScheme::Simultaneous) return stepSmallSystem(steps, dt);
     world_.collisions == CollisionScheme::Pairwise ? stepPairwise(dt) : stepSimultaneous(dt);
     return 1;
 }
@@ -130,16 +137,36 @@ void OpenClResidentBackend::stepPairwise(float dt) {
     confirmStep();
     if (nonFinite()) return;
     const CaromStepParams step = stepParams(dt);
-    deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get());
-    pairwise_.enqueueStep(queue_.get(),
-                          {state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), deviceGrid_.cellOf(),
-                           deviceGrid_.cells(), tallies_.get()},
-                          step);
     speedParity_ = 1 - speedParity_;
     unconfirmedStepIndex_ = nextStepIndex();
-    enqueuePairwiseFinish(step, unconfirmedStepIndex_);
+    if (smallSystem_) {
+        enqueueSmallPairwise(step, unconfirmedStepIndex_);
+    } else {
+        deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get());
+        pairwise_.enqueueStep(queue_.get(),
+                              {state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), deviceGrid_.cellOf(),
+                               deviceGrid_.cells(), tallies_.get()},
+                              step);
+        enqueuePairwiseFinish(step, unconfirmedStepIndex_);
+    }
     check(clFlush(queue_.get()), "clFlush");
     unconfirmed_ = true;
+}
+
+void OpenClResidentBackend::enqueueSmallPairwise(const CaromStepParams& step, cl_uint stepIndex) {
+    const opencl::DevicePairwise::Lists l = pairwise_.lists();
+    const cl_uint firstEpoch = pairwise_.reserveStepEpochs(queue_.get());
+    setKernelArgs(smallPairwiseKernel_.get(), state_.get(), next_.get(), ids_.get(), sortedIds_.get(),
+                  deviceGrid_.cells(), deviceGrid_.counts(), deviceGrid_.nextCounts(), deviceGrid_.cellOrder(),
+                  deviceGrid_.cellOf(), deviceGrid_.rankInCell(), step, tallies_.get(), l.events, l.pending0,
+                  l.pending1, l.changed, l.dirty, l.pendingMarks, l.changedMarks, l.dirtyMarks, l.lengths,
+                  opencl::DevicePairwise::lengthCount(), firstEpoch, cl_uint{kMaxPairwiseRounds}, speedBits_.get(),
+                  cl_uint{speedParity_}, stepIndex, opencl::DevicePairwise::nonFiniteIndex());
+    const std::size_t group = smallPairwiseGroupSize_;
+    setLocalArg(smallPairwiseKernel_.get(), 28, opencl::DeviceGrid::scanTileBytes(group, kSmallSystemScanItems));
+    setLocalArg(smallPairwiseKernel_.get(), 29, opencl::DeviceGrid::scanRunBytes(group));
+    setLocalArg(smallPairwiseKernel_.get(), 30, group * sizeof(cl_float));
+    enqueue1d(queue_.get(), smallPairwiseKernel_.get(), group, group, "stepSmallPairwise", profiler_.get());
 }
 
 // The kernel records a disk left non-finite in the pairwise lengths, which

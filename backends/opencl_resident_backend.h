@@ -3,8 +3,9 @@
 // there (DeviceGrid, kernels/grid.cl) and one fused kernel resolves,
 // integrates and counts the new positions into the next grid
 // (kernels/resident.cl; pairwise: the rounds, then a kernel that finishes
-// the step and counts). A small system's simultaneous steps run whole in
-// one work-group instead, several per launch (stepSmallSystem). The host
+// the step and counts). A small system's steps run whole in one
+// work-group instead (kernels/small_system.cl): one launch per pairwise
+// step, several simultaneous steps per launch. The host
 // reads the state only when asked (readParticles). Bitwise equal to the
 // seed pipeline.
 #pragma once
@@ -42,14 +43,18 @@ private:
     // Simultaneous steps of a small system, up to kSmallSystemSteps in one
     // launch of stepSmallSystem; returns how many.
     std::uint64_t stepSmallSystem(std::uint64_t steps, float dt);
+    // A small system's pairwise step: one launch of stepSmallPairwise.
+    void enqueueSmallPairwise(const CaromStepParams& step, cl_uint stepIndex);
     void stepPairwise(float dt);
     void enqueuePairwiseFinish(const CaromStepParams& step, cl_uint stepIndex);
 
     opencl::Kernel fusedKernel_;           // resolveIntegrateAndCount
     opencl::Kernel finishAndCountKernel_;  // pairwise: finishPairwiseAndCount
     opencl::Kernel smallSystemKernel_;     // stepSmallSystem
-    std::size_t smallSystemGroupSize_ = 1; // its one work-group: a power of two
-    bool smallSystem_ = false;             // simultaneous steps run in stepSmallSystem
+    opencl::Kernel smallPairwiseKernel_;   // stepSmallPairwise
+    std::size_t smallSystemGroupSize_ = 1; // their one work-group: a power of two
+    std::size_t smallPairwiseGroupSize_ = 1;
+    bool smallSystem_ = false;             // steps run whole in one work-group (kernels/small_system.cl)
     opencl::DeviceGrid deviceGrid_;
     opencl::Buffer ids_;               // the particle id in each slot of state_
     opencl::Buffer sortedIds_;         // sortedIndices, then the ids of next_'s slots

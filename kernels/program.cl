@@ -5,3 +5,4 @@
 #include "step.cl"
 #include "resident.cl"
 #include "pairwise.cl"
+#include "small_system.cl"

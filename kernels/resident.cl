@@ -9,7 +9,7 @@
  * state comes out in this step's cell order, which the next step starts
  * from. A disk left non-finite is recorded under
  * `stepIndex` (carom_record_non_finite). Small systems run whole steps in one
- * work-group (stepSmallSystem). */
+ * work-group instead (kernels/small_system.cl). */
 #include "grid.cl"
 #include "pairwise.h"
 
@@ -64,72 +64,43 @@ __kernel void resolveIntegrateAndCount(__global const Particle* state,
                     stepIndex, firstNonFinite);
 }
 
-/* `steps` simultaneous steps of a small system in one launch of one
- * work-group: the grid build of kernels/grid.cl and the step above, with
- * barriers between their passes instead of kernel launches (at a few
- * thousand disks a launch costs more than its work). The same passes on the
- * same data as the launches, so the same bits. On entry `counts`, `cellOf`
- * and `rankInCell` hold the counts of `state` (whose slot s holds particle
- * ids[s]); on return, those of the last step's state, which is in `next`
- * and `sortedIds` when `steps` is odd. Step s records a disk left non-finite
- * under firstStepIndex + s. The local size must be a power of two; `tile`
- * and `runSums` as for scanCountsIntoCells, with CAROM_SMALL_SYSTEM_SCAN_ITEMS
- * values per work-item. */
-#define CAROM_SMALL_SYSTEM_SCAN_ITEMS 4
-__kernel void stepSmallSystem(__global Particle* state,
-                              __global Particle* next,
-                              __global uint* ids,
-                              __global uint* sortedIds,
-                              __global GridCell* cells,
-                              __global uint* counts,
-                              __global uint* cellOrder,
-                              __global uint* cellOf,
-                              __global uint* rankInCell,
-                              CaromStepParams step,
-                              uint steps,
-                              __global ContactTally* tallies,
-                              uint firstStepIndex,
-                              __global uint* firstNonFinite,
-                              __local uint* tile,
-                              __local uint* runSums)
+/* One particle's end of a pairwise step: particle sortedIds[k] finished
+ * from slot cellOrder[k] of `state` into slot k of `next` and counted into
+ * the next grid's `counts`; returns its v.x^2 + v.y^2. */
+static inline float carom_finish_slot(uint k,
+                                      __global const Particle* state,
+                                      __global const uint* cellOrder,
+                                      __global const uint* sortedIds,
+                                      CaromStepParams step,
+                                      __global Particle* next,
+                                      __global ContactTally* tallies,
+                                      __global uint* counts,
+                                      __global uint* cellOf,
+                                      __global uint* rankInCell,
+                                      uint stepIndex,
+                                      __global uint* firstNonFinite)
+{
+    const Particle moved = carom_finish_step(state[cellOrder[k]], step, &tallies[sortedIds[k]]);
+    next[k] = moved;
+    carom_count_into_cell(k, moved.position, step.grid, counts, cellOf, rankInCell);
+    carom_record_non_finite(moved, sortedIds[k], stepIndex, firstNonFinite);
+    return carom_speed_squared(moved);
+}
+
+/* The largest of the work-group's values (the local size a power of two;
+ * `scratch` one float per work-item), for every work-item. */
+static inline float carom_group_max(float value, __local float* scratch)
 {
     const uint lid = get_local_id(0);
-    const uint size = get_local_size(0);
-    const uint tileLength = size * CAROM_SMALL_SYSTEM_SCAN_ITEMS;
-    const uint cellCount = (uint)(step.grid.cols * step.grid.rows);
-    for (uint s = 0; s < steps; ++s) {
-        uint before = 0; /* the particles in the tiles scanned so far */
-        for (uint first = 0; first < cellCount; first += tileLength) {
-            const uint total = carom_scan_tile(counts, cellCount, first, CAROM_SMALL_SYSTEM_SCAN_ITEMS, tile, runSums);
-            for (uint k = lid; k < tileLength && first + k < cellCount; k += size) {
-                GridCell cell;
-                cell.start = before + tile[carom_padded(k)];
-                cell.count = counts[first + k];
-                cells[first + k] = cell;
-            }
-            before += total;
-            barrier(CLK_LOCAL_MEM_FENCE); /* the next tile overwrites this one */
-        }
-        barrier(CLK_GLOBAL_MEM_FENCE);
-        for (uint slot = lid; slot < step.count; slot += size)
-            carom_scatter_slot(slot, cells[cellOf[slot]].start, rankInCell, ids, cellOrder, sortedIds);
-        barrier(CLK_GLOBAL_MEM_FENCE);
-        for (uint c = lid; c < cellCount; c += size) {
-            counts[c] = 0u;
-            carom_sort_cell(cells[c], cellOrder, sortedIds);
-        }
-        barrier(CLK_GLOBAL_MEM_FENCE);
-        for (uint k = lid; k < step.count; k += size)
-            carom_step_slot(k, state, cellOrder, sortedIds, cells, step, next, tallies, counts, cellOf, rankInCell,
-                            firstStepIndex + s, firstNonFinite);
-        barrier(CLK_GLOBAL_MEM_FENCE);
-        __global Particle* const stepped = next;
-        next = state;
-        state = stepped;
-        __global uint* const steppedIds = sortedIds;
-        sortedIds = ids;
-        ids = steppedIds;
+    scratch[lid] = value;
+    for (uint stride = get_local_size(0) / 2; stride > 0; stride /= 2) {
+        barrier(CLK_LOCAL_MEM_FENCE);
+        if (lid < stride) scratch[lid] = fmax(scratch[lid], scratch[lid + stride]);
     }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    const float largest = scratch[0];
+    barrier(CLK_LOCAL_MEM_FENCE); /* scratch may be reused */
+    return largest;
 }
 
 /* The end of a pairwise step (its rounds: kernels/pairwise.cl), if its
@@ -165,19 +136,10 @@ __kernel void finishPairwiseAndCount(__global const Particle* state,
 {
     if (lengths[condition] != 0u) return; /* the same for every work-item */
     float largest = 0.0f;
-    for (uint k = get_global_id(0); k < step.count; k += get_global_size(0)) {
-        const Particle moved = carom_finish_step(state[cellOrder[k]], step, &tallies[sortedIds[k]]);
-        next[k] = moved;
-        carom_count_into_cell(k, moved.position, step.grid, nextCounts, cellOf, rankInCell);
-        carom_record_non_finite(moved, sortedIds[k], stepIndex, lengths + nonFiniteIndex);
-        largest = fmax(largest, carom_speed_squared(moved));
-    }
+    for (uint k = get_global_id(0); k < step.count; k += get_global_size(0))
+        largest = fmax(largest, carom_finish_slot(k, state, cellOrder, sortedIds, step, next, tallies, nextCounts,
+                                                  cellOf, rankInCell, stepIndex, lengths + nonFiniteIndex));
     if (get_global_id(0) == 0) speedBits[1 - parity] = 0u;
-    const uint lid = get_local_id(0);
-    scratch[lid] = largest;
-    for (uint stride = get_local_size(0) / 2; stride > 0; stride /= 2) {
-        barrier(CLK_LOCAL_MEM_FENCE);
-        if (lid < stride) scratch[lid] = fmax(scratch[lid], scratch[lid + stride]);
-    }
-    if (lid == 0) atomic_max(&speedBits[parity], as_uint(scratch[0]));
+    const float groupLargest = carom_group_max(largest, scratch);
+    if (get_local_id(0) == 0) atomic_max(&speedBits[parity], as_uint(groupLargest));
 }

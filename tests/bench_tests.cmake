@@ -39,21 +39,24 @@ carom_cli_test(bench_unwritable_json fail "cannot write '/nonexistent-dir/bench.
 add_test(NAME cli.bench_outputs
          COMMAND ${CMAKE_COMMAND} -DCAROM=$<TARGET_FILE:carom> -DWORK_DIR=${CMAKE_CURRENT_BINARY_DIR}
                  -P ${CMAKE_CURRENT_SOURCE_DIR}/cli_bench_outputs.cmake)
-# --profile under the pairwise scheme: the parts each method's profile must show.
-function(carom_bench_profile_test name methods parts)
+# --profile under the pairwise scheme at N disks: the parts each method's profile must show.
+function(carom_bench_profile_test name methods particles parts)
     add_test(NAME cli.bench_profile_${name}
              COMMAND ${CMAKE_COMMAND} -DCAROM=$<TARGET_FILE:carom> -DJSON=${CMAKE_CURRENT_BINARY_DIR}/bench-profile-${name}.json
-                     -DMETHODS=${methods} "-DPARTS=${parts}" -P ${CMAKE_CURRENT_SOURCE_DIR}/cli_bench_profile.cmake)
+                     -DMETHODS=${methods} -DPARTICLES=${particles} "-DPARTS=${parts}"
+                     -P ${CMAKE_CURRENT_SOURCE_DIR}/cli_bench_profile.cmake)
 endfunction()
-carom_bench_profile_test(cpu_pairwise cpu "buildGrid (host, serial)")
+carom_bench_profile_test(cpu_pairwise cpu 500 "buildGrid (host, serial)")
 if(OpenCL_FOUND)
     carom_cli_test(run_resident pass "\"backend\": \"opencl\""
                    "run|--backend|opencl|--pipeline|resident|--particles|100|--steps|10|--json")
     carom_cli_test(pipeline_unknown fail "--pipeline: fast not in \\{auto,seed,resident\\}" "${run}|--pipeline|fast")
     carom_cli_test(pipeline_resident_on_cpu fail "--pipeline: 'resident' needs --backend opencl"
                    "${run}|--pipeline|resident")
-    carom_bench_profile_test(seed_pairwise opencl-seed
+    carom_bench_profile_test(seed_pairwise opencl-seed 500
         "buildGrid (host)|upload grid|findEventsForward|resolveEvents|finishStepById|read list lengths|download state")
-    carom_bench_profile_test(resident_pairwise opencl-resident
+    # Above and below the resident pipeline's small-system limit (2 048 disks).
+    carom_bench_profile_test(resident_pairwise opencl-resident 3000
         "scanCountsIntoCells|scatterToCells|sortCellSegments|findEventsForward|resolveEvents|finishPairwiseAndCount|read list lengths")
+    carom_bench_profile_test(resident_small_pairwise opencl-resident 500 "stepSmallPairwise|read list lengths")
 endif()

@@ -1,8 +1,8 @@
-# `carom bench --profile` under the pairwise scheme: every part in PARTS has a
+# `carom bench --profile` under the pairwise scheme at N = PARTICLES: every part in PARTS has a
 # time > 0 in the profile of the method's row.
-#   cmake -DCAROM=<binary> -DJSON=<file> -DMETHODS=<method> -DPARTS=a|b|c -P cli_bench_profile.cmake
+#   cmake -DCAROM=<binary> -DJSON=<file> -DMETHODS=<method> -DPARTICLES=<N> -DPARTS=a|b|c -P cli_bench_profile.cmake
 file(REMOVE ${JSON})
-execute_process(COMMAND ${CAROM} bench --methods ${METHODS} --collisions pairwise --sizes 500 --samples 1 --profile
+execute_process(COMMAND ${CAROM} bench --methods ${METHODS} --collisions pairwise --sizes ${PARTICLES} --samples 1 --profile
                         --json ${JSON}
                 RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT status EQUAL 0)

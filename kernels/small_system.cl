@@ -1,0 +1,203 @@
+/* Whole steps of a small system in one work-group, for the resident
+ * pipeline (backends/opencl_resident_backend.cpp): at a few thousand disks
+ * the launches of a step (the grid build's, the step's, the pairwise
+ * rounds') cost more than the work, and one work-group does it all, with
+ * barriers between the passes instead of launches. The passes are those of
+ * kernels/grid.cl, resident.cl and pairwise.cl, through the same functions
+ * on the same data, so the results are the same bits.
+ *
+ * The local size must be a power of two; `tile` and `runSums` are those of
+ * carom_scan_tile, with CAROM_SMALL_SYSTEM_SCAN_ITEMS values per work-item:
+ * a small tile, so that the work-group can be large (the host sizes them:
+ * kSmallSystemScanItems). It uses the functions of resident.cl and
+ * pairwise.cl, which program.cl puts before it. */
+
+#define CAROM_SMALL_SYSTEM_SCAN_ITEMS 4
+
+/* The grid of the state, by the work-group: on entry `counts`, `cellOf` and
+ * `rankInCell` hold its per-cell counts and each slot's cell and arrival
+ * rank; on return `cells` hold the cells, `cellOrder` and `sortedIds` the
+ * slots and ids in cell order, ascending id within a cell, and `nextCounts`
+ * is zeroed (it may be `counts`). */
+static inline void carom_build_grid_in_group(uint count,
+                                             uint cellCount,
+                                             __global const uint* counts,
+                                             __global GridCell* cells,
+                                             __global const uint* cellOf,
+                                             __global const uint* rankInCell,
+                                             __global const uint* ids,
+                                             __global uint* cellOrder,
+                                             __global uint* sortedIds,
+                                             __global uint* nextCounts,
+                                             __local uint* tile,
+                                             __local uint* runSums)
+{
+    const uint lid = get_local_id(0);
+    const uint size = get_local_size(0);
+    const uint tileLength = size * CAROM_SMALL_SYSTEM_SCAN_ITEMS;
+    uint before = 0; /* the particles in the tiles scanned so far */
+    for (uint first = 0; first < cellCount; first += tileLength) {
+        const uint total = carom_scan_tile(counts, cellCount, first, CAROM_SMALL_SYSTEM_SCAN_ITEMS, tile, runSums);
+        for (uint k = lid; k < tileLength && first + k < cellCount; k += size) {
+            GridCell cell;
+            cell.start = before + tile[carom_padded(k)];
+            cell.count = counts[first + k];
+            cells[first + k] = cell;
+        }
+        before += total;
+        barrier(CLK_LOCAL_MEM_FENCE); /* the next tile overwrites this one */
+    }
+    barrier(CLK_GLOBAL_MEM_FENCE);
+    for (uint slot = lid; slot < count; slot += size)
+        carom_scatter_slot(slot, cells[cellOf[slot]].start, rankInCell, ids, cellOrder, sortedIds);
+    barrier(CLK_GLOBAL_MEM_FENCE);
+    for (uint c = lid; c < cellCount; c += size) {
+        nextCounts[c] = 0u;
+        carom_sort_cell(cells[c], cellOrder, sortedIds);
+    }
+    barrier(CLK_GLOBAL_MEM_FENCE);
+}
+
+/* `steps` simultaneous steps: the grid build and resolveIntegrateAndCount's
+ * step, each step counting its state into `counts` in place. On entry
+ * `counts`, `cellOf` and `rankInCell` hold the counts of `state` (whose slot
+ * s holds particle ids[s]); on return, those of the last step's state, which
+ * is in `next` and `sortedIds` when `steps` is odd. Step s records a disk
+ * left non-finite under firstStepIndex + s. */
+__kernel void stepSmallSystem(__global Particle* state,
+                              __global Particle* next,
+                              __global uint* ids,
+                              __global uint* sortedIds,
+                              __global GridCell* cells,
+                              __global uint* counts,
+                              __global uint* cellOrder,
+                              __global uint* cellOf,
+                              __global uint* rankInCell,
+                              CaromStepParams step,
+                              uint steps,
+                              __global ContactTally* tallies,
+                              uint firstStepIndex,
+                              __global uint* firstNonFinite,
+                              __local uint* tile,
+                              __local uint* runSums)
+{
+    const uint cellCount = (uint)(step.grid.cols * step.grid.rows);
+    for (uint s = 0; s < steps; ++s) {
+        carom_build_grid_in_group(step.count, cellCount, counts, cells, cellOf, rankInCell, ids, cellOrder, sortedIds,
+                                  counts, tile, runSums);
+        for (uint k = get_local_id(0); k < step.count; k += get_local_size(0))
+            carom_step_slot(k, state, cellOrder, sortedIds, cells, step, next, tallies, counts, cellOf, rankInCell,
+                            firstStepIndex + s, firstNonFinite);
+        barrier(CLK_GLOBAL_MEM_FENCE);
+        __global Particle* const stepped = next;
+        next = state;
+        state = stepped;
+        __global uint* const steppedIds = sortedIds;
+        sortedIds = ids;
+        ids = steppedIds;
+    }
+}
+
+/* Runs pass(k) for the entries of a list whose length is lengths[index], by
+ * the work-group, then waits for all of it. */
+#define CAROM_FOR_LISTED(items, lengths, index, k, pass)                                  \
+    do {                                                                                  \
+        const uint carom_length = (lengths)[index];                                       \
+        for (uint carom_e = get_local_id(0); carom_e < carom_length; carom_e += get_local_size(0)) { \
+            const uint k = (items)[carom_e];                                              \
+            pass;                                                                         \
+        }                                                                                 \
+        barrier(CLK_GLOBAL_MEM_FENCE);                                                    \
+    } while (0)
+
+/* One pairwise step: the grid build, the passes findEventsForward,
+ * searchListed and resolveEvents enqueue (backends/opencl_pairwise.cpp), round
+ * after round until none is pending or `maxRounds` ran, then
+ * finishPairwiseAndCount's. The list lengths start zeroed (the first
+ * lengthCount words of `lengths`); round r uses epoch firstEpoch + r, and
+ * round r's pending list is pending0 for even r and pending1 for odd r, as on
+ * the host. The finished state lands in `next` (slot k: particle
+ * sortedIds[k]) and is counted into `nextCounts`; its largest
+ * v.x^2 + v.y^2 in speedBits[parity] (the other word zeroed); a disk left
+ * non-finite is recorded under `stepIndex` in lengths[nonFiniteIndex..+1]. */
+__kernel void stepSmallPairwise(__global Particle* state,
+                                __global Particle* next,
+                                __global const uint* ids,
+                                __global uint* sortedIds,
+                                __global GridCell* cells,
+                                __global const uint* counts,
+                                __global uint* nextCounts,
+                                __global uint* cellOrder,
+                                __global uint* cellOf,
+                                __global uint* rankInCell,
+                                CaromStepParams step,
+                                __global ContactTally* tallies,
+                                __global CaromEvent* events,
+                                __global uint* pending0,
+                                __global uint* pending1,
+                                __global uint* changed,
+                                __global uint* dirty,
+                                __global uint* pendingMarks,
+                                __global uint* changedMarks,
+                                __global uint* dirtyMarks,
+                                __global uint* lengths,
+                                uint lengthCount,
+                                uint firstEpoch,
+                                uint maxRounds,
+                                __global uint* speedBits,
+                                uint parity,
+                                uint stepIndex,
+                                uint nonFiniteIndex,
+                                __local uint* tile,
+                                __local uint* runSums,
+                                __local float* scratch)
+{
+    const uint lid = get_local_id(0);
+    const uint size = get_local_size(0);
+    const uint cellCount = (uint)(step.grid.cols * step.grid.rows);
+    carom_build_grid_in_group(step.count, cellCount, counts, cells, cellOf, rankInCell, ids, cellOrder, sortedIds,
+                              nextCounts, tile, runSums);
+    for (uint i = lid; i < lengthCount; i += size) lengths[i] = 0u;
+    barrier(CLK_GLOBAL_MEM_FENCE);
+
+    /* Round 0: every disk forward, then the dirty ones over all neighbours. */
+    uint epoch = firstEpoch;
+    const CaromList none = carom_list(0, lengths, 0, 0);
+    CaromList changedList = carom_list(changed, lengths, 1, changedMarks);
+    CaromList dirtyList = carom_list(dirty, lengths, 2, dirtyMarks);
+    CaromList pendingList = carom_list(pending0, lengths, 0, pendingMarks);
+    for (uint k = lid; k < step.count; k += size)
+        carom_find_event(k, state, cellOrder, sortedIds, cellOf, cells, step, events, CAROM_SEARCH_FORWARD, none,
+                         dirtyList, pendingList, epoch);
+    barrier(CLK_GLOBAL_MEM_FENCE);
+    CAROM_FOR_LISTED(dirty, lengths, 2, k,
+                     carom_find_event(k, state, cellOrder, sortedIds, cellOf, cells, step, events, CAROM_SEARCH_ALL,
+                                      changedList, dirtyList, pendingList, epoch));
+
+    for (uint round = 1; round <= maxRounds && lengths[3 * (round - 1)] != 0u; ++round) {
+        ++epoch;
+        __global const uint* resolving = round % 2 == 1 ? pending0 : pending1;
+        changedList = carom_list(changed, lengths, 3 * round + 1, changedMarks);
+        dirtyList = carom_list(dirty, lengths, 3 * round + 2, dirtyMarks);
+        pendingList = carom_list(round % 2 == 1 ? pending1 : pending0, lengths, 3 * round, pendingMarks);
+        CAROM_FOR_LISTED(resolving, lengths, 3 * (round - 1), k,
+                         carom_resolve_event(k, state, cellOrder, sortedIds, events, step, tallies, changedList,
+                                             pendingList, epoch));
+        CAROM_FOR_LISTED(changed, lengths, 3 * round + 1, k,
+                         carom_find_event(k, state, cellOrder, sortedIds, cellOf, cells, step, events,
+                                          CAROM_SEARCH_CHANGED, changedList, dirtyList, pendingList, epoch));
+        CAROM_FOR_LISTED(dirty, lengths, 3 * round + 2, k,
+                         carom_find_event(k, state, cellOrder, sortedIds, cellOf, cells, step, events,
+                                          CAROM_SEARCH_ALL, changedList, dirtyList, pendingList, epoch));
+    }
+
+    float largest = 0.0f;
+    for (uint k = lid; k < step.count; k += size)
+        largest = fmax(largest, carom_finish_slot(k, state, cellOrder, sortedIds, step, next, tallies, nextCounts,
+                                                  cellOf, rankInCell, stepIndex, lengths + nonFiniteIndex));
+    const float groupLargest = carom_group_max(largest, scratch);
+    if (lid == 0) {
+        speedBits[parity] = as_uint(groupLargest);
+        speedBits[1 - parity] = 0u;
+    }
+}
