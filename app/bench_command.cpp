@@ -235,9 +235,10 @@ void addBenchOptions(CLI::App& command, BenchOptions& o) {
     command.add_option("--csv", o.csv, "Write the results as CSV to this file: a row per method, scheme and N");
     command.add_option("--plot", o.plot,
                        "Write an SVG plot of throughput against N to this file: a line per method and scheme");
-    command.add_flag("--profile", o.profile,
-                     "Also show where a step's time goes, under each scheme: device time per kernel and "
-                     "transfer (OpenCL; the pairwise kernels too), the serial grid build (cpu); from separate runs");
+    command.add_flag(
+        "--profile", o.profile,
+        "Also show where a step's time goes, under each scheme: device time per kernel and "
+        "transfer (OpenCL; the pairwise kernels too), the grid build (cpu, on its threads); from separate runs");
     command.add_flag("--quick", o.quick, "A short run for CI: N = 1000 and 4000, 3 short samples");
     command.add_flag("--list", o.list, "List the methods, the collision schemes and the default sizes, then exit");
 }

@@ -104,7 +104,7 @@ cl_uint DevicePairwise::nonFiniteIndex() { return kCounts; }
 cl_uint DevicePairwise::lengthCount() { return kCounts; }
 
 DevicePairwise::Lists DevicePairwise::lists() const {
-    return {events_.get(),     pending_[0].get(),  pending_[1].get(),  changed_.get(), dirty_.get(),
+    return {events_.get(),       pending_[0].get(),   pending_[1].get(), changed_.get(), dirty_.get(),
             pendingMarks_.get(), changedMarks_.get(), dirtyMarks_.get(), counts_.get()};
 }
 

@@ -43,13 +43,13 @@ OpenClResidentBackend::OpenClResidentBackend(const WorldDef& world, const std::s
     fitWorkGroups({fusedKernel_.get(), finishAndCountKernel_.get()}, {finishAndCountKernel_.get()});
     smallSystemKernel_ = createKernel(program_.get(), "stepSmallSystem");
     smallPairwiseKernel_ = createKernel(program_.get(), "stepSmallPairwise");
-    smallSystemGroupSize_ = opencl::DeviceGrid::scanGroupSize(
-        device_, kernelWorkGroupLimit(smallSystemKernel_.get(), device_.id), kSmallSystemGroupSize,
-        kSmallSystemScanItems);
+    smallSystemGroupSize_ =
+        opencl::DeviceGrid::scanGroupSize(device_, kernelWorkGroupLimit(smallSystemKernel_.get(), device_.id),
+                                          kSmallSystemGroupSize, kSmallSystemScanItems);
     // The pairwise one also reduces the largest speed: a float per work-item.
-    smallPairwiseGroupSize_ = opencl::DeviceGrid::scanGroupSize(
-        device_, kernelWorkGroupLimit(smallPairwiseKernel_.get(), device_.id), kSmallSystemGroupSize,
-        kSmallSystemScanItems, sizeof(cl_float));
+    smallPairwiseGroupSize_ =
+        opencl::DeviceGrid::scanGroupSize(device_, kernelWorkGroupLimit(smallPairwiseKernel_.get(), device_.id),
+                                          kSmallSystemGroupSize, kSmallSystemScanItems, sizeof(cl_float));
     speedBits_ = createBuffer(context_.get(), 2 * sizeof(cl_uint), "largest speed squared");
 }
 
@@ -103,7 +103,8 @@ std::uint64_t OpenClResidentBackend::stepSmallSystem(std::uint64_t steps, float 
                   deviceGrid_.cells(), deviceGrid_.counts(), deviceGrid_.cellOrder(), deviceGrid_.cellOf(),
                   deviceGrid_.rankInCell(), stepParams(dt), cl_uint(steps), tallies_.get(), firstStepIndex,
                   firstNonFinite_.get());
-    setLocalArg(smallSystemKernel_.get(), 14, opencl::DeviceGrid::scanTileBytes(smallSystemGroupSize_, kSmallSystemScanItems));
+    setLocalArg(smallSystemKernel_.get(), 14,
+                opencl::DeviceGrid::scanTileBytes(smallSystemGroupSize_, kSmallSystemScanItems));
     setLocalArg(smallSystemKernel_.get(), 15, opencl::DeviceGrid::scanRunBytes(smallSystemGroupSize_));
     enqueue1d(queue_.get(), smallSystemKernel_.get(), smallSystemGroupSize_, smallSystemGroupSize_, "stepSmallSystem",
               profiler_.get());

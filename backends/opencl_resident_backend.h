@@ -48,13 +48,13 @@ private:
     void stepPairwise(float dt);
     void enqueuePairwiseFinish(const CaromStepParams& step, cl_uint stepIndex);
 
-    opencl::Kernel fusedKernel_;           // resolveIntegrateAndCount
-    opencl::Kernel finishAndCountKernel_;  // pairwise: finishPairwiseAndCount
-    opencl::Kernel smallSystemKernel_;     // stepSmallSystem
-    opencl::Kernel smallPairwiseKernel_;   // stepSmallPairwise
-    std::size_t smallSystemGroupSize_ = 1; // their one work-group: a power of two
+    opencl::Kernel fusedKernel_;            // resolveIntegrateAndCount
+    opencl::Kernel finishAndCountKernel_;   // pairwise: finishPairwiseAndCount
+    opencl::Kernel smallSystemKernel_;      // stepSmallSystem
+    opencl::Kernel smallPairwiseKernel_;    // stepSmallPairwise
+    std::size_t smallSystemGroupSize_ = 1;  // their one work-group: a power of two
     std::size_t smallPairwiseGroupSize_ = 1;
-    bool smallSystem_ = false;             // steps run whole in one work-group (kernels/small_system.cl)
+    bool smallSystem_ = false;  // steps run whole in one work-group (kernels/small_system.cl)
     opencl::DeviceGrid deviceGrid_;
     opencl::Buffer ids_;               // the particle id in each slot of state_
     opencl::Buffer sortedIds_;         // sortedIndices, then the ids of next_'s slots

@@ -5,6 +5,10 @@
 #include <sstream>
 #include <string>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include "kernels/physics.h"
 
 namespace carom {
@@ -119,6 +123,80 @@ void buildGrid(const Particle* particles, std::size_t count, Grid& grid) {
     for (std::size_t i = 0; i < count; ++i) {
         GridCell& cell = grid.cells[grid.cellOf[i]];
         grid.sortedIndices[cell.start + cell.count++] = static_cast<std::uint32_t>(i);
+    }
+}
+
+void GridBuilder::prepare(std::size_t count, Grid& grid, int threads) {
+    const GridGeometry& g = grid.geometry;
+    const std::size_t cells = std::size_t(g.cols) * g.rows;
+    // A block of fewer than ~1 000 disks costs more in its histogram than it saves.
+    const std::size_t usefulBlocks = std::max<std::size_t>(1, count / 1024);
+    blocks_ = static_cast<int>(
+        std::min<std::size_t>({std::size_t(std::max(threads, 1)), std::size_t(kMaxGridBlocks), usefulBlocks}));
+    grid.cells.resize(cells);
+    grid.sortedIndices.resize(count);
+    grid.cellOf.resize(count);
+    slots_.resize(std::size_t(blocks_) * cells);
+    partTotals_.resize(std::size_t(blocks_));
+}
+
+void GridBuilder::run(int phase, int b, const Particle* particles, std::size_t count, Grid& grid) {
+    const GridGeometry& g = grid.geometry;
+    const std::size_t cells = grid.cells.size();
+    std::uint32_t* cellOf = grid.cellOf.data();
+    std::uint32_t* slots = slots_.data() + std::size_t(b) * cells;
+    const std::size_t begin = blockBegin(count, b), end = blockBegin(count, b + 1);
+    // Part b of the cells, for the scan.
+    const std::size_t firstCell = cells * std::size_t(b) / blocks_, lastCell = cells * std::size_t(b + 1) / blocks_;
+    switch (phase) {
+        case 0:  // each disk's cell; the block's count per cell
+            std::fill(slots, slots + cells, 0u);
+            for (std::size_t i = begin; i < end; ++i) {
+                const auto cell = static_cast<std::uint32_t>(carom_cell_index(particles[i].position, g));
+                cellOf[i] = cell;
+                ++slots[cell];
+            }
+            break;
+        case 1: {  // the disks in part b of the cells
+            std::uint32_t total = 0;
+            for (int k = 0; k < blocks_; ++k) {
+                const std::uint32_t* counts = slots_.data() + std::size_t(k) * cells;
+                for (std::size_t c = firstCell; c < lastCell; ++c) total += counts[c];
+            }
+            partTotals_[b] = total;
+            break;
+        }
+        case 2: {  // each cell's start, and each block's first slot in it
+            std::uint32_t next = 0;
+            for (int p = 0; p < b; ++p) next += partTotals_[p];
+            for (std::size_t c = firstCell; c < lastCell; ++c) {
+                const std::uint32_t start = next;
+                for (int k = 0; k < blocks_; ++k) {
+                    std::uint32_t& slot = slots_[std::size_t(k) * cells + c];
+                    const std::uint32_t n = slot;
+                    slot = next;
+                    next += n;
+                }
+                grid.cells[c] = GridCell{start, next - start};
+            }
+            break;
+        }
+        case 3:  // the block's ids, ascending, into their cells
+            for (std::size_t i = begin; i < end; ++i)
+                grid.sortedIndices[slots[cellOf[i]]++] = static_cast<std::uint32_t>(i);
+            break;
+        default: break;
+    }
+}
+
+void buildGridParallel(const Particle* particles, std::size_t count, Grid& grid, GridBuilder& builder, int threads) {
+    threads = std::max(threads, 1);
+    builder.prepare(count, grid, threads);
+    const int blocks = builder.blocks();
+#pragma omp parallel num_threads(threads) if (threads > 1)
+    for (int phase = 0; phase < GridBuilder::kPhases; ++phase) {
+#pragma omp for schedule(static, 1)
+        for (int b = 0; b < blocks; ++b) builder.run(phase, b, particles, count, grid);
     }
 }
 

@@ -71,6 +71,42 @@ float gridTravelAllowance(const GridGeometry& geometry, float width, float heigh
 // keeping grid.geometry. Reuses the vectors' storage from step to step.
 void buildGrid(const Particle* particles, std::size_t count, Grid& grid);
 
+// buildGrid split into phases for a team of threads: the same cells,
+// sortedIndices and cellOf, bit for bit, whatever the number of threads.
+// The ids are cut into contiguous blocks; each block counts its disks per
+// cell (its own histogram), a scan over the cells (cut into as many parts)
+// turns the counts into each block's first slot in each cell (cell by cell,
+// block 0 first), and each block scatters its ids in ascending order:
+// within a cell, the blocks' ids follow each other in block order, so every
+// cell still lists its disks in ascending id. The scratch is blocks x cells
+// counters; blocks are at most kMaxGridBlocks, and about one per thread.
+class GridBuilder {
+public:
+    static constexpr int kPhases = 4;  // count, scan totals, scan offsets, scatter
+    static constexpr int kMaxGridBlocks = 8;
+
+    // Sizes grid's vectors and the scratch for `count` disks and a team of
+    // `threads` threads; call before the phases, outside the team.
+    void prepare(std::size_t count, Grid& grid, int threads);
+    // The blocks (and parts) of each phase, as prepare chose them.
+    int blocks() const { return blocks_; }
+    // Block (or part) `block` of phase `phase` (0 .. kPhases-1). The blocks
+    // of a phase may run at once, on any threads; every block of phase p
+    // must have finished before any of phase p + 1 starts.
+    void run(int phase, int block, const Particle* particles, std::size_t count, Grid& grid);
+
+private:
+    std::size_t blockBegin(std::size_t count, int block) const { return count * std::size_t(block) / blocks_; }
+
+    int blocks_ = 1;
+    std::vector<std::uint32_t> slots_;       // blocks_ x cells: counts, then each block's next slot
+    std::vector<std::uint32_t> partTotals_;  // the disks in each part of the cells (blocks_ parts)
+};
+
+// buildGrid on a team of `threads` OpenMP threads (one without OpenMP) with
+// GridBuilder: the same output as buildGrid.
+void buildGridParallel(const Particle* particles, std::size_t count, Grid& grid, GridBuilder& builder, int threads);
+
 // The box as kernels/physics.h sees it.
 inline CaromBox caromBoxOf(const WorldDef& world) {
     return carom_box(world.width, world.height, world.boundary == Boundary::Periodic ? 1 : 0);

@@ -1,5 +1,6 @@
 // The shared grid builder and the 3x3 neighbour search, against brute force.
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <set>
 #include <utility>
@@ -135,4 +136,51 @@ TEST_CASE("grid: NaN positions land in a valid cell") {
     std::vector<Particle> ps = {disk(NAN, NAN, 0, 0), disk(5, 5, 0, 0)};
     const Grid grid = gridFor(ps, 10, 10);
     CHECK(carom_cell_index(ps[0].position, grid.geometry) == 0);
+}
+
+TEST_CASE("grid: the parallel build equals the serial one for any number of threads") {
+    struct Case {
+        unsigned seed;
+        float width, height, rmin, rmax;
+        std::size_t copies;  // repeats of the 3 008 disks (more blocks), shifted
+    };
+    for (const Case c : {Case{1, 80, 60, 0.1f, 1.3f, 1}, Case{2, 50, 50, 0.5f, 0.5f, 4},
+                         Case{3, 200, 20, 0.05f, 2.0f, 3}, Case{4, 30, 120, 1.0f, 1.0f, 2}}) {
+        CAPTURE(c.seed);
+        const std::vector<Particle> one = randomConfiguration(c.seed, c.width, c.height, c.rmin, c.rmax);
+        std::vector<Particle> ps;
+        for (std::size_t k = 0; k < c.copies; ++k)
+            for (Particle p : one) {
+                p.position.x = std::fmod(p.position.x + 0.37f * float(k), c.width);
+                ps.push_back(p);
+            }
+        for (const std::size_t n : {std::size_t(1), std::size_t(7), std::size_t(1500), ps.size()}) {
+            CAPTURE(n);
+            const Grid serial = gridFor(std::vector<Particle>(ps.begin(), ps.begin() + n), c.width, c.height);
+            GridBuilder builder;
+            Grid parallel;  // reused across thread counts, as a backend reuses its grid
+            parallel.geometry = serial.geometry;
+            for (const int threads : {1, 2, 3, 4, 5, 8, 16}) {
+                CAPTURE(threads);
+                buildGridParallel(ps.data(), n, parallel, builder, threads);
+                CHECK(parallel.sortedIndices == serial.sortedIndices);
+                CHECK(parallel.cellOf == serial.cellOf);
+                REQUIRE(parallel.cells.size() == serial.cells.size());
+                CHECK(std::equal(parallel.cells.begin(), parallel.cells.end(), serial.cells.begin(),
+                                 [](GridCell a, GridCell b) { return a.start == b.start && a.count == b.count; }));
+            }
+            // The blocks of each phase in any order (as the threads of a team may run them).
+            for (const int threads : {2, 3, 6, 8}) {
+                CAPTURE(threads);
+                Grid split;
+                split.geometry = serial.geometry;
+                builder.prepare(n, split, threads);
+                for (int phase = 0; phase < GridBuilder::kPhases; ++phase)
+                    for (int block = builder.blocks() - 1; block >= 0; --block)
+                        builder.run(phase, block, ps.data(), n, split);
+                CHECK(split.sortedIndices == serial.sortedIndices);
+                CHECK(split.cellOf == serial.cellOf);
+            }
+        }
+    }
 }

@@ -26,6 +26,8 @@ same scene, not the physics.
 
     bench/peers/pymunk_peer.py --carom build/carom --particles 10000 --carom-bench
     bench/peers/pymunk_peer.py --carom build/carom --particles 10000 --carom-python --carom-bench
+    bench/peers/pymunk_peer.py --carom build/carom --particles 10000 --packing 0.3 --collisions pairwise \
+        --carom-bench --busy-loops 1    # both beside one busy process
 """
 import argparse
 import json
@@ -187,6 +189,9 @@ def main():
                              "alternating with pymunk's, and print the ratio")
     parser.add_argument("--collisions", choices=["simultaneous", "pairwise"], default="simultaneous",
                         help="carom's collision scheme for --carom-bench and --carom-python")
+    parser.add_argument("--busy-loops", type=int, default=0,
+                        help="keep this many other processes busy (shell loops) while pymunk and carom are timed, "
+                             "as bench/under_load.sh does: the figures under load")
     parser.add_argument("--json", help="write the result as JSON to this file")
     args = parser.parse_args()
     if args.carom_bench and not args.carom:
@@ -196,6 +201,20 @@ def main():
                                               "; give --carom to make the scene with the binary") +
                      f": {carom_import_error}")
 
+    loops = [subprocess.Popen(["sh", "-c", "while :; do :; done"]) for _ in range(max(0, args.busy_loops))]
+    try:
+        result = measure(args, len(loops))
+    finally:
+        for loop in loops:
+            loop.kill()
+            loop.wait()
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(result, f, indent=2)
+            f.write("\n")
+
+
+def measure(args, busy_loops):
     with tempfile.TemporaryDirectory() as workdir:
         scene = None
         if args.carom:
@@ -243,12 +262,14 @@ def main():
         "scene_from": "carom run" if args.carom else "carom.make_scene",
         "machine": machine(),
         "other_processes_load_during_samples": other_load,
+        "busy_loops": busy_loops,
         "date": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
     }
     m = result["machine"]
     print(f"{result['date']}, {m['cpu']}, {m['cores']} cores, OMP_NUM_THREADS={m['omp_num_threads'] or 'unset'}, "
           f"load average {m['load_average_1min']}, Python {result['python']}; other processes took "
-          + ("?" if other_load is None else f"{100 * other_load:.0f} %") + " of the machine during the samples")
+          + ("?" if other_load is None else f"{100 * other_load:.0f} %") + " of the machine during the samples"
+          + (f" ({busy_loops} busy loops of this script among them)" if busy_loops else ""))
     print(f"pymunk {pymunk.version} ({args.index}), N = {args.particles}: {seconds * 1e3:.4g} ms/step, "
           f"{args.particles / seconds:.3g} particle-steps/s (median of {args.samples} samples of {steps} steps)")
     if world is not None:
@@ -283,10 +304,7 @@ def main():
               f"{carom_bench['ms_per_step']:.4g} ms/step, "
               f"{carom_bench['particle_steps_per_second']:.3g} particle-steps/s: "
               f"{result['carom_cpu_over_pymunk']:.1f}x pymunk")
-    if args.json:
-        with open(args.json, "w") as f:
-            json.dump(result, f, indent=2)
-            f.write("\n")
+    return result
 
 
 if __name__ == "__main__":
