@@ -21,15 +21,16 @@ constexpr std::size_t kFinishGroupsPerComputeUnit = 16;
 // (kernels/small_system.cl): below it, the launches of the grid build and
 // the step cost more than one compute unit takes for the whole step.
 // Measured on an H200 (bench/results/nvidia-h200-small-system.txt), one
-// work-group against launches: simultaneous 19 against 33 us a step at 1 000
-// disks, even at 2 000; pairwise 93 against 163 us at 1 000, 136 against 172
-// at 2 000, 209 against 176 at 4 000.
+// work-group against launches: simultaneous 18 against 33 us a step at
+// 1 000 disks, 37 against 33 at 2 000 (they cross near 1 800); pairwise 93
+// against 163 us at 1 000, 136 against 172 at 2 000, 209 against 176 at
+// 4 000. One limit for both keeps each path tested on either side of it.
 constexpr std::size_t kSmallSystemParticles = 2048;
 // The most steps one launch of stepSmallSystem runs.
 constexpr std::uint64_t kSmallSystemSteps = 16;
 // Its work-group, at most (the largest the scan tile's local memory allows),
 // and the values each work-item scans (CAROM_SMALL_SYSTEM_SCAN_ITEMS in
-// kernels/resident.cl): a small tile, so that the work-group can be large.
+// kernels/small_system.cl): a small tile, so that the work-group can be large.
 constexpr std::size_t kSmallSystemGroupSize = 1024;
 constexpr std::size_t kSmallSystemScanItems = 4;
 
