@@ -126,6 +126,28 @@ struct alignas(64) ThreadResult {
     std::uint32_t nonFinite = kAllFinite;
 };
 
+// The grid's phases, each shared among the region's threads (the same grid,
+// bit for bit, whoever runs which block).
+template <class Progress>
+void buildGridInRegion(Progress& passes, GridBuilder& builder, Grid& grid, const Particle* particles,
+                       std::size_t count) {
+    const auto blocks = static_cast<std::size_t>(builder.blocks());
+    for (int phase = 0; phase < GridBuilder::kPhases; ++phase)
+        passes.run(std::size_t(phase), blocks, 1,
+                   [&](std::size_t b) { builder.run(phase, static_cast<int>(b), particles, count, grid); });
+}
+
+// The threads' shares of a step's last pass, combined: the largest speed
+// (max is exact in any order) and the lowest id left non-finite.
+ThreadResult combined(const std::vector<ThreadResult>& results) {
+    ThreadResult all;
+    for (const ThreadResult& r : results) {
+        all.nonFinite = std::min(all.nonFinite, r.nonFinite);
+        all.maxSpeedSquared = std::max(all.maxSpeedSquared, r.maxSpeedSquared);
+    }
+    return all;
+}
+
 int threadNumber() {
 #ifdef _OPENMP
     return omp_get_thread_num();
@@ -264,7 +286,6 @@ std::uint32_t CpuBackend::stepSimultaneous(float dt) {
     ContactTally* tallies = tallies_.data();
     const GridGeometry geometry = grid_.geometry;
     std::vector<ThreadResult> results(static_cast<std::size_t>(threads));
-    const std::size_t blocks = static_cast<std::size_t>(gridBuilder_.blocks());
     PassProgress<GridBuilder::kPhases + 2> passes;
     // One region: the grid's phases, then resolveCollisions and integrate
     // fused per particle (integrate only reads the particle that
@@ -272,9 +293,7 @@ std::uint32_t CpuBackend::stepSimultaneous(float dt) {
     // for bit).
 #pragma omp parallel num_threads(threads) if (threads > 1)
     {
-        for (int phase = 0; phase < GridBuilder::kPhases; ++phase)
-            passes.run(std::size_t(phase), blocks, 1,
-                       [&](std::size_t b) { gridBuilder_.run(phase, static_cast<int>(b), in, count, grid_); });
+        buildGridInRegion(passes, gridBuilder_, grid_, in, count);
         ThreadResult mine;
         passes.share(GridBuilder::kPhases, count, chunkFor(count, threads), [&](std::size_t i) {
             const auto id = static_cast<unsigned int>(i);
@@ -286,20 +305,15 @@ std::uint32_t CpuBackend::stepSimultaneous(float dt) {
         results[static_cast<std::size_t>(threadNumber())] = mine;
         arriveAll(passes, GridBuilder::kPhases + 1);
     }
-    std::uint32_t nonFinite = kAllFinite;
-    float largest = 0.0f;
-    for (const ThreadResult& r : results) {
-        nonFinite = std::min(nonFinite, r.nonFinite);
-        largest = std::max(largest, r.maxSpeedSquared);
-    }
     // While a view holds the state's buffer, the step is copied into it, so that the view follows.
     if (state_.use_count() > 1)
         std::copy(next_->begin(), next_->end(), state_->begin());
     else
         std::swap(state_, next_);
-    maxSpeedSquared_ = largest;
+    const ThreadResult all = combined(results);
+    maxSpeedSquared_ = all.maxSpeedSquared;
     speedKnown_ = true;
-    return nonFinite;
+    return all.nonFinite;
 }
 
 std::uint32_t CpuBackend::stepPairwise(float dt) {
@@ -337,15 +351,12 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
                           kTailPass = kDirtyPass + 1 + 3 * kMaxPairwiseRounds, kFinishPass = kTailPass + 1,
                           kEnd = kFinishPass + 1;
     PassProgress<kEnd + 1> passes;
-    const std::size_t blocks = static_cast<std::size_t>(gridBuilder_.blocks());
     std::vector<ThreadResult> results(static_cast<std::size_t>(threads));
     unsigned int roundsUsed = 0;  // rounds run
 
 #pragma omp parallel num_threads(threads) if (threads > 1)
     {
-        for (int phase = 0; phase < GridBuilder::kPhases; ++phase)
-            passes.run(std::size_t(phase), blocks, 1,
-                       [&](std::size_t b) { gridBuilder_.run(phase, static_cast<int>(b), state, count, grid_); });
+        buildGridInRegion(passes, gridBuilder_, grid_, state, count);
 
         // Every disk's earliest event: forward over each pair once, then the
         // disks met from behind look at all their neighbours.
@@ -425,15 +436,10 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
     for (unsigned int round = 1; round <= roundsUsed; ++round)
         if (changedCount[round] > 0) roundsChanged = round;
     recordRounds(roundsChanged);
-    std::uint32_t nonFinite = kAllFinite;
-    float largest = 0.0f;
-    for (const ThreadResult& r : results) {
-        nonFinite = std::min(nonFinite, r.nonFinite);
-        largest = std::max(largest, r.maxSpeedSquared);
-    }
-    maxSpeedSquared_ = largest;
+    const ThreadResult all = combined(results);
+    maxSpeedSquared_ = all.maxSpeedSquared;
     speedKnown_ = true;
-    return nonFinite;
+    return all.nonFinite;
 }
 
 }  // namespace carom

@@ -47,16 +47,19 @@ DevicePairwise::DevicePairwise(cl_context context, const DeviceInfo& device, cl_
     changedMarks_ = createBuffer(context, n * sizeof(cl_uint), "changed marks");
     dirtyMarks_ = createBuffer(context, n * sizeof(cl_uint), "dirty marks");
     counts_ = createBuffer(context, kCountsWithRecord * sizeof(cl_uint), "list lengths");
+    clearMarks(queue);
+}
+
+void DevicePairwise::clearMarks(cl_command_queue queue) {
     for (cl_mem marks : {pendingMarks_.get(), changedMarks_.get(), dirtyMarks_.get()})
-        enqueueZero(queue, marks, n * sizeof(cl_uint), "pairwise marks");
+        enqueueZero(queue, marks, particleCount_ * sizeof(cl_uint), "pairwise marks");
 }
 
 // Each round's marks carry a new epoch, so no list needs clearing; when the
 // counter wraps, the marks are cleared once.
 unsigned int DevicePairwise::nextEpoch(cl_command_queue queue) {
     if (++epoch_ == 0) {
-        for (cl_mem marks : {pendingMarks_.get(), changedMarks_.get(), dirtyMarks_.get()})
-            enqueueZero(queue, marks, particleCount_ * sizeof(cl_uint), "pairwise marks");
+        clearMarks(queue);
         epoch_ = 1;
     }
     return epoch_;
@@ -110,8 +113,7 @@ DevicePairwise::Lists DevicePairwise::lists() const {
 
 cl_uint DevicePairwise::reserveStepEpochs(cl_command_queue queue) {
     if (epoch_ > std::numeric_limits<unsigned int>::max() - (kMaxPairwiseRounds + 1)) {
-        for (cl_mem marks : {pendingMarks_.get(), changedMarks_.get(), dirtyMarks_.get()})
-            enqueueZero(queue, marks, particleCount_ * sizeof(cl_uint), "pairwise marks");
+        clearMarks(queue);
         epoch_ = 0;
     }
     const cl_uint first = epoch_ + 1;

@@ -73,6 +73,7 @@ public:
 
 private:
     unsigned int nextEpoch(cl_command_queue queue);
+    void clearMarks(cl_command_queue queue);  // zeroes the three lists' marks
     void enqueueRound(cl_command_queue queue, unsigned int round);
     void searchListed(cl_command_queue queue, int mode, cl_mem listed, unsigned int round, unsigned int listIndex,
                       unsigned int epoch);

@@ -140,8 +140,19 @@ TEST_CASE("resident grid: the scan gives the same grid with one to four levels")
     CHECK(mostLevels >= 4);
 }
 
-// Both schemes, below and above the size whose simultaneous steps run in one
-// work-group (OpenClResidentBackend, kSmallSystemParticles = 2048).
+namespace {
+
+// The box of a scene's start, under `scheme`.
+WorldDef boxUnder(CollisionScheme scheme, const InitialState& s) {
+    WorldDef world = box(s.width, s.height);
+    world.collisions = scheme;
+    return world;
+}
+
+}  // namespace
+
+// Both schemes, below and above the size whose steps run in one work-group
+// (OpenClResidentBackend, kSmallSystemParticles = 2048).
 TEST_CASE("resident grid: stays the shared builder's as the state evolves") {
     for (const CollisionScheme scheme : {CollisionScheme::Simultaneous, CollisionScheme::Pairwise})
         for (const std::uint32_t particles : {2000u, 5000u}) {
@@ -154,8 +165,7 @@ TEST_CASE("resident grid: stays the shared builder's as the state evolves") {
             scene.radiusMax = 1.0f;
             scene.speed = 3.0f;
             const InitialState s = makeInitialState(scene);
-            WorldDef world = box(s.width, s.height);
-            world.collisions = scheme;
+            const WorldDef world = boxUnder(scheme, s);
             auto backend = makeOpenCl<OpenClResidentBackend>(world);
             backend->setParticles(s.particles);
             for (int round = 0; round < 4; ++round) {
@@ -175,8 +185,7 @@ TEST_CASE("resident pipeline: steps in several calls, with reads between, equal 
             scene.particles = particles;
             scene.packing = 0.5f;
             const InitialState s = makeInitialState(scene);
-            WorldDef world = box(s.width, s.height);
-            world.collisions = scheme;
+            const WorldDef world = boxUnder(scheme, s);
             auto resident = makeOpenCl<OpenClResidentBackend>(world);
             if (!resident->exactArithmetic()) {
                 MESSAGE("the device lacks correctly rounded divide/sqrt: no bitwise comparison");
