@@ -71,7 +71,7 @@ private:
     GridGeometry geometry_{};
     std::size_t particleCount_ = 0;
     Profiler* profiler_ = nullptr;
-    std::size_t groupSize_ = 64;      // for the one-item-per-particle/cell kernels
+    std::size_t groupSize_ = 0;       // for the one-item-per-particle/cell kernels
     std::size_t scanGroupSize_ = 64;  // a power of two
     std::size_t tileLength_ = 0;      // values per scan work-group
 
