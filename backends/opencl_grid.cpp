@@ -12,8 +12,9 @@ constexpr std::size_t kScanItems = 16;
 // The work-group of the kernels that take one particle or one cell per
 // work-item (at most; the kernels' own limit may be lower). Each work-item
 // does a few loads and stores; on an H200, 256 rather than 64 made a step
-// 7-9 % faster at 10^6 and 1.6*10^7 disks, and no slower at 10^4-10^5 or on
-// PoCL (bench/results/nvidia-h200-grid-groups.txt).
+// 7-9 % faster at 10^6 and 1.6*10^7 disks and a simultaneous one faster from
+// 10^4 up; pairwise steps below 10^6 and PoCL's moved within their noise
+// (bench/results/nvidia-h200-grid-groups.txt).
 constexpr std::size_t kGridGroupSize = 256;
 
 // The largest power of two <= limit (limit >= 1).
