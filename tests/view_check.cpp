@@ -1,11 +1,13 @@
-// Checks the viewer's headless output (see tests/CMakeLists.txt: the
-// view.screenshot and view.record fixtures render it under Xvfb first).
+// Checks the viewer's headless output (see tests/viewer_tests.cmake: the
+// view.screenshot, view.record and view.layout_* fixtures render it under
+// Xvfb first) and the camera's arithmetic (view.camera, no display).
 //
-// The scene is tests/data/view_disks.csv in a 100 x 50 box drawn in a
-// 400 x 300 window. The camera fits the box with a 20-pixel margin on the
-// tighter side: 3.6 pixels per unit, the box spans pixels x 20..380 and
-// y 60..240 (y down), so world (x, y) is pixel (20 + 3.6 x, 240 - 3.6 y).
-// These numbers are worked out by hand, not by the viewer's camera code.
+// view.screenshot is tests/data/view_disks.csv in a 100 x 50 box drawn in a
+// 400 x 300 window with the panels hidden, so the view is the whole window.
+// The camera fits the box with a 20-pixel margin on the tighter side: 3.6
+// pixels per unit, the box spans pixels x 20..380 and y 60..240 (y down), so
+// world (x, y) is pixel (20 + 3.6 x, 240 - 3.6 y). These numbers, and those
+// of kLayouts below, are worked out by hand, not by the viewer's camera code.
 #define DOCTEST_CONFIG_IMPLEMENT_WITH_MAIN
 #include <doctest/doctest.h>
 
@@ -15,6 +17,7 @@
 
 #include <stb/stb_image.h>
 
+#include "app/viewer/layout.h"
 #include "app/viewer/palette.h"
 #include "app/viewer/renderer.h"
 
@@ -56,6 +59,41 @@ Rgb quantised(Rgb c) {
 std::string describe(Rgb c) {
     return "(" + std::to_string(int(c.r * 255)) + ", " + std::to_string(int(c.g * 255)) + ", " +
            std::to_string(int(c.b * 255)) + ")";
+}
+
+// view.layout_*: tests/data/view_corners.csv, disks of radius 5 at the centre
+// (id 0) and the four corners (ids 1-4) of a 100 x 100 box, with the panels
+// shown in a column on the left.
+constexpr double kCornersBox = 100, kCornersRadius = 5;
+constexpr Vec2 kCornersDisks[] = {{50, 50}, {5, 5}, {95, 5}, {5, 95}, {95, 95}};
+
+struct Layout {
+    int width, height;       // the window
+    double column;           // the panel column's width
+    double pixelsPerUnit;    // the free view's tighter side less two margins, over 100
+    double boxLeft, boxTop;  // the box's top-left corner
+};
+
+constexpr Layout kLayouts[] = {
+    // 0.3 x 320 = 96 is below the least column, 240, which is more than half
+    // the window: 160. The view x 160..320 leaves 120 x 200 within the
+    // margins: 1.2 pixels per unit, a box of 120 pixels centred at (240, 120).
+    {320, 240, 160, 1.2, 180, 60},
+    // 0.3 x 400 = 120 -> 240 -> half the window, 200. The view x 200..400
+    // leaves 160 x 360: 1.6, a box of 160 centred at (300, 200).
+    {400, 400, 200, 1.6, 220, 120},
+    // 0.3 x 1280 = 384 -> the widest column, 360. The view x 360..1280 leaves
+    // 880 x 760: 7.6, a box of 760 centred at (820, 400).
+    {1280, 800, 360, 7.6, 440, 20},
+};
+
+// The camera as the viewer sets it up for `layout` with the panels shown.
+Camera layoutCamera(const Layout& layout) {
+    Camera camera;
+    camera.setLayout({double(layout.width), double(layout.height)},
+                     freeView(layout.width, layout.height, Panels::Shown, 0));
+    camera.fit(kCornersBox, kCornersBox);
+    return camera;
 }
 
 #define CHECK_COLOUR(image, x, y, expected)                                                                 \
@@ -111,3 +149,115 @@ TEST_CASE("record: K frames give K numbered PNG files of the window size") {
         CHECK(frame.height == 300);
     }
 }
+
+TEST_CASE("camera: with the panels shown the box fits the view they leave free") {
+    for (const Layout& layout : kLayouts) {
+        CAPTURE(layout.width);
+        CAPTURE(layout.height);
+        CHECK(panelColumnWidth(layout.width) == doctest::Approx(layout.column));
+        const Camera camera = layoutCamera(layout);
+        CHECK(camera.pixelsPerUnit() == doctest::Approx(layout.pixelsPerUnit));
+        const Vec2 topLeft = camera.toPixel({0, kCornersBox});
+        CHECK(topLeft.x == doctest::Approx(layout.boxLeft));
+        CHECK(topLeft.y == doctest::Approx(layout.boxTop));
+        const Vec2 bottomRight = camera.toPixel({kCornersBox, 0});
+        CHECK(bottomRight.x == doctest::Approx(layout.boxLeft + kCornersBox * layout.pixelsPerUnit));
+        CHECK(bottomRight.y == doctest::Approx(layout.boxTop + kCornersBox * layout.pixelsPerUnit));
+        const Vec2 back = camera.toWorld(topLeft);
+        CHECK(back.x == doctest::Approx(0));
+        CHECK(back.y == doctest::Approx(kCornersBox));
+    }
+}
+
+TEST_CASE("camera: collapsed panels leave all but their title bar, hidden ones the whole window") {
+    const Rect collapsed = freeView(400, 400, Panels::Collapsed, 19);
+    CHECK(collapsed.x == 0);
+    CHECK(collapsed.y == 19);
+    CHECK(collapsed.width == 400);
+    CHECK(collapsed.height == 381);
+    Camera camera;
+    camera.setLayout({400, 400}, collapsed);
+    camera.fit(kCornersBox, kCornersBox);
+    // 381 - 40 = 341 pixels for 100 units, centred at (200, 209.5).
+    CHECK(camera.pixelsPerUnit() == doctest::Approx(3.41));
+    CHECK(camera.toPixel({0, kCornersBox}).y == doctest::Approx(39));
+    CHECK(camera.toPixel({0, kCornersBox}).x == doctest::Approx(29.5));
+
+    // view.screenshot's numbers: a 100 x 50 box in 400 x 300, panels hidden.
+    camera.setLayout({400, 300}, freeView(400, 300, Panels::Hidden, 19));
+    camera.fit(100, 50);
+    CHECK(camera.pixelsPerUnit() == doctest::Approx(3.6));
+    CHECK(camera.toPixel({0, 50}).x == doctest::Approx(20));
+    CHECK(camera.toPixel({0, 50}).y == doctest::Approx(60));
+}
+
+TEST_CASE("camera: a layout change refits a fitted view and keeps a zoomed one's zoom and centre") {
+    Camera camera = layoutCamera(kLayouts[1]);  // 400 x 400, panels shown
+    camera.setLayout({400, 400}, freeView(400, 400, Panels::Hidden, 19));
+    CHECK(camera.fitted());
+    CHECK(camera.pixelsPerUnit() == doctest::Approx(3.6));  // 360 pixels for 100 units
+    CHECK(camera.toPixel({50, 50}).x == doctest::Approx(200));
+
+    camera = layoutCamera(kLayouts[1]);
+    const Vec2 cursor{250, 150};
+    const Vec2 underCursor = camera.toWorld(cursor);
+    camera.zoomAbout(cursor, 2);
+    CHECK_FALSE(camera.fitted());
+    CHECK(camera.pixelsPerUnit() == doctest::Approx(3.2));
+    CHECK(camera.toPixel(underCursor).x == doctest::Approx(cursor.x));
+    CHECK(camera.toPixel(underCursor).y == doctest::Approx(cursor.y));
+    camera.pan(10, -20);
+    const Vec2 centre = camera.centre();
+    // Hiding the panels moves the view's centre from (300, 200) to (200, 200).
+    camera.setLayout({400, 400}, freeView(400, 400, Panels::Hidden, 19));
+    CHECK(camera.pixelsPerUnit() == doctest::Approx(3.2));
+    CHECK(camera.toPixel(centre).x == doctest::Approx(200));
+    CHECK(camera.toPixel(centre).y == doctest::Approx(200));
+    camera.refit();
+    CHECK(camera.fitted());
+    CHECK(camera.pixelsPerUnit() == doctest::Approx(3.6));
+}
+
+namespace {
+
+// The disks and the walls show where layoutCamera puts them, inside the view
+// the panels leave free, and the panels cover their column.
+void checkLayout(const Layout& layout) {
+    const std::string size = std::to_string(layout.width) + "x" + std::to_string(layout.height);
+    const Image image(outputDir() + "/layout_" + size + "/view.png");
+    REQUIRE(image.width == layout.width);
+    REQUIRE(image.height == layout.height);
+    const Camera camera = layoutCamera(layout);
+    const Rect view = camera.view();
+    const double radius = kCornersRadius * camera.pixelsPerUnit();
+    for (std::size_t id = 0; id < std::size(kCornersDisks); ++id) {
+        const Vec2 centre = camera.toPixel(kCornersDisks[id]);
+        CAPTURE(id);
+        CHECK(centre.x - radius >= view.x);
+        CHECK(centre.x + radius <= view.x + view.width);
+        CHECK(centre.y - radius >= view.y);
+        CHECK(centre.y + radius <= view.y + view.height);
+        CHECK_COLOUR(image, int(centre.x), int(centre.y), idColour(std::uint32_t(id)));
+    }
+    // Walls: the 2 pixels just outside each box edge.
+    const Vec2 topLeft = camera.toPixel({0, kCornersBox}), bottomRight = camera.toPixel({kCornersBox, 0});
+    const int middleX = int((topLeft.x + bottomRight.x) / 2), middleY = int((topLeft.y + bottomRight.y) / 2);
+    CHECK_COLOUR(image, int(topLeft.x) - 1, middleY, kWall);
+    CHECK_COLOUR(image, int(bottomRight.x), middleY, kWall);
+    CHECK_COLOUR(image, middleX, int(topLeft.y) - 1, kWall);
+    CHECK_COLOUR(image, middleX, int(bottomRight.y), kWall);
+    // The scene leaves background in the column; the panels are drawn over it,
+    // and end where the column does.
+    for (const int y : {layout.height / 4, layout.height / 2, 3 * layout.height / 4}) {
+        const int x = int(layout.column / 2);
+        CHECK_MESSAGE(!near(image.at(x, y), quantised(kBackground)),
+                      "pixel (" << x << ", " << y << ") is the background: no panel there");
+        CHECK_COLOUR(image, int(layout.column) + 2, y, kBackground);
+    }
+}
+
+}  // namespace
+
+TEST_CASE("layout 320x240: the smallest window shows the whole box beside the panels") { checkLayout(kLayouts[0]); }
+TEST_CASE("layout 400x400: a square window shows the whole box beside the panels") { checkLayout(kLayouts[1]); }
+TEST_CASE("layout 1280x800: the default window shows the whole box beside the panels") { checkLayout(kLayouts[2]); }

@@ -34,6 +34,23 @@ add_test(NAME view.check_record COMMAND carom_view_check -tc=record*)
 set_tests_properties(view.check_screenshot PROPERTIES FIXTURES_REQUIRED view_screenshot ENVIRONMENT CAROM_VIEW_OUTPUT=${view_out})
 set_tests_properties(view.check_record PROPERTIES FIXTURES_REQUIRED view_record ENVIRONMENT CAROM_VIEW_OUTPUT=${view_out})
 
+# The layout with the panels shown (issue 16), at the smallest window it is made for, a square one and the
+# default: disks at the four corners and the centre of a 100 x 100 box show where the camera puts them, in the
+# view the panel column leaves free.
+foreach(size IN ITEMS 320x240 400x400 1280x800)
+    string(REPLACE "x" "|" window ${size})
+    add_test(NAME view.layout_${size}
+             COMMAND ${CMAKE_COMMAND} -DCAROM=$<TARGET_FILE:carom> -DOUT_DIR=${view_out}/layout_${size}
+                     "-DARGS=view|--backend|cpu|--input-state|${CMAKE_CURRENT_SOURCE_DIR}/data/view_corners.csv|--box|100|100|--window|${window}|--color|id|--frames|2|--screenshot|view.png"
+                     -P ${CMAKE_CURRENT_SOURCE_DIR}/run_viewer.cmake)
+    set_tests_properties(view.layout_${size} PROPERTIES RESOURCE_LOCK xvfb FIXTURES_SETUP view_layout_${size})
+    add_test(NAME view.check_layout_${size} COMMAND carom_view_check "-tc=layout ${size}:*")
+    set_tests_properties(view.check_layout_${size} PROPERTIES FIXTURES_REQUIRED view_layout_${size}
+                                                              ENVIRONMENT CAROM_VIEW_OUTPUT=${view_out})
+endforeach()
+# The camera's arithmetic with the panels shown, collapsed and hidden, zoomed and panned: no display needed.
+add_test(NAME view.camera COMMAND carom_view_check -tc=camera*)
+
 carom_cli_test(view_without_display fail "carom view needs a display" "view|--backend|cpu" DISPLAY=)
 carom_cli_test(view_bad_window fail "--window 10 10: each side must be in \\[64, 16384\\] pixels" "view|--window|10|10")
 carom_cli_test(view_bad_colouring fail "--color 'rainbow' is not a colouring" "view|--color|rainbow|--frames|1")

@@ -1,12 +1,14 @@
-// The Dear ImGui panels of the viewer: scene, simulation, live readouts (the
-// energies with the total's drift, momentum) and the speed distribution
-// against Maxwell-Boltzmann.
+// The Dear ImGui panels of the viewer, one column docked to the window's left
+// edge (layout.h): scene, simulation, live readouts (the energies with the
+// total's drift, momentum), the speed distribution against Maxwell-Boltzmann,
+// and the controls.
 #include <imgui.h>
 
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
+#include "app/viewer/layout.h"
 #include "app/viewer/viewer_app.h"
 
 namespace carom::viewer {
@@ -102,9 +104,12 @@ void plot(const char* label, const std::deque<float>& history) {
 }  // namespace
 
 void Viewer::drawPanels() {
-    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
-    ImGui::Begin("carom");
+    // Placed and sized every frame; the title bar's arrow collapses it.
+    const ImVec2 window = ImGui::GetIO().DisplaySize;
+    ImGui::SetNextWindowPos(ImVec2(0, 0), ImGuiCond_Always);
+    ImGui::SetNextWindowSize(ImVec2(float(panelColumnWidth(window.x)), window.y), ImGuiCond_Always);
+    ImGui::Begin("carom", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize);
+    panelsCollapsed_ = ImGui::IsWindowCollapsed();
 
     if (ImGui::CollapsingHeader("Scene", ImGuiTreeNodeFlags_DefaultOpen)) {
         int particles = int(sceneEdit_.particles);
@@ -157,13 +162,16 @@ void Viewer::drawPanels() {
         plot("##momentum", momentumHistory_);
         speedHistogram(disks_, motion_.kinetic);
     }
+    if (ImGui::CollapsingHeader("Controls") && ImGui::BeginTable("controls", 2)) {
+        for (const Control& control : kControls) {
+            ImGui::TableNextColumn();
+            ImGui::TextUnformatted(control.keys);
+            ImGui::TableNextColumn();
+            ImGui::TextWrapped("%s", control.action);
+        }
+        ImGui::EndTable();
+    }
     if (!message_.empty()) ImGui::TextColored(ImVec4(1, 0.7f, 0.3f, 1), "%s", message_.c_str());
-    ImGui::End();
-
-    ImGui::SetNextWindowPos(ImVec2(float(drawableWidth_ / pixelRatio_) - 10, 10), ImGuiCond_Always, ImVec2(1, 0));
-    ImGui::SetNextWindowBgAlpha(0.6f);
-    ImGui::Begin("Controls", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove);
-    ImGui::TextUnformatted(kControls);
     ImGui::End();
 }
 

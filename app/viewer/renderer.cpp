@@ -84,14 +84,16 @@ GLuint link(const char* vertex, const char* fragment) {
     return program;
 }
 
-// World -> normalized device coordinates for the camera, as scale and offset.
+// World -> normalized device coordinates for the camera, as scale and offset:
+// the offset is where toPixel puts the world origin, so drawing and picking agree.
 void setCameraUniforms(GLuint program, const Camera& camera) {
     const Vec2 window = camera.window();
-    const Vec2 centre = camera.centre();
+    const Vec2 origin = camera.toPixel({0, 0});
     const float sx = float(2 * camera.pixelsPerUnit() / window.x);
     const float sy = float(2 * camera.pixelsPerUnit() / window.y);
     glUniform2f(glGetUniformLocation(program, "scale"), sx, sy);
-    glUniform2f(glGetUniformLocation(program, "offset"), float(-centre.x * sx), float(-centre.y * sy));
+    glUniform2f(glGetUniformLocation(program, "offset"), float(2 * origin.x / window.x - 1),
+                float(1 - 2 * origin.y / window.y));
 }
 
 void appendRectangle(std::vector<float>& corners, float x0, float y0, float x1, float y1) {

@@ -16,19 +16,10 @@
 
 #include "app/number_options.h"
 #include "app/stop_signals.h"
+#include "app/viewer/layout.h"
 #include "app/viewer/png.h"
 
 namespace carom::viewer {
-
-const char* const kControls =
-    "Space/P  pause and resume           N  single step while paused\n"
-    "R        reset to the initial scene   G  gravity on/off\n"
-    "C        cycle colouring (speed, mass, radius, id)\n"
-    "H        hide/show the panels         S  save a PNG screenshot\n"
-    "Left drag       grab the nearest disk, release to throw it\n"
-    "Right click     spawn a burst of disks at the cursor\n"
-    "Wheel           zoom about the cursor\n"
-    "Middle/right drag  pan                Esc  quit\n";
 
 namespace {
 
@@ -133,6 +124,8 @@ void Viewer::openWindow() {
     window_ = SDL_CreateWindow("carom", SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, options_.window[0],
                                options_.window[1], SDL_WINDOW_OPENGL | SDL_WINDOW_RESIZABLE | SDL_WINDOW_ALLOW_HIGHDPI);
     if (!window_) throw Error(std::string("carom view could not open a window: ") + SDL_GetError());
+    SDL_SetWindowMinimumSize(window_, std::min(options_.window[0], kSmallestWindowWidth),
+                             std::min(options_.window[1], kSmallestWindowHeight));
     glContext_ = SDL_GL_CreateContext(window_);
     if (!glContext_) throw Error(std::string("carom view needs OpenGL 3.3 (core profile): ") + SDL_GetError());
     SDL_GL_MakeCurrent(window_, glContext_);
@@ -140,7 +133,14 @@ void Viewer::openWindow() {
 
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
-    ImGui::GetIO().IniFilename = nullptr;  // leave no imgui.ini behind
+    // ImGui's settings file remembers whether the panels are collapsed, per
+    // user; headless runs neither read nor write it, so tests never depend on it.
+    ImGui::GetIO().IniFilename = nullptr;
+    if (char* folder = headless_ ? nullptr : SDL_GetPrefPath("carom", "view")) {
+        settingsFile_ = std::string(folder) + "imgui.ini";
+        SDL_free(folder);
+        ImGui::GetIO().IniFilename = settingsFile_.c_str();
+    }
     ImGui::StyleColorsDark();
     ImGui_ImplSDL2_InitForOpenGL(window_, glContext_);
     ImGui_ImplOpenGL3_Init("#version 330 core");
@@ -165,7 +165,17 @@ void Viewer::start(app::Setup setup) {
     int windowWidth = 0, windowHeight = 0;
     SDL_GetWindowSize(window_, &windowWidth, &windowHeight);
     pixelRatio_ = windowWidth > 0 ? double(drawableWidth_) / windowWidth : 1.0;
-    camera_.fit(def.width, def.height, drawableWidth_, drawableHeight_);
+    layOut();
+    camera_.fit(def.width, def.height);
+}
+
+void Viewer::layOut() {
+    const Panels panels = hidePanels_ ? Panels::Hidden : panelsCollapsed_ ? Panels::Collapsed : Panels::Shown;
+    const Rect points =
+        freeView(drawableWidth_ / pixelRatio_, drawableHeight_ / pixelRatio_, panels, ImGui::GetFrameHeight());
+    camera_.setLayout(
+        {double(drawableWidth_), double(drawableHeight_)},
+        {points.x * pixelRatio_, points.y * pixelRatio_, points.width * pixelRatio_, points.height * pixelRatio_});
 }
 
 void Viewer::restartEnergyDrift() {
@@ -286,10 +296,8 @@ void Viewer::handleEvent(const SDL_Event& event) {
     switch (event.type) {
         case SDL_QUIT: running_ = false; break;
         case SDL_WINDOWEVENT:
-            if (event.window.event == SDL_WINDOWEVENT_SIZE_CHANGED) {
-                SDL_GL_GetDrawableSize(window_, &drawableWidth_, &drawableHeight_);
-                camera_.resize(drawableWidth_, drawableHeight_);
-            }
+            if (event.window.event == SDL_WINDOWEVENT_SIZE_CHANGED)
+                SDL_GL_GetDrawableSize(window_, &drawableWidth_, &drawableHeight_);  // render() lays out anew
             break;
         case SDL_KEYDOWN:
             if (io.WantCaptureKeyboard) break;
@@ -304,6 +312,7 @@ void Viewer::handleEvent(const SDL_Event& event) {
                 case SDLK_g: setMotion(dt_, !gravityOn_); break;
                 case SDLK_c: colouring_ = Colouring((int(colouring_) + 1) % kColouringCount); break;
                 case SDLK_h: hidePanels_ = !hidePanels_; break;
+                case SDLK_f: camera_.refit(); break;
                 case SDLK_s: {
                     const std::string name = timestampedScreenshotName();
                     saveScreenshot(name);
@@ -407,13 +416,16 @@ void Viewer::buildInstances() {
 }
 
 void Viewer::render() {
-    buildInstances();
-    const WorldDef& w = world_->def();
-    renderer_->draw(camera_, w.width, w.height, instances_);
+    // The panels first: whether they are shown or collapsed decides the view
+    // the box is drawn in this frame.
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplSDL2_NewFrame();
     ImGui::NewFrame();
     if (!hidePanels_) drawPanels();
+    layOut();
+    buildInstances();
+    const WorldDef& w = world_->def();
+    renderer_->draw(camera_, w.width, w.height, instances_);
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
 }
@@ -422,9 +434,11 @@ void Viewer::saveScreenshot(const std::string& path) { writeFramePng(path, drawa
 
 int Viewer::run() {
     const char* scheme = collisionSchemeName(world_->def().collisions);
-    if (!headless_)
-        std::printf("carom view: %zu disks on %s, %s collisions\n%s", disks_.size(), world_->deviceName().c_str(),
-                    scheme, kControls);
+    if (!headless_) {
+        std::printf("carom view: %zu disks on %s, %s collisions\n", disks_.size(), world_->deviceName().c_str(),
+                    scheme);
+        for (const Control& control : kControls) std::printf("  %-18s %s\n", control.keys, control.action);
+    }
     std::vector<double> frameMs, simulationMs, drawingMs;
     auto last = Clock::now();
     std::uint64_t rendered = 0;

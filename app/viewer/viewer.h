@@ -36,7 +36,26 @@ void addViewOptions(class CLI::App& command, ViewOptions& options);
 // for options.frames frames). Throws Error when there is no display.
 int runViewer(const ViewOptions& options);
 
-// The controls, as printed at start-up and shown in the help panel.
-extern const char* const kControls;
+struct Control {
+    const char* keys;
+    const char* action;
+};
+
+// The controls, as printed at start-up and shown in the panels.
+inline constexpr Control kControls[] = {
+    {"Space/P", "pause and resume"},
+    {"N", "single step while paused"},
+    {"R", "reset to the initial scene"},
+    {"G", "gravity on/off"},
+    {"C", "cycle colouring (speed, mass, radius, id)"},
+    {"H", "hide/show the panels"},
+    {"F", "fit the box to the view (undo zoom and pan)"},
+    {"S", "save a PNG screenshot"},
+    {"Left drag", "grab the nearest disk, release to throw it"},
+    {"Right click", "spawn a burst of disks at the cursor"},
+    {"Wheel", "zoom about the cursor"},
+    {"Middle/right drag", "pan"},
+    {"Esc", "quit"},
+};
 
 }  // namespace carom::viewer

@@ -40,6 +40,8 @@ private:
     // Setup.
     void openWindow();
     void start(app::Setup setup);
+    // Fits the camera to the window and what the panels leave free of it.
+    void layOut();
 
     // One frame.
     void handleEvent(const SDL_Event& event);
@@ -87,6 +89,8 @@ private:
     bool paused_ = false;
     bool stepOnce_ = false;
     bool hidePanels_ = false;
+    bool panelsCollapsed_ = false;  // as ImGui last drew them
+    std::string settingsFile_;      // ImGui's, where the collapsed state is remembered; empty headless
     int stepsPerFrame_ = 1;
     double accumulator_ = 0.0;
     float dt_ = 0.01f;
