@@ -58,19 +58,7 @@ void applyOverrides(const SceneOptions& o, SceneFileDef& scene) {
 Setup setupFromSceneFile(const SceneOptions& o) {
     SceneFileDef scene = io::readSceneFile(o.sceneFile);
     applyOverrides(o, scene);
-    std::uint64_t particles = scene.disks.size();
-    for (const GroupDef& group : scene.groups) particles += group.count;
-    requireRoomFor(particles, o.sceneFile);
-
-    Scene placed = makeScene(scene);
-    Setup setup;
-    setup.world = scene.world;
-    setup.world.width = placed.width;
-    setup.world.height = placed.height;
-    validate(setup.world);
-    setup.disks = std::move(placed.disks);
-    setup.sceneFile = std::move(scene);
-    return setup;
+    return placeScene(std::move(scene));
 }
 
 struct UniformRange {
@@ -298,6 +286,22 @@ Setup makeSetupOf(const SceneOptions& o) {
 }
 
 }  // namespace
+
+Setup placeScene(SceneFileDef scene) {
+    std::uint64_t particles = scene.disks.size();
+    for (const GroupDef& group : scene.groups) particles += group.count;
+    requireRoomFor(particles, scene.path);
+
+    Scene placed = makeScene(scene);
+    Setup setup;
+    setup.world = scene.world;
+    setup.world.width = placed.width;
+    setup.world.height = placed.height;
+    validate(setup.world);
+    setup.disks = std::move(placed.disks);
+    setup.sceneFile = std::move(scene);
+    return setup;
+}
 
 Setup makeSetup(const SceneOptions& o) {
     Setup setup = makeSetupOf(o);

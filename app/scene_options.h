@@ -62,6 +62,9 @@ struct Setup {
 // values, or built from the options. Throws Error for values out of range
 // and for requests that cannot fit in memory, before allocating them.
 Setup makeSetup(const SceneOptions& options);
+// The world and particles of a scene file's groups and disks (as --scene
+// places them, after the command line's overrides); throws Error as makeSetup.
+Setup placeScene(SceneFileDef scene);
 
 // The engine --backend KIND --pipeline PIPELINE --device DEVICE name
 // (the values CLI11 has already checked); --pipeline auto looks up the

@@ -10,23 +10,44 @@ target_include_directories(carom_view_check PRIVATE ${PROJECT_SOURCE_DIR} ${PROJ
 target_link_libraries(carom_view_check PRIVATE doctest::doctest OpenGL::GL ${STB_LIBRARY})
 
 set(view_out ${CMAKE_CURRENT_BINARY_DIR}/view)
+# view.NAME: `carom ARGS` (|-separated) headless under Xvfb, writing into ${view_out}/NAME; with a third
+# argument, its output must match that regular expression. One Xvfb test at a time: two xvfb-run -a at once
+# race for a display number and for their temporary folder (status 5, "problem while cleaning up").
+function(carom_view_test name args)
+    set(command ${CMAKE_COMMAND} -DCAROM=$<TARGET_FILE:carom> -DOUT_DIR=${view_out}/${name} "-DARGS=${args}")
+    if(ARGC GREATER 2)
+        list(APPEND command "-DOUTPUT_REGEX=${ARGV2}")
+    endif()
+    add_test(NAME view.${name} COMMAND ${command} -P ${CMAKE_CURRENT_SOURCE_DIR}/run_viewer.cmake)
+    set_tests_properties(view.${name} PROPERTIES RESOURCE_LOCK xvfb)
+endfunction()
 set(view_scene "view|--backend|cpu|--input-state|${CMAKE_CURRENT_SOURCE_DIR}/data/view_disks.csv|--box|100|50|--window|400|300|--hide-panels|--color|id")
-add_test(NAME view.screenshot
-         COMMAND ${CMAKE_COMMAND} -DCAROM=$<TARGET_FILE:carom> -DOUT_DIR=${view_out}/screenshot
-                 "-DARGS=${view_scene}|--frames|1|--screenshot|view.png" -P ${CMAKE_CURRENT_SOURCE_DIR}/run_viewer.cmake)
-add_test(NAME view.record
-         COMMAND ${CMAKE_COMMAND} -DCAROM=$<TARGET_FILE:carom> -DOUT_DIR=${view_out}/record
-                 "-DARGS=${view_scene}|--frames|5|--record|frames" -P ${CMAKE_CURRENT_SOURCE_DIR}/run_viewer.cmake)
+carom_view_test(screenshot "${view_scene}|--frames|1|--screenshot|view.png")
+carom_view_test(record "${view_scene}|--frames|5|--record|frames")
 # The panels drawn under gravity with the pairwise scheme: the viewer runs the scheme asked for, and the total
 # energy (kinetic plus potential) it reports drifts by less than 1e-4 relative over the 80 steps.
-add_test(NAME view.pairwise_gravity
-         COMMAND ${CMAKE_COMMAND} -DCAROM=$<TARGET_FILE:carom> -DOUT_DIR=${view_out}/pairwise
-                 "-DARGS=view|--backend|cpu|--particles|300|--gravity|0|-1|--collisions|pairwise|--window|400|300|--frames|20"
-                 "-DOUTPUT_REGEX=pairwise collisions, total energy drift [+-][0-9.]+e-(0[5-9]|[1-9][0-9]) over 0.8 time units"
-                 -P ${CMAKE_CURRENT_SOURCE_DIR}/run_viewer.cmake)
-# Two xvfb-run -a at once race for a display number and for their temporary
-# folder (status 5, "problem while cleaning up"): one Xvfb test at a time.
-set_tests_properties(view.screenshot view.record view.pairwise_gravity PROPERTIES RESOURCE_LOCK xvfb)
+carom_view_test(pairwise_gravity
+                "view|--backend|cpu|--particles|300|--gravity|0|-1|--collisions|pairwise|--window|400|300|--frames|20"
+                "pairwise collisions, total energy drift [+-][0-9.]+e-(0[5-9]|[1-9][0-9]) over 0.8 time units")
+# The collisions selector's live switch (--switch-collisions, as the panel does it): from the seed's scheme to
+# pairwise halfway, under gravity. The summary names the new scheme, the drift restarts at the switch (0.84 time
+# units of the 1.6) and stays below 1e-4 while kinetic energy grows and potential energy falls by as much.
+carom_view_test(switch_collisions
+                "view|--backend|cpu|--particles|300|--gravity|0|-1|--collisions|simultaneous|--window|400|300|--frames|40|--switch-collisions|20|pairwise"
+                "pairwise collisions from here.*40 frames of 300 disks, pairwise collisions, total energy drift [+-][0-9.]+e-(0[5-9]|[1-9][0-9]) over 0.84 time units \\(kinetic \\+[1-9][0-9.]*, potential -[1-9][0-9.]*\\)")
+# A switch the engine refuses (events with the substeps of --dt auto) is shown and the viewer runs on, unchanged.
+carom_view_test(switch_refused
+                "view|--backend|cpu|--particles|100|--dt|auto|--window|400|300|--frames|3|--switch-collisions|2|events"
+                "the events scheme has no steps to split.*3 frames of 100 disks, pairwise collisions")
+# Disks at rest without gravity have no energy: the relative drift is undefined and shown as such (it was -nan).
+carom_view_test(zero_energy
+                "view|--backend|cpu|--particles|50|--speed|0|--window|400|300|--frames|2"
+                "total energy drift n/a \\(from 0, change \\+0\\)")
+# --scene: the viewer's scene is the file's two groups (42 disks, not the 1000 of --particles' default), with the
+# file's gravity: kinetic and potential energy trade while the total stays put.
+carom_view_test(scene_groups
+                "view|--backend|cpu|--scene|${CMAKE_CURRENT_SOURCE_DIR}/data/view_groups.toml|--window|400|300|--frames|20"
+                "20 frames of 42 disks \\(the scene's groups: group\\[1\\] 'light' 30, group\\[2\\] 'heavy' 12\\), pairwise collisions, total energy drift [+-][0-9.]+e-(0[5-9]|[1-9][0-9]) over 0.8 time units \\(kinetic \\+[1-9][0-9.]*, potential -[1-9]")
 set_tests_properties(view.screenshot PROPERTIES FIXTURES_SETUP view_screenshot)
 set_tests_properties(view.record PROPERTIES FIXTURES_SETUP view_record)
 add_test(NAME view.check_screenshot COMMAND carom_view_check -tc=screenshot*)
@@ -39,11 +60,9 @@ set_tests_properties(view.check_record PROPERTIES FIXTURES_REQUIRED view_record 
 # view the panel column leaves free.
 foreach(size IN ITEMS 320x240 400x400 1280x800)
     string(REPLACE "x" "|" window ${size})
-    add_test(NAME view.layout_${size}
-             COMMAND ${CMAKE_COMMAND} -DCAROM=$<TARGET_FILE:carom> -DOUT_DIR=${view_out}/layout_${size}
-                     "-DARGS=view|--backend|cpu|--input-state|${CMAKE_CURRENT_SOURCE_DIR}/data/view_corners.csv|--box|100|100|--window|${window}|--color|id|--frames|2|--screenshot|view.png"
-                     -P ${CMAKE_CURRENT_SOURCE_DIR}/run_viewer.cmake)
-    set_tests_properties(view.layout_${size} PROPERTIES RESOURCE_LOCK xvfb FIXTURES_SETUP view_layout_${size})
+    carom_view_test(layout_${size}
+                    "view|--backend|cpu|--input-state|${CMAKE_CURRENT_SOURCE_DIR}/data/view_corners.csv|--box|100|100|--window|${window}|--color|id|--frames|2|--screenshot|view.png")
+    set_tests_properties(view.layout_${size} PROPERTIES FIXTURES_SETUP view_layout_${size})
     add_test(NAME view.check_layout_${size} COMMAND carom_view_check "-tc=layout ${size}:*")
     set_tests_properties(view.check_layout_${size} PROPERTIES FIXTURES_REQUIRED view_layout_${size}
                                                               ENVIRONMENT CAROM_VIEW_OUTPUT=${view_out})
@@ -54,4 +73,5 @@ add_test(NAME view.camera COMMAND carom_view_check -tc=camera*)
 carom_cli_test(view_without_display fail "carom view needs a display" "view|--backend|cpu" DISPLAY=)
 carom_cli_test(view_bad_window fail "--window 10 10: each side must be in \\[64, 16384\\] pixels" "view|--window|10|10")
 carom_cli_test(view_bad_colouring fail "--color 'rainbow' is not a colouring" "view|--color|rainbow|--frames|1")
+carom_cli_test(view_bad_switch fail "unknown collision scheme 'bogus'" "view|--switch-collisions|1|bogus|--frames|1")
 carom_cli_test(view_screenshot_needs_frames fail "--screenshot requires --frames" "view|--screenshot|x.png")

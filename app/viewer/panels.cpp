@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "app/viewer/layout.h"
@@ -59,7 +60,8 @@ void speedHistogram(const std::vector<Disk>& particles, double kineticEnergy) {
 }
 
 // The kinetic energy over the last frames and, with gravity, the potential
-// and total energies (white), on one scale that includes 0.
+// and total energies (white), on one scale that includes 0: the kinetic and
+// potential lines mirror each other while the total stays flat.
 void energyPlot(const std::deque<EnergySample>& history, bool gravity) {
     constexpr ImU32 kKinetic = IM_COL32(90, 150, 220, 255), kPotential = IM_COL32(120, 200, 120, 255),
                     kTotal = IM_COL32(240, 240, 240, 255);
@@ -82,18 +84,30 @@ void energyPlot(const std::deque<EnergySample>& history, bool gravity) {
                                     origin.y + size.y * (1 - (value(history[k]) - lo) / (hi - lo))));
         ImGui::GetWindowDrawList()->AddPolyline(points.data(), int(points.size()), colour, 0, 1.5f);
     };
+    // The flat total first, under the lines that move.
+    if (gravity) line(kTotal, total);
     line(kKinetic, [](const EnergySample& e) { return e.kinetic; });
-    if (gravity) {
-        line(kPotential, [](const EnergySample& e) { return e.potential; });
-        line(kTotal, total);
-    }
+    if (gravity) line(kPotential, [](const EnergySample& e) { return e.potential; });
     ImGui::Dummy(size);
     const EnergySample last = history.empty() ? EnergySample{} : history.back();
     ImGui::TextColored(ImColor(kKinetic), "kinetic %.6g", last.kinetic);
     if (gravity) {
         ImGui::SameLine();
         ImGui::TextColored(ImColor(kPotential), "potential %.6g", last.potential);
+        ImGui::SameLine();
+        ImGui::TextColored(ImColor(kTotal), "total");
     }
+}
+
+// `text` wrapped to a readable width, while the last item is hovered (also
+// when it is disabled).
+void tooltip(const std::string& text) {
+    if (!ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) return;
+    ImGui::BeginTooltip();
+    ImGui::PushTextWrapPos(ImGui::GetFontSize() * 30);
+    ImGui::TextUnformatted(text.c_str());
+    ImGui::PopTextWrapPos();
+    ImGui::EndTooltip();
 }
 
 void plot(const char* label, const std::deque<float>& history) {
@@ -101,7 +115,57 @@ void plot(const char* label, const std::deque<float>& history) {
     ImGui::PlotLines(label, values.data(), int(values.size()), 0, nullptr, FLT_MAX, FLT_MAX, ImVec2(0, 50));
 }
 
+// One group of disks: how many, their radii and masses.
+void groupInputs(const char* countLabel, std::uint32_t& count, float& radiusMin, float& massMin) {
+    int edited = int(count);
+    if (ImGui::InputInt(countLabel, &edited)) count = std::uint32_t(std::max(1, edited));
+    ImGui::InputFloat2("radius min/max", &radiusMin);
+    ImGui::InputFloat2("mass min/max", &massMin);
+}
+
+void seedInput(std::uint64_t& seed) {
+    int edited = int(seed);
+    if (ImGui::InputInt("seed", &edited)) seed = std::uint64_t(std::max(0, edited));
+}
+
 }  // namespace
+
+void Viewer::drawScenePanel() {
+    groupInputs("particles", sceneEdit_.particles, sceneEdit_.radiusMin, sceneEdit_.massMin);
+    ImGui::SliderFloat("packing", &sceneEdit_.packing, 0.01f, 0.7f);
+    ImGui::InputFloat("speed", &sceneEdit_.speed);
+    seedInput(sceneEdit_.seed);
+    if (ImGui::Button("Apply")) applyScene(sceneEdit_);
+}
+
+// The --scene file's groups, as the file (and the options given with it) set
+// them; Apply places them anew.
+void Viewer::drawSceneFilePanel() {
+    SceneFileDef& scene = *sceneFileEdit_;
+    ImGui::TextWrapped("%s", scene.path.c_str());
+    if (scene.packing > 0)
+        ImGui::Text("box sized for packing %.3g", scene.packing);
+    else
+        ImGui::Text("box %g x %g", scene.world.width, scene.world.height);
+    for (std::size_t g = 0; g < scene.groups.size(); ++g) {
+        GroupDef& group = scene.groups[g];
+        ImGui::PushID(int(g));
+        ImGui::Separator();
+        ImGui::Text("%s%s", group.name.c_str(), group.region ? ", in its region" : "");
+        groupInputs("count", group.count, group.radiusMin, group.massMin);
+        // The file gives a group a speed or a temperature (Maxwell-Boltzmann
+        // velocities); a temperature edited to 0 turns back to the speed.
+        if (group.temperature > 0)
+            ImGui::InputFloat("temperature", &group.temperature);
+        else
+            ImGui::InputFloat("speed", &group.speed);
+        ImGui::PopID();
+    }
+    ImGui::Separator();
+    if (!scene.disks.empty()) ImGui::Text("and %zu single [[disk]]s", scene.disks.size());
+    seedInput(scene.seed);
+    if (ImGui::Button("Apply")) applySceneFile(scene);
+}
 
 void Viewer::drawPanels() {
     // Placed and sized every frame; the title bar's arrow collapses it.
@@ -112,22 +176,34 @@ void Viewer::drawPanels() {
     panelsCollapsed_ = ImGui::IsWindowCollapsed();
 
     if (ImGui::CollapsingHeader("Scene", ImGuiTreeNodeFlags_DefaultOpen)) {
-        int particles = int(sceneEdit_.particles);
-        if (ImGui::InputInt("particles", &particles)) sceneEdit_.particles = std::uint32_t(std::max(1, particles));
-        ImGui::SliderFloat("packing", &sceneEdit_.packing, 0.01f, 0.7f);
-        ImGui::InputFloat2("radius min/max", &sceneEdit_.radiusMin);
-        ImGui::InputFloat2("mass min/max", &sceneEdit_.massMin);
-        ImGui::InputFloat("speed", &sceneEdit_.speed);
-        int seed = int(sceneEdit_.seed);
-        if (ImGui::InputInt("seed", &seed)) sceneEdit_.seed = std::uint64_t(std::max(0, seed));
-        if (ImGui::Button("Apply")) applyScene(sceneEdit_);
+        if (sceneFileEdit_)
+            drawSceneFilePanel();
+        else
+            drawScenePanel();
         ImGui::SameLine();
         if (ImGui::Button("Reset (R)")) reset();
     }
 
     if (ImGui::CollapsingHeader("Simulation", ImGuiTreeNodeFlags_DefaultOpen)) {
         ImGui::TextWrapped("%s on %s", computeEngineName(world_->def().engine), world_->deviceName().c_str());
-        ImGui::Text("collisions: %s (--collisions)", collisionSchemeName(world_->def().collisions));
+        if (ImGui::BeginCombo("collisions", collisionSchemeName(collisions_))) {
+            for (const CollisionScheme scheme :
+                 {CollisionScheme::Simultaneous, CollisionScheme::Pairwise, CollisionScheme::Events}) {
+                const bool refused = scheme == CollisionScheme::Events && !eventsRefusal_.empty();
+                ImGui::BeginDisabled(refused);
+                if (ImGui::Selectable(collisionSchemeName(scheme), scheme == collisions_) && scheme != collisions_)
+                    setCollisions(scheme);
+                ImGui::EndDisabled();
+                if (refused) tooltip(eventsRefusal_);
+            }
+            ImGui::EndCombo();
+        }
+        tooltip(
+            "--collisions. simultaneous: the seed's scheme, impulses from the state before the step, summed (its "
+            "energy drifts, markedly under gravity); pairwise: binary collisions at their exact contact times (energy "
+            "kept); "
+            "events: exact event-driven dynamics in double, CPU only. A switch keeps the disks as they are and "
+            "restarts the energy drift.");
         float dt = dt_;
         if (ImGui::InputFloat("dt", &dt, 0, 0, "%.5f") && dt > 0 && std::isfinite(dt)) setMotion(dt, gravityOn_);
         ImGui::SliderInt("steps per frame", &stepsPerFrame_, 0, 200);
@@ -151,11 +227,15 @@ void Viewer::drawPanels() {
                         static_cast<unsigned long long>(counts.cellCrossings));
         }
         energyPlot(energyHistory_, gravityOn_);
-        ImGui::Text("total energy %.6g, drift %+.2e", world_->totalEnergy(), relativeEnergyDrift());
+        ImGui::Text("total energy %.6g, drift %s", world_->totalEnergy(), energyDriftText().c_str());
+        tooltip(
+            "(E - E0) / |E0|: the total energy's relative change since E0 was measured; n/a when E0 is 0 "
+            "(then the change itself). Near 0 with the pairwise and events schemes; not with the simultaneous "
+            "one, markedly under gravity.");
         ImGui::PushTextWrapPos(0.0f);
         ImGui::TextDisabled(
-            "drift: the relative change%s over the last %.4g time units, since the scene, a grab, a "
-            "burst or gravity last changed the energy",
+            "drift: the relative change%s over the last %.4g time units, since the scene, a reset, a grab, a "
+            "burst, dt, gravity or the collision scheme last changed",
             events ? " of the engine's double state" : "", driftTime_);
         ImGui::PopTextWrapPos();
         ImGui::Text("momentum (%.4g, %.4g)", motion_.momentum[0], motion_.momentum[1]);

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <limits>
 
+#include <carom/io.h>
 #include <carom/types.h>
 
 #include "app/number_options.h"
@@ -27,6 +28,8 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
+Motion measureMotion(const World& world) { return {world.kineticEnergy(), world.potentialEnergy(), world.momentum()}; }
+
 double median(std::vector<double> values) {
     if (values.empty()) return 0.0;
     std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
@@ -37,6 +40,14 @@ Colouring parseColouring(const std::string& name) {
     for (int i = 0; i < kColouringCount; ++i)
         if (name == colouringName(Colouring(i))) return Colouring(i);
     throw Error("--color '" + name + "' is not a colouring; allowed: speed, mass, radius, id");
+}
+
+// "group[1] 'light' 30, group[2] 17": what the groups hold.
+std::string groupsText(const SceneFileDef& scene) {
+    std::string text;
+    for (const GroupDef& group : scene.groups)
+        text += (text.empty() ? "" : ", ") + group.name + " " + std::to_string(group.count);
+    return text;
 }
 
 std::string timestampedScreenshotName() {
@@ -65,6 +76,23 @@ void addViewOptions(CLI::App& command, ViewOptions& o) {
                        ->transform(app::wholeNumber(1));
     command.add_option("--screenshot", o.screenshot, "Headless: write the last frame as PNG")->needs(frames);
     command.add_option("--record", o.record, "Headless: write every frame as DIR/frame_00000.png ...")->needs(frames);
+    command
+        .add_option_function<std::vector<std::string>>(
+            "--switch-collisions",
+            [&o](const std::vector<std::string>& frameAndScheme) {
+                try {
+                    o.switchCollisions.emplace(
+                        io::parseWholeNumber(frameAndScheme[0], 1, std::numeric_limits<std::uint64_t>::max()),
+                        parseCollisionScheme(frameAndScheme[1]));
+                } catch (const Error& e) {  // thrown while parsing: CLI11 reports it as a usage error
+                    throw CLI::ValidationError("--switch-collisions", e.what());
+                }
+            },
+            "Headless: switch to collision scheme SCHEME before frame FRAME (counting from 1), as the panel's "
+            "selector does")
+        ->expected(2)
+        ->type_name("FRAME SCHEME")
+        ->needs(frames);
 }
 
 Viewer::Viewer(const ViewOptions& options) : options_(options) {
@@ -83,8 +111,18 @@ Viewer::Viewer(const ViewOptions& options) : options_(options) {
     dt_ = setup.world.dt;
     gravityOn_ = setup.world.gravity.x != 0.0f || setup.world.gravity.y != 0.0f;
     if (gravityOn_) gravity_ = setup.world.gravity;
+    collisions_ = setup.world.collisions;
+    try {
+        WorldDef events = setup.world;
+        events.collisions = CollisionScheme::Events;
+        app::withEngine(events, options_.scene);
+        app::refuseSubstepsWithEvents(events, app::maxTravelOption(events.maxTravel));
+    } catch (const Error& e) {
+        eventsRefusal_ = e.what();
+    }
     if (!options_.record.empty()) std::filesystem::create_directories(options_.record);
 
+    sceneFileEdit_ = setup.sceneFile;
     openWindow();
     start(std::move(setup));
 }
@@ -147,13 +185,18 @@ void Viewer::openWindow() {
     renderer_ = std::make_unique<Renderer>();
 }
 
-void Viewer::start(app::Setup setup) {
-    WorldDef def = app::withEngine(setup.world, options_.scene);
+World Viewer::makeWorld(WorldDef def, const std::vector<Disk>& disks, const std::string& source) const {
     def.dt = dt_;
     def.gravity = gravityOn_ ? gravity_ : carom::Vec2{0, 0};
-    World world(def);
-    world.setDisks(setup.disks, setup.source);
+    def.collisions = collisions_;
+    World world(app::withEngine(def, options_.scene));
+    world.setDisks(disks, source);
     for (const std::string& warning : world.warnings()) std::cerr << "carom: warning: " << warning << '\n';
+    return world;
+}
+
+void Viewer::start(app::Setup setup) {
+    World world = makeWorld(setup.world, setup.disks, setup.source);
     initial_ = std::move(setup);
     world_.emplace(std::move(world));
     disks_ = world_->disks();
@@ -166,7 +209,7 @@ void Viewer::start(app::Setup setup) {
     SDL_GetWindowSize(window_, &windowWidth, &windowHeight);
     pixelRatio_ = windowWidth > 0 ? double(drawableWidth_) / windowWidth : 1.0;
     layOut();
-    camera_.fit(def.width, def.height);
+    camera_.fit(world_->def().width, world_->def().height);
 }
 
 void Viewer::layOut() {
@@ -180,11 +223,18 @@ void Viewer::layOut() {
 
 void Viewer::restartEnergyDrift() {
     energyAtDriftStart_ = world_->totalEnergy();
+    motionAtDriftStart_ = measureMotion(*world_);
     driftTime_ = 0.0;
 }
 
-double Viewer::relativeEnergyDrift() const {
-    return (world_->totalEnergy() - energyAtDriftStart_) / std::abs(energyAtDriftStart_);
+std::string Viewer::energyDriftText() const {
+    const double change = world_->totalEnergy() - energyAtDriftStart_;
+    char text[64];
+    if (energyAtDriftStart_ == 0.0)
+        std::snprintf(text, sizeof text, "n/a (from 0, change %+.3g)", change);
+    else
+        std::snprintf(text, sizeof text, "%+.3g", change / std::abs(energyAtDriftStart_));
+    return text;
 }
 
 void Viewer::reset() {
@@ -196,18 +246,48 @@ void Viewer::reset() {
     message_ = "reset to the initial scene";
 }
 
-void Viewer::applyScene(const SceneDef& scene) {
+void Viewer::startFrom(const std::function<app::Setup()>& makeSetup) {
     try {
+        start(makeSetup());
+        message_.clear();
+    } catch (const Error& e) {
+        message_ = e.what();  // keep the current scene running
+    }
+}
+
+void Viewer::applyScene(const SceneDef& scene) {
+    startFrom([&] {
         app::SceneOptions options = options_.scene;
         options.scene = scene;
         // The panel's values replace whatever the scene came from.
         options.box.clear();
         options.inputState.clear();
         options.sceneFile.clear();
-        start(app::makeSetup(options));
-        message_.clear();
+        return app::makeSetup(options);
+    });
+}
+
+void Viewer::applySceneFile(const SceneFileDef& scene) {
+    startFrom([&] { return app::placeScene(scene); });
+}
+
+void Viewer::setCollisions(CollisionScheme scheme) {
+    if (scheme == CollisionScheme::Events && !eventsRefusal_.empty()) {
+        message_ = eventsRefusal_;
+        return;
+    }
+    const CollisionScheme previous = collisions_;
+    collisions_ = scheme;
+    try {
+        World world = makeWorld(world_->def(), disks_, "the disks at the switch");
+        collisionsBeforeReset_ += world_->collisionCount();
+        world_.emplace(std::move(world));
+        disks_ = world_->disks();
+        restartEnergyDrift();
+        message_ = std::string(collisionSchemeName(scheme)) + " collisions from here; the drift restarts";
     } catch (const Error& e) {
-        message_ = e.what();  // keep the current scene running
+        collisions_ = previous;
+        message_ = e.what();  // keep the world running as it was
     }
 }
 
@@ -373,7 +453,7 @@ void Viewer::advance(int ticks) {
 }
 
 void Viewer::updateReadouts(double realSeconds) {
-    motion_ = Motion{world_->kineticEnergy(), world_->potentialEnergy(), world_->momentum()};
+    motion_ = measureMotion(*world_);
     energyHistory_.push_back({float(motion_.kinetic), float(motion_.potential)});
     momentumHistory_.push_back(float(std::hypot(motion_.momentum[0], motion_.momentum[1])));
     if (energyHistory_.size() > kHistoryLength) energyHistory_.pop_front();
@@ -433,10 +513,9 @@ void Viewer::render() {
 void Viewer::saveScreenshot(const std::string& path) { writeFramePng(path, drawableWidth_, drawableHeight_); }
 
 int Viewer::run() {
-    const char* scheme = collisionSchemeName(world_->def().collisions);
     if (!headless_) {
         std::printf("carom view: %zu disks on %s, %s collisions\n", disks_.size(), world_->deviceName().c_str(),
-                    scheme);
+                    collisionSchemeName(collisions_));
         for (const Control& control : kControls) std::printf("  %-18s %s\n", control.keys, control.action);
     }
     std::vector<double> frameMs, simulationMs, drawingMs;
@@ -449,6 +528,10 @@ int Viewer::run() {
         const double realSeconds = std::chrono::duration<double>(frameStart - last).count();
         last = frameStart;
         for (SDL_Event event; SDL_PollEvent(&event);) handleEvent(event);
+        if (options_.switchCollisions && options_.switchCollisions->first == frame + 1) {
+            setCollisions(options_.switchCollisions->second);
+            std::printf("carom view: %s\n", message_.c_str());
+        }
 
         // Headless frames are one tick each, so a recording is the same on
         // every machine; a window keeps real time with the accumulator.
@@ -480,12 +563,15 @@ int Viewer::run() {
         drawingMs.push_back(frameMs.back() - simulationMs.back());
         if (signal != 0) break;
     }
+    const std::string groups = sceneFileEdit_ ? " (the scene's groups: " + groupsText(*sceneFileEdit_) + ")" : "";
     if (headless_)
         std::printf(
-            "carom view: %llu frames of %zu disks, %s collisions, total energy drift %+.3g over %.4g time "
-            "units; median frame %.2f ms (simulation %.2f ms, drawing %.2f ms)\n",
-            static_cast<unsigned long long>(rendered), disks_.size(), scheme, relativeEnergyDrift(), driftTime_,
-            median(frameMs), median(simulationMs), median(drawingMs));
+            "carom view: %llu frames of %zu disks%s, %s collisions, total energy drift %s over %.4g time "
+            "units (kinetic %+.4g, potential %+.4g); median frame %.2f ms (simulation %.2f ms, drawing %.2f ms)\n",
+            static_cast<unsigned long long>(rendered), disks_.size(), groups.c_str(), collisionSchemeName(collisions_),
+            energyDriftText().c_str(), driftTime_, motion_.kinetic - motionAtDriftStart_.kinetic,
+            motion_.potential - motionAtDriftStart_.potential, median(frameMs), median(simulationMs),
+            median(drawingMs));
     if (signal == 0) return 0;
     std::fprintf(stderr, "carom view: interrupted by %s", app::signalName(signal));
     if (headless_) {

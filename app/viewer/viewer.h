@@ -6,7 +6,9 @@
 #include <cstdint>
 #include <deque>
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "app/scene_options.h"
@@ -28,6 +30,9 @@ struct ViewOptions {
     std::string record;                  // headless: write every frame into this folder
     std::string colouring = "speed";     // speed, mass, radius or id
     bool hidePanels = false;
+    // Headless: switch to collision scheme SCHEME before frame FRAME (as the
+    // panel's selector does), for tests of the live switch.
+    std::optional<std::pair<std::uint64_t, CollisionScheme>> switchCollisions;
 };
 
 void addViewOptions(class CLI::App& command, ViewOptions& options);

@@ -5,6 +5,7 @@
 #include <array>
 #include <chrono>
 #include <deque>
+#include <functional>
 #include <optional>
 
 #include <carom/world.h>
@@ -40,6 +41,9 @@ private:
     // Setup.
     void openWindow();
     void start(app::Setup setup);
+    // A world with the viewer's settings (dt, gravity, collision scheme, the
+    // options' engine) holding `disks`; throws Error when the engine refuses.
+    World makeWorld(WorldDef def, const std::vector<Disk>& disks, const std::string& source) const;
     // Fits the camera to the window and what the panels leave free of it.
     void layOut();
 
@@ -54,10 +58,21 @@ private:
 
     // Actions.
     void reset();
+    // Starts the panel's scene: one group from the command line's options,
+    // or the edited groups of the --scene file.
     void applyScene(const SceneDef& scene);
+    void applySceneFile(const SceneFileDef& scene);
+    // Starts what `makeSetup` makes; an Error it throws is shown in the
+    // panels and keeps the current scene running.
+    void startFrom(const std::function<app::Setup()>& makeSetup);
+    void drawScenePanel();      // panels.cpp
+    void drawSceneFilePanel();  // panels.cpp
     // Changes dt and switches gravity (gravity_) on or off; a change the
     // world refuses is shown in the panels and leaves both as they were.
     void setMotion(float dt, bool gravityOn);
+    // Rebuilds the world with another scheme from the disks as they are now;
+    // a scheme the engine refuses is shown in the panels and changes nothing.
+    void setCollisions(CollisionScheme scheme);
     void spawnBurst(Vec2 world);
     void grabNearest(Vec2 world);
     // The energy changed from outside (a new state, gravity, a grab): the
@@ -66,12 +81,14 @@ private:
     void saveScreenshot(const std::string& path);
     Vec2 cursorPixel() const;
     double simulatedSecondsPerSecond() const;
-    // (E - E0) / |E0| of the total energy since restartEnergyDrift.
-    double relativeEnergyDrift() const;
+    // (E - E0) / |E0| of the total energy since restartEnergyDrift, as
+    // "%+.3g"; E - E0 where E0 is 0 (a relative change is undefined there).
+    std::string energyDriftText() const;
 
     ViewOptions options_;
-    app::Setup initial_;  // what R resets to
-    SceneDef sceneEdit_;  // the scene panel's values
+    app::Setup initial_;                         // what R resets to
+    SceneDef sceneEdit_;                         // the scene panel's values without --scene
+    std::optional<SceneFileDef> sceneFileEdit_;  // and with it: the file's groups
     std::optional<World> world_;
     std::vector<Disk> disks_;  // read back once per frame
     std::vector<DiskInstance> instances_;
@@ -95,6 +112,8 @@ private:
     double accumulator_ = 0.0;
     float dt_ = 0.01f;
     bool gravityOn_ = false;
+    CollisionScheme collisions_ = CollisionScheme::Pairwise;
+    std::string eventsRefusal_;         // why the events scheme cannot run with these options; empty if it can
     carom::Vec2 gravity_{0.0f, -1.0f};  // used while gravity is on
 
     int grabbed_ = -1;     // id of the disk held by the mouse
@@ -102,13 +121,14 @@ private:
     Vec2 lastCursorWorld_;
     bool rightDown_ = false, rightDragged_ = false, middleDown_ = false;
 
-    std::uint64_t collisionsBeforeReset_ = 0;  // the worlds' before the last reset or scene
+    std::uint64_t collisionsBeforeReset_ = 0;  // the worlds' before the last reset, scene or switch
     std::uint64_t collisionsAtLastReadout_ = 0;
     double secondsSinceReadout_ = 0.0;
     double collisionsPerSecond_ = 0.0;
     double simMsPerStep_ = 0.0;
     Motion motion_;                    // of disks_, once per frame
     double energyAtDriftStart_ = 0.0;  // total energy when the drift started being measured
+    Motion motionAtDriftStart_;        // and its parts then
     double driftTime_ = 0.0;           // simulated time since then
     std::deque<EnergySample> energyHistory_;
     std::deque<float> momentumHistory_;
