@@ -3,10 +3,20 @@
 # its output against -DOUTPUT_REGEX=<regex> when given. With
 # -DSTOP_SIGNAL=TERM -DSTOP_AFTER=<seconds>, `timeout` sends carom that signal
 # then; -DEXPECT_STATUS=<status> (default 0) and -DEXPECT_FILE=<file in
-# OUT_DIR> check how it ended.
+# OUT_DIR> check how it ended. With -DREFERENCE_ARGS=a|b|c, `carom a b c`
+# runs first (no display needed) and must write reference.csv, and the
+# view.csv the viewer writes must equal it byte for byte.
 file(REMOVE_RECURSE "${OUT_DIR}")
 file(MAKE_DIRECTORY "${OUT_DIR}")
 find_program(XVFB_RUN xvfb-run REQUIRED)
+if(REFERENCE_ARGS)
+    string(REPLACE "|" ";" reference_args "${REFERENCE_ARGS}")
+    execute_process(COMMAND ${CAROM} ${reference_args} WORKING_DIRECTORY "${OUT_DIR}" RESULT_VARIABLE status
+                    ERROR_VARIABLE err OUTPUT_QUIET)
+    if(NOT status EQUAL 0)
+        message(FATAL_ERROR "the reference run `carom ${reference_args}` ended with status ${status}: ${err}")
+    endif()
+endif()
 string(REPLACE "|" ";" args "${ARGS}")
 set(stop)
 if(STOP_SIGNAL)
@@ -27,4 +37,14 @@ if(OUTPUT_REGEX AND NOT "${out}${err}" MATCHES "${OUTPUT_REGEX}")
 endif()
 if(EXPECT_FILE AND NOT EXISTS "${OUT_DIR}/${EXPECT_FILE}")
     message(FATAL_ERROR "carom view did not write ${EXPECT_FILE}")
+endif()
+if(REFERENCE_ARGS)
+    execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files "${OUT_DIR}/view.csv" "${OUT_DIR}/reference.csv"
+                    RESULT_VARIABLE differ)
+    if(NOT differ EQUAL 0)
+        file(READ "${OUT_DIR}/view.csv" view_state)
+        file(READ "${OUT_DIR}/reference.csv" reference_state)
+        message(FATAL_ERROR "the viewer's final state view.csv:\n${view_state}differs from `carom ${reference_args}`'s "
+                            "reference.csv:\n${reference_state}")
+    endif()
 endif()

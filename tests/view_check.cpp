@@ -1,6 +1,6 @@
 // Checks the viewer's headless output (see tests/viewer_tests.cmake: the
-// view.screenshot, view.record and view.layout_* fixtures render it under
-// Xvfb first) and the camera's arithmetic (view.camera, no display).
+// view.screenshot, view.record, view.layout_* and interaction fixtures render
+// it under Xvfb first) and the camera's arithmetic (view.camera, no display).
 //
 // view.screenshot is tests/data/view_disks.csv in a 100 x 50 box drawn in a
 // 400 x 300 window with the panels hidden, so the view is the whole window.
@@ -11,9 +11,14 @@
 #define DOCTEST_CONFIG_IMPLEMENT_WITH_MAIN
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include <stb/stb_image.h>
 
@@ -93,6 +98,43 @@ Camera layoutCamera(const Layout& layout) {
     camera.setLayout({double(layout.width), double(layout.height)},
                      freeView(layout.width, layout.height, Panels::Shown, 0));
     camera.fit(kCornersBox, kCornersBox);
+    return camera;
+}
+
+// A row of the viewer's --output-state CSV (carom run's format).
+struct StateDisk {
+    double x = 0, y = 0, vx = 0, vy = 0, mass = 0, radius = 0;
+};
+
+std::vector<StateDisk> readState(const std::string& path) {
+    std::ifstream in(path);
+    REQUIRE_MESSAGE(in, "cannot read " << path);
+    std::string line;
+    std::getline(in, line);
+    REQUIRE(line == "id,x,y,vx,vy,mass,radius");
+    std::vector<StateDisk> disks;
+    while (std::getline(in, line)) {
+        std::replace(line.begin(), line.end(), ',', ' ');
+        std::istringstream row(line);
+        std::size_t id = 0;
+        StateDisk disk;
+        row >> id >> disk.x >> disk.y >> disk.vx >> disk.vy >> disk.mass >> disk.radius;
+        REQUIRE_MESSAGE(row, "cannot read the row '" << line << "' of " << path);
+        REQUIRE(id == disks.size());
+        disks.push_back(disk);
+    }
+    return disks;
+}
+
+// tests/data/view_disks.csv: disks of radius 5, at rest.
+constexpr Vec2 kViewDisks[] = {{50, 25}, {10, 10}, {90, 40}};
+
+// view.screenshot's camera: view_disks.csv's 100 x 50 box in a 400 x 300
+// window with the panels hidden.
+Camera viewDisksCamera() {
+    Camera camera;
+    camera.setLayout({400, 300}, freeView(400, 300, Panels::Hidden, 0));
+    camera.fit(100, 50);
     return camera;
 }
 
@@ -261,3 +303,61 @@ void checkLayout(const Layout& layout) {
 TEST_CASE("layout 320x240: the smallest window shows the whole box beside the panels") { checkLayout(kLayouts[0]); }
 TEST_CASE("layout 400x400: a square window shows the whole box beside the panels") { checkLayout(kLayouts[1]); }
 TEST_CASE("layout 1280x800: the default window shows the whole box beside the panels") { checkLayout(kLayouts[2]); }
+
+// The interactions (tests/data/view_*.events) on view_disks.csv, through the
+// viewer's event handler; pixels below are window pixels, 3.6 to a unit.
+
+TEST_CASE("throw: a disk grabbed and dragged along +x flies along +x when released; the others stay at rest") {
+    const std::vector<StateDisk> disks = readState(outputDir() + "/throw/view.csv");
+    REQUIRE(disks.size() == std::size(kViewDisks));
+    // Grabbed at its pixel (200, 150), dragged 20 pixels right over two frames.
+    CHECK(disks[0].vx > 0);
+    CHECK(disks[0].vy == 0);
+    CHECK(disks[0].x > kViewDisks[0].x + 20 / 3.6);  // past where it was let go
+    CHECK(disks[0].y == kViewDisks[0].y);
+    for (std::size_t id = 1; id < disks.size(); ++id) {
+        CAPTURE(id);
+        CHECK(disks[id].x == kViewDisks[id].x);
+        CHECK(disks[id].y == kViewDisks[id].y);
+        CHECK(disks[id].vx == 0);
+        CHECK(disks[id].vy == 0);
+    }
+}
+
+TEST_CASE("burst: a right click in empty space adds 12 disks about the cursor, none overlapping") {
+    const std::vector<StateDisk> disks = readState(outputDir() + "/burst/view.csv");
+    REQUIRE(disks.size() == std::size(kViewDisks) + 12);
+    // The ring flies outwards symmetrically: its centre stays at the clicked
+    // pixel (128, 96), world (30, 40).
+    double sumX = 0, sumY = 0;
+    for (std::size_t id = std::size(kViewDisks); id < disks.size(); ++id) {
+        sumX += disks[id].x;
+        sumY += disks[id].y;
+    }
+    CHECK(sumX / 12 == doctest::Approx(30).epsilon(1e-4));
+    CHECK(sumY / 12 == doctest::Approx(40).epsilon(1e-4));
+    for (std::size_t i = 0; i < disks.size(); ++i)
+        for (std::size_t j = i + 1; j < disks.size(); ++j) {
+            CAPTURE(i);
+            CAPTURE(j);
+            CHECK(std::hypot(disks[i].x - disks[j].x, disks[i].y - disks[j].y) >= disks[i].radius + disks[j].radius);
+        }
+}
+
+TEST_CASE("zoom_pan: after two wheel steps out and a middle drag the disks are where the camera puts them") {
+    const Image image(outputDir() + "/zoom_pan/view.png");
+    REQUIRE(image.width == 400);
+    REQUIRE(image.height == 300);
+    const Camera fitted = viewDisksCamera();
+    Camera camera = fitted;
+    camera.zoomAbout({120, 100}, std::pow(1.15, -2));  // the wheel at (120, 100)
+    camera.pan(40, 30);                                // dragged from (300, 200) to (340, 230)
+    for (std::uint32_t id = 0; id < std::size(kViewDisks); ++id) {
+        CAPTURE(id);
+        const Vec2 moved = camera.toPixel(kViewDisks[id]);
+        CHECK_COLOUR(image, int(std::lround(moved.x)), int(std::lround(moved.y)), idColour(id));
+    }
+    // Disk 0 left its fitted pixel (200, 150) by more than its radius of 5 x 3.6 / 1.15^2 = 13.6 pixels.
+    const Vec2 before = fitted.toPixel(kViewDisks[0]);
+    CHECK_COLOUR(image, int(before.x), int(before.y), kBoxInterior);
+}

@@ -11,12 +11,17 @@ target_link_libraries(carom_view_check PRIVATE doctest::doctest OpenGL::GL ${STB
 
 set(view_out ${CMAKE_CURRENT_BINARY_DIR}/view)
 # view.NAME: `carom ARGS` (|-separated) headless under Xvfb, writing into ${view_out}/NAME; with a third
-# argument, its output must match that regular expression. One Xvfb test at a time: two xvfb-run -a at once
-# race for a display number and for their temporary folder (status 5, "problem while cleaning up").
+# argument, its output must match that regular expression (none if empty); with a fourth, REFERENCE, `carom
+# REFERENCE` runs first and the view.csv the viewer writes must equal its reference.csv. One Xvfb test at a
+# time: two xvfb-run -a at once race for a display number and for their temporary folder (status 5, "problem
+# while cleaning up").
 function(carom_view_test name args)
     set(command ${CMAKE_COMMAND} -DCAROM=$<TARGET_FILE:carom> -DOUT_DIR=${view_out}/${name} "-DARGS=${args}")
     if(ARGC GREATER 2)
         list(APPEND command "-DOUTPUT_REGEX=${ARGV2}")
+    endif()
+    if(ARGC GREATER 3)
+        list(APPEND command "-DREFERENCE_ARGS=${ARGV3}")
     endif()
     add_test(NAME view.${name} COMMAND ${command} -P ${CMAKE_CURRENT_SOURCE_DIR}/run_viewer.cmake)
     set_tests_properties(view.${name} PROPERTIES RESOURCE_LOCK xvfb)
@@ -67,6 +72,33 @@ foreach(size IN ITEMS 320x240 400x400 1280x800)
     set_tests_properties(view.check_layout_${size} PROPERTIES FIXTURES_REQUIRED view_layout_${size}
                                                               ENVIRONMENT CAROM_VIEW_OUTPUT=${view_out})
 endforeach()
+# Interactions (issue 16): --events hands scripted keys, clicks, drags and wheel steps to the viewer's event
+# handler before their frames, with the panels hidden so that the mouse reaches the box. On view_disks.csv (at
+# rest): view.check_throw and view.check_burst read the final state (--output-state), view.check_zoom_pan the
+# screenshot. On a moving scene, the final state must equal `carom run`'s after as many steps as the script lets
+# the viewer take (4 a running frame, 1 for N).
+carom_view_test(throw "${view_scene}|--frames|6|--events|${data}/view_throw.events|--output-state|view.csv")
+carom_view_test(burst "${view_scene}|--frames|5|--events|${data}/view_burst.events|--output-state|view.csv"
+                "5 frames of 15 disks")
+carom_view_test(zoom_pan "${view_scene}|--frames|6|--events|${data}/view_zoom_pan.events|--screenshot|view.png")
+foreach(name IN ITEMS throw burst zoom_pan)
+    set_tests_properties(view.${name} PROPERTIES FIXTURES_SETUP view_${name})
+    add_test(NAME view.check_${name} COMMAND carom_view_check "-tc=${name}:*")
+    set_tests_properties(view.check_${name} PROPERTIES FIXTURES_REQUIRED view_${name}
+                                                         ENVIRONMENT CAROM_VIEW_OUTPUT=${view_out})
+endforeach()
+set(view_moving "--backend|cpu|--particles|30|--box|20|20")
+set(view_moving_window "view|${view_moving}|--window|200|200|--hide-panels|--frames|6|--output-state|view.csv")
+# Paused before frame 3 and stepped once before frame 5: 2 x 4 + 1 steps.
+carom_view_test(pause_step "${view_moving_window}|--events|${data}/view_pause_step.events" ""
+                "run|${view_moving}|--steps|9|--output-state|reference.csv")
+# Paused before frame 3 without N: 2 x 4 steps, however many frames follow.
+carom_view_test(pause "${view_moving_window}|--events|${data}/view_pause.events" ""
+                "run|${view_moving}|--steps|8|--output-state|reference.csv")
+# A disk thrown, then R before frame 5: the initial state, then frames 5 and 6 run 8 steps from it.
+carom_view_test(reset "${view_moving_window}|--events|${data}/view_reset.events" ""
+                "run|${view_moving}|--steps|8|--output-state|reference.csv")
+
 # The camera's arithmetic with the panels shown, collapsed and hidden, zoomed and panned: no display needed.
 add_test(NAME view.camera COMMAND carom_view_check -tc=camera*)
 
@@ -74,4 +106,7 @@ carom_cli_test(view_without_display fail "carom view needs a display" "view|--ba
 carom_cli_test(view_bad_window fail "--window 10 10: each side must be in \\[64, 16384\\] pixels" "view|--window|10|10")
 carom_cli_test(view_bad_colouring fail "--color 'rainbow' is not a colouring" "view|--color|rainbow|--frames|1")
 carom_cli_test(view_bad_switch fail "unknown collision scheme 'bogus'" "view|--switch-collisions|1|bogus|--frames|1")
+carom_cli_test(view_bad_events fail
+               "--events [^ ]*view_bad.events line 2 '2 press left 500 100': X '500' is out of range; allowed: whole numbers from 0 to 399"
+               "view|--backend|cpu|--window|400|300|--frames|3|--events|${data}/view_bad.events")
 carom_cli_test(view_screenshot_needs_frames fail "--screenshot requires --frames" "view|--screenshot|x.png")

@@ -10,7 +10,10 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
+#include <sstream>
 
 #include <carom/io.h>
 #include <carom/types.h>
@@ -21,6 +24,11 @@
 #include "app/viewer/png.h"
 
 namespace carom::viewer {
+
+struct ScriptedEvent {
+    std::uint64_t frame;  // handled before this frame, counting from 1
+    SDL_Event event;
+};
 
 namespace {
 
@@ -48,6 +56,111 @@ std::string groupsText(const SceneFileDef& scene) {
     for (const GroupDef& group : scene.groups)
         text += (text.empty() ? "" : ", ") + group.name + " " + std::to_string(group.count);
     return text;
+}
+
+// An --events line's number, its field named in the refusal.
+std::uint64_t parseField(const char* field, const std::string& text, std::uint64_t min, std::uint64_t max) {
+    try {
+        return io::parseWholeNumber(text, min, max);
+    } catch (const Error& e) {
+        throw Error(std::string(field) + " " + e.what());
+    }
+}
+
+// "-3" of `wheel -3`: whole steps, negative ones zoom out.
+int parseWheelSteps(const std::string& text) {
+    const bool out = !text.empty() && text[0] == '-';
+    try {
+        const int steps = int(io::parseWholeNumber(std::string_view(text).substr(out ? 1 : 0), 1, 100));
+        return out ? -steps : steps;
+    } catch (const Error&) {
+        throw Error("wheel steps '" + text + "' are not a whole number from -100 to 100 other than 0");
+    }
+}
+
+Uint8 parseButton(const std::string& name) {
+    if (name == "left") return SDL_BUTTON_LEFT;
+    if (name == "middle") return SDL_BUTTON_MIDDLE;
+    if (name == "right") return SDL_BUTTON_RIGHT;
+    throw Error("'" + name + "' is not a mouse button; allowed: left, middle, right");
+}
+
+// The SDL event of one --events line's words after the frame; `cursor` is
+// where the previous mouse line left the cursor (motion is relative to it).
+SDL_Event parseScriptedEvent(const std::vector<std::string>& words, const std::vector<int>& window,
+                             std::array<int, 2>& cursor) {
+    const std::string& action = words[1];
+    const auto expectArguments = [&](std::size_t count, const char* names) {
+        if (words.size() != count + 2) throw Error(action + " takes " + names);
+    };
+    const auto parsePoint = [&](std::size_t first) {
+        for (int axis = 0; axis < 2; ++axis)
+            cursor[axis] =
+                int(parseField(axis == 0 ? "X" : "Y", words[first + axis], 0, std::uint64_t(window[axis] - 1)));
+    };
+    SDL_Event event{};
+    if (action == "key") {
+        expectArguments(1, "a key name (SDL's: Space, P, N, R, F, ...)");
+        event.type = SDL_KEYDOWN;
+        event.key.state = SDL_PRESSED;
+        event.key.keysym.sym = SDL_GetKeyFromName(words[2].c_str());
+        if (event.key.keysym.sym == SDLK_UNKNOWN)
+            throw Error("'" + words[2] + "' is not a key; allowed: SDL's key names (Space, P, N, R, F, ...)");
+        event.key.keysym.scancode = SDL_GetScancodeFromKey(event.key.keysym.sym);
+    } else if (action == "press" || action == "release") {
+        expectArguments(3, "BUTTON X Y");
+        event.type = action == "press" ? SDL_MOUSEBUTTONDOWN : SDL_MOUSEBUTTONUP;
+        event.button.button = parseButton(words[2]);
+        event.button.state = action == "press" ? SDL_PRESSED : SDL_RELEASED;
+        event.button.clicks = 1;
+        parsePoint(3);
+        event.button.x = cursor[0];
+        event.button.y = cursor[1];
+    } else if (action == "move") {
+        expectArguments(2, "X Y");
+        event.type = SDL_MOUSEMOTION;
+        const std::array<int, 2> from = cursor;
+        parsePoint(2);
+        event.motion.x = cursor[0];
+        event.motion.y = cursor[1];
+        event.motion.xrel = cursor[0] - from[0];
+        event.motion.yrel = cursor[1] - from[1];
+    } else if (action == "wheel") {
+        expectArguments(1, "STEPS (at the cursor; negative ones zoom out)");
+        event.type = SDL_MOUSEWHEEL;
+        event.wheel.y = parseWheelSteps(words[2]);
+        event.wheel.direction = SDL_MOUSEWHEEL_NORMAL;
+    } else {
+        throw Error("'" + action + "' is not an action; allowed: key, press, release, move, wheel");
+    }
+    return event;
+}
+
+// --events FILE: one input event a line, "FRAME ACTION ARGUMENTS", handled
+// before frame FRAME (1 to `frames`); points are window points; '#' starts a
+// comment. Read before the window opens, so a bad line costs no frames.
+std::vector<ScriptedEvent> readEventScript(const std::string& path, std::uint64_t frames,
+                                           const std::vector<int>& window) {
+    std::ifstream in(path);
+    if (!in) throw Error("--events '" + path + "': cannot read it");
+    std::vector<ScriptedEvent> script;
+    std::array<int, 2> cursor{};
+    std::string line;
+    for (int number = 1; std::getline(in, line); ++number) {
+        std::istringstream text(line.substr(0, line.find('#')));
+        const std::vector<std::string> words{std::istream_iterator<std::string>(text), {}};
+        if (words.empty()) continue;
+        try {
+            if (words.size() < 2) throw Error("a line is FRAME ACTION ARGUMENTS");
+            const std::uint64_t frame = parseField("FRAME", words[0], 1, frames);
+            script.push_back({frame, parseScriptedEvent(words, window, cursor)});
+        } catch (const Error& e) {
+            throw Error("--events " + path + " line " + std::to_string(number) + " '" + line + "': " + e.what());
+        }
+    }
+    std::stable_sort(script.begin(), script.end(),
+                     [](const ScriptedEvent& a, const ScriptedEvent& b) { return a.frame < b.frame; });
+    return script;
 }
 
 std::string timestampedScreenshotName() {
@@ -93,6 +206,15 @@ void addViewOptions(CLI::App& command, ViewOptions& o) {
         ->expected(2)
         ->type_name("FRAME SCHEME")
         ->needs(frames);
+    command
+        .add_option("--events", o.events,
+                    "Headless: input events from FILE, a line each: FRAME key NAME | press|release "
+                    "left|middle|right X Y | move X Y | wheel STEPS")
+        ->type_name("FILE")
+        ->needs(frames);
+    command.add_option("--output-state", o.outputState, "Headless: write the final disks to this CSV")
+        ->type_name("FILE")
+        ->needs(frames);
 }
 
 Viewer::Viewer(const ViewOptions& options) : options_(options) {
@@ -120,6 +242,7 @@ Viewer::Viewer(const ViewOptions& options) : options_(options) {
     } catch (const Error& e) {
         eventsRefusal_ = e.what();
     }
+    if (!options_.events.empty()) script_ = readEventScript(options_.events, options_.frames, options_.window);
     if (!options_.record.empty()) std::filesystem::create_directories(options_.record);
 
     sceneFileEdit_ = setup.sceneFile;
@@ -304,11 +427,7 @@ void Viewer::setMotion(float dt, bool gravityOn) {
 
 double Viewer::simulatedSecondsPerSecond() const { return paused_ ? 0.0 : stepsPerFrame_ * double(dt_) / kTickSeconds; }
 
-Vec2 Viewer::cursorPixel() const {
-    int x = 0, y = 0;
-    SDL_GetMouseState(&x, &y);
-    return {x * pixelRatio_, y * pixelRatio_};
-}
+Vec2 Viewer::cursorPixel() const { return {cursorPoint_.x * pixelRatio_, cursorPoint_.y * pixelRatio_}; }
 
 void Viewer::grabNearest(Vec2 world) {
     double best = 1e300;
@@ -404,12 +523,14 @@ void Viewer::handleEvent(const SDL_Event& event) {
             }
             break;
         case SDL_MOUSEBUTTONDOWN:
+            cursorPoint_ = {double(event.button.x), double(event.button.y)};
             if (io.WantCaptureMouse) break;
             if (event.button.button == SDL_BUTTON_LEFT) grabNearest(camera_.toWorld(cursorPixel()));
             if (event.button.button == SDL_BUTTON_RIGHT) rightDown_ = true, rightDragged_ = false;
             if (event.button.button == SDL_BUTTON_MIDDLE) middleDown_ = true;
             break;
         case SDL_MOUSEBUTTONUP:
+            cursorPoint_ = {double(event.button.x), double(event.button.y)};
             if (event.button.button == SDL_BUTTON_LEFT) grabbed_ = -1;  // released at the cursor's speed
             if (event.button.button == SDL_BUTTON_RIGHT) {
                 if (rightDown_ && !rightDragged_) spawnBurst(camera_.toWorld(cursorPixel()));
@@ -418,6 +539,7 @@ void Viewer::handleEvent(const SDL_Event& event) {
             if (event.button.button == SDL_BUTTON_MIDDLE) middleDown_ = false;
             break;
         case SDL_MOUSEMOTION:
+            cursorPoint_ = {double(event.motion.x), double(event.motion.y)};
             if (rightDown_ || middleDown_) {
                 if (std::abs(event.motion.xrel) + std::abs(event.motion.yrel) > 0) rightDragged_ = true;
                 camera_.pan(event.motion.xrel * pixelRatio_, event.motion.yrel * pixelRatio_);
@@ -527,7 +649,15 @@ int Viewer::run() {
         const auto frameStart = Clock::now();
         const double realSeconds = std::chrono::duration<double>(frameStart - last).count();
         last = frameStart;
-        for (SDL_Event event; SDL_PollEvent(&event);) handleEvent(event);
+        for (SDL_Event event; SDL_PollEvent(&event);) {
+            // Headless, the input is the --events script's alone: input from
+            // the virtual display (its pointer entering the window) would
+            // arrive at no fixed frame.
+            const bool input = event.type >= SDL_KEYDOWN && event.type < SDL_JOYAXISMOTION;
+            if (!headless_ || !input) handleEvent(event);
+        }
+        for (; nextScripted_ < script_.size() && script_[nextScripted_].frame == frame + 1; ++nextScripted_)
+            handleEvent(script_[nextScripted_].event);
         if (options_.switchCollisions && options_.switchCollisions->first == frame + 1) {
             setCollisions(options_.switchCollisions->second);
             std::printf("carom view: %s\n", message_.c_str());
@@ -541,7 +671,7 @@ int Viewer::run() {
             ticks = std::min(int(accumulator_ / kTickSeconds), kMaxTicksPerFrame);
             accumulator_ = std::min(accumulator_ - ticks * kTickSeconds, kTickSeconds);
         }
-        applyGrab(realSeconds);
+        applyGrab(headless_ ? kTickSeconds : realSeconds);  // headless: a throw's speed the same on every machine
         advance(ticks);
         updateReadouts(realSeconds);
         const double simulated = secondsSince(frameStart);
@@ -563,6 +693,7 @@ int Viewer::run() {
         drawingMs.push_back(frameMs.back() - simulationMs.back());
         if (signal != 0) break;
     }
+    if (!options_.outputState.empty()) io::writeState(options_.outputState, disks_);
     const std::string groups = sceneFileEdit_ ? " (the scene's groups: " + groupsText(*sceneFileEdit_) + ")" : "";
     if (headless_)
         std::printf(

@@ -1,5 +1,6 @@
 // `carom view`: the interactive SDL2 + OpenGL viewer, and its headless mode
-// (--frames K with --screenshot or --record) for tests and recordings.
+// (--frames K with --screenshot, --record, --events or --output-state) for
+// tests and recordings.
 #pragma once
 
 #include <array>
@@ -33,6 +34,10 @@ struct ViewOptions {
     // Headless: switch to collision scheme SCHEME before frame FRAME (as the
     // panel's selector does), for tests of the live switch.
     std::optional<std::pair<std::uint64_t, CollisionScheme>> switchCollisions;
+    // Headless: the input events in this file (keys, mouse buttons, motion,
+    // wheel; viewer.cpp's readEventScript) reach the viewer before their frames.
+    std::string events;
+    std::string outputState;  // headless: write the final disks to this CSV
 };
 
 void addViewOptions(class CLI::App& command, ViewOptions& options);

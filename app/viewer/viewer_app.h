@@ -14,6 +14,8 @@
 
 namespace carom::viewer {
 
+struct ScriptedEvent;  // viewer.cpp: one line of --events
+
 struct EnergySample {
     float kinetic = 0, potential = 0;
 };
@@ -79,6 +81,7 @@ private:
     // total's drift is measured from the state as it is now.
     void restartEnergyDrift();
     void saveScreenshot(const std::string& path);
+    // Where the last mouse event put the cursor, in drawable pixels.
     Vec2 cursorPixel() const;
     double simulatedSecondsPerSecond() const;
     // (E - E0) / |E0| of the total energy since restartEnergyDrift, as
@@ -116,6 +119,10 @@ private:
     std::string eventsRefusal_;         // why the events scheme cannot run with these options; empty if it can
     carom::Vec2 gravity_{0.0f, -1.0f};  // used while gravity is on
 
+    std::vector<ScriptedEvent> script_;  // --events, in frame order
+    std::size_t nextScripted_ = 0;
+
+    Vec2 cursorPoint_;     // [window points], from the mouse events
     int grabbed_ = -1;     // id of the disk held by the mouse
     Vec2 cursorVelocity_;  // [world units per real second], smoothed
     Vec2 lastCursorWorld_;
