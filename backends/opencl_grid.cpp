@@ -11,9 +11,10 @@ constexpr std::size_t kScanItems = 16;
 
 // The work-group of the kernels that take one particle or one cell per
 // work-item (at most; the kernels' own limit may be lower). Each work-item
-// does a few loads and stores; on an H200, 256 rather than 64 made a step
-// 7-9 % faster at 10^6 and 1.6*10^7 disks and a simultaneous one faster from
-// 10^4 up; pairwise steps below 10^6 and PoCL's moved within their noise
+// does a few loads and stores; on an H200, 256 rather than 64 made a
+// simultaneous step 7-9 % faster at 10^6 and 1.6*10^7 disks (and faster from
+// 10^4 up), a pairwise one 1-4 % at those sizes and no different below, and
+// on PoCL a simultaneous step at 10^5 11-14 % faster, the rest within noise
 // (bench/results/nvidia-h200-grid-groups.txt).
 constexpr std::size_t kGridGroupSize = 256;
 

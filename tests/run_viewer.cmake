@@ -26,7 +26,7 @@ endif()
 if(NOT DEFINED EXPECT_STATUS)
     set(EXPECT_STATUS 0)
 endif()
-execute_process(COMMAND ${XVFB_RUN} -a -s "-screen 0 1024x768x24" ${stop} ${CAROM} ${args}
+execute_process(COMMAND ${XVFB_RUN} -a -s "-screen 0 1920x1200x24" ${stop} ${CAROM} ${args}
                 WORKING_DIRECTORY "${OUT_DIR}" RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
 message("${out}${err}")
 if(NOT status EQUAL EXPECT_STATUS)

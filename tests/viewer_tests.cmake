@@ -106,6 +106,10 @@ carom_cli_test(view_without_display fail "carom view needs a display" "view|--ba
 carom_cli_test(view_bad_window fail "--window 10 10: each side must be in \\[64, 16384\\] pixels" "view|--window|10|10")
 carom_cli_test(view_bad_colouring fail "--color 'rainbow' is not a colouring" "view|--color|rainbow|--frames|1")
 carom_cli_test(view_bad_switch fail "unknown collision scheme 'bogus'" "view|--switch-collisions|1|bogus|--frames|1")
+carom_cli_test(view_switch_after_last fail "--switch-collisions frame 9 is after the last one; allowed: 1 to --frames \\(3\\)"
+               "view|--switch-collisions|9|pairwise|--frames|3")
+carom_cli_test(view_events_folder fail "--events '[^']*data' is a folder; allowed: a text file of input events"
+               "view|--events|${CMAKE_CURRENT_SOURCE_DIR}/data|--frames|3")
 carom_cli_test(view_bad_events fail
                "--events [^ ]*view_bad.events line 2 '2 press left 500 100': X '500' is out of range; allowed: whole numbers from 0 to 399"
                "view|--backend|cpu|--window|400|300|--frames|3|--events|${data}/view_bad.events")

@@ -58,6 +58,20 @@ std::string groupsText(const SceneFileDef& scene) {
     return text;
 }
 
+bool isKeyboardOrMouse(Uint32 type) {
+    switch (type) {
+        case SDL_KEYDOWN:
+        case SDL_KEYUP:
+        case SDL_TEXTEDITING:
+        case SDL_TEXTINPUT:
+        case SDL_MOUSEMOTION:
+        case SDL_MOUSEBUTTONDOWN:
+        case SDL_MOUSEBUTTONUP:
+        case SDL_MOUSEWHEEL: return true;
+        default: return false;
+    }
+}
+
 // An --events line's number, its field named in the refusal.
 std::uint64_t parseField(const char* field, const std::string& text, std::uint64_t min, std::uint64_t max) {
     try {
@@ -141,6 +155,8 @@ SDL_Event parseScriptedEvent(const std::vector<std::string>& words, const std::v
 // comment. Read before the window opens, so a bad line costs no frames.
 std::vector<ScriptedEvent> readEventScript(const std::string& path, std::uint64_t frames,
                                            const std::vector<int>& window) {
+    if (std::filesystem::is_directory(path))
+        throw Error("--events '" + path + "' is a folder; allowed: a text file of input events, a line each");
     std::ifstream in(path);
     if (!in) throw Error("--events '" + path + "': cannot read it");
     std::vector<ScriptedEvent> script;
@@ -243,6 +259,9 @@ Viewer::Viewer(const ViewOptions& options) : options_(options) {
         eventsRefusal_ = e.what();
     }
     if (!options_.events.empty()) script_ = readEventScript(options_.events, options_.frames, options_.window);
+    if (options_.switchCollisions && options_.switchCollisions->first > options_.frames)
+        throw Error("--switch-collisions frame " + std::to_string(options_.switchCollisions->first) +
+                    " is after the last one; allowed: 1 to --frames (" + std::to_string(options_.frames) + ")");
     if (!options_.record.empty()) std::filesystem::create_directories(options_.record);
 
     sceneFileEdit_ = setup.sceneFile;
@@ -302,6 +321,10 @@ void Viewer::openWindow() {
         SDL_free(folder);
         ImGui::GetIO().IniFilename = settingsFile_.c_str();
     }
+    // Headless, ImGui would read the pointer of the virtual display, which
+    // stands at no fixed place: the panels take no mouse input, so every
+    // scripted mouse event (--events) reaches the box.
+    if (headless_) ImGui::GetIO().ConfigFlags |= ImGuiConfigFlags_NoMouse;
     ImGui::StyleColorsDark();
     ImGui_ImplSDL2_InitForOpenGL(window_, glContext_);
     ImGui_ImplOpenGL3_Init("#version 330 core");
@@ -327,12 +350,17 @@ void Viewer::start(app::Setup setup) {
     energyHistory_.clear();
     momentumHistory_.clear();
     restartEnergyDrift();
+    readDrawableSize();
+    layOut();
+    camera_.fit(world_->def().width, world_->def().height);
+}
+
+// Both change when the window is resized or moves to a display of another scale.
+void Viewer::readDrawableSize() {
     SDL_GL_GetDrawableSize(window_, &drawableWidth_, &drawableHeight_);
     int windowWidth = 0, windowHeight = 0;
     SDL_GetWindowSize(window_, &windowWidth, &windowHeight);
     pixelRatio_ = windowWidth > 0 ? double(drawableWidth_) / windowWidth : 1.0;
-    layOut();
-    camera_.fit(world_->def().width, world_->def().height);
 }
 
 void Viewer::layOut() {
@@ -495,8 +523,9 @@ void Viewer::handleEvent(const SDL_Event& event) {
     switch (event.type) {
         case SDL_QUIT: running_ = false; break;
         case SDL_WINDOWEVENT:
-            if (event.window.event == SDL_WINDOWEVENT_SIZE_CHANGED)
-                SDL_GL_GetDrawableSize(window_, &drawableWidth_, &drawableHeight_);  // render() lays out anew
+            if (event.window.event == SDL_WINDOWEVENT_SIZE_CHANGED ||
+                event.window.event == SDL_WINDOWEVENT_DISPLAY_CHANGED)
+                readDrawableSize();  // render() lays out anew
             break;
         case SDL_KEYDOWN:
             if (io.WantCaptureKeyboard) break;
@@ -653,8 +682,7 @@ int Viewer::run() {
             // Headless, the input is the --events script's alone: input from
             // the virtual display (its pointer entering the window) would
             // arrive at no fixed frame.
-            const bool input = event.type >= SDL_KEYDOWN && event.type < SDL_JOYAXISMOTION;
-            if (!headless_ || !input) handleEvent(event);
+            if (!headless_ || !isKeyboardOrMouse(event.type)) handleEvent(event);
         }
         for (; nextScripted_ < script_.size() && script_[nextScripted_].frame == frame + 1; ++nextScripted_)
             handleEvent(script_[nextScripted_].event);

@@ -48,6 +48,8 @@ private:
     World makeWorld(WorldDef def, const std::vector<Disk>& disks, const std::string& source) const;
     // Fits the camera to the window and what the panels leave free of it.
     void layOut();
+    // drawableWidth_, drawableHeight_ and pixelRatio_ from the window.
+    void readDrawableSize();
 
     // One frame.
     void handleEvent(const SDL_Event& event);
