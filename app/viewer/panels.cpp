@@ -115,17 +115,20 @@ void plot(const char* label, const std::deque<float>& history) {
     ImGui::PlotLines(label, values.data(), int(values.size()), 0, nullptr, FLT_MAX, FLT_MAX, ImVec2(0, 50));
 }
 
-// One group of disks: how many, their radii and masses.
+// One group of disks: how many (at least one), their radii and masses; each
+// InputFloat2 edits a min and the max declared right after it (SceneDef and
+// GroupDef, carom/types.h). The count and the seed are edited at their own
+// width, so no value is cut short.
 void groupInputs(const char* countLabel, std::uint32_t& count, float& radiusMin, float& massMin) {
-    int edited = int(count);
-    if (ImGui::InputInt(countLabel, &edited)) count = std::uint32_t(std::max(1, edited));
+    const std::uint32_t step = 1;
+    if (ImGui::InputScalar(countLabel, ImGuiDataType_U32, &count, &step)) count = std::max<std::uint32_t>(1, count);
     ImGui::InputFloat2("radius min/max", &radiusMin);
     ImGui::InputFloat2("mass min/max", &massMin);
 }
 
 void seedInput(std::uint64_t& seed) {
-    int edited = int(seed);
-    if (ImGui::InputInt("seed", &edited)) seed = std::uint64_t(std::max(0, edited));
+    const std::uint64_t step = 1;
+    ImGui::InputScalar("seed", ImGuiDataType_U64, &seed, &step);
 }
 
 }  // namespace
