@@ -73,6 +73,15 @@ public:
     const std::optional<NonFiniteState>& nonFinite() const { return nonFinite_; }
     // Copies the current state into `particles` (in id order).
     virtual void readParticles(std::vector<Particle>& particles) = 0;
+    // The views of the current state, in the order the backend stores it,
+    // into out[0..particleCount()), and their sums (World::readView),
+    // measured where the state lives; empty where that is the host, for
+    // World to measure its own copy.
+    virtual std::optional<ViewSums> readView(ViewValue value, DiskView* out) {
+        (void)value;
+        (void)out;
+        return std::nullopt;
+    }
     // The current state where the host holds it between steps, in id order,
     // for World::diskMemory; null where it lives elsewhere (a device, doubles).
     virtual std::shared_ptr<const std::vector<Particle>> sharedState() { return nullptr; }

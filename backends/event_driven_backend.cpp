@@ -1,5 +1,7 @@
 #include "backends/event_driven_backend.h"
 
+#include "engine/diagnostics.h"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -551,17 +553,35 @@ void EventDrivenBackend::readParticles(std::vector<Particle>& particles) {
     }
 }
 
-double EventDrivenBackend::kineticEnergy() const {
-    double sum = 0;
-    for (const ExactDisk& e : exactState()) sum += 0.5 * e.mass * (e.vx * e.vx + e.vy * e.vy);
-    return sum;
+ViewSums EventDrivenBackend::exactSums() const {
+    ViewSums sums;
+    for (const ExactDisk& e : exactState()) {
+        const double speedSquared = e.vx * e.vx + e.vy * e.vy;
+        sums.kineticEnergy += 0.5 * e.mass * speedSquared;
+        sums.potentialEnergy -= e.mass * (gx_ * e.x + gy_ * e.y);
+        sums.momentum[0] += e.mass * e.vx;
+        sums.momentum[1] += e.mass * e.vy;
+        sums.mass += e.mass;
+        sums.speedSquared += speedSquared;
+    }
+    return sums;
 }
 
+double EventDrivenBackend::kineticEnergy() const { return exactSums().kineticEnergy; }
+
 double EventDrivenBackend::totalEnergy() const {
-    double sum = 0;
-    for (const ExactDisk& e : exactState())
-        sum += 0.5 * e.mass * (e.vx * e.vx + e.vy * e.vy) - e.mass * (gx_ * e.x + gy_ * e.y);
-    return sum;
+    const ViewSums sums = exactSums();
+    return sums.kineticEnergy + sums.potentialEnergy;
+}
+
+std::optional<ViewSums> EventDrivenBackend::readView(ViewValue value, DiskView* out) {
+    std::vector<Particle> particles;
+    readParticles(particles);
+    const ViewSums copy = measureView(particles, world(), value, out);
+    ViewSums sums = exactSums();
+    sums.minValue = copy.minValue;
+    sums.maxValue = copy.maxValue;
+    return sums;
 }
 
 float EventDrivenBackend::maxSpeedSquared() {

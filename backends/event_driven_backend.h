@@ -55,6 +55,8 @@ public:
     // The state at the current time, rounded to float (periodic positions
     // wrapped into the box, wall positions kept inside it).
     void readParticles(std::vector<Particle>& particles) override;
+    // The views of the float copy, with the sums of the double state.
+    std::optional<ViewSums> readView(ViewValue value, DiskView* out) override;
 
     // The state at the current time in double, in id order.
     std::vector<ExactDisk> exactState() const;
@@ -62,6 +64,8 @@ public:
     // gravity), at the current time, in double.
     double kineticEnergy() const;
     double totalEnergy() const;
+    // Its energies, momentum, mass and v^2 summed in double (no values).
+    ViewSums exactSums() const;
     // The current time since setParticles (or the origin of the restored state).
     double time() const { return now_; }
     const EventCounts& eventCounts() const { return counts_; }

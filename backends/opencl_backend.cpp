@@ -30,8 +30,11 @@ OpenClBackend::OpenClBackend(const WorldDef& world, const std::string& device, c
     check(status, "clCreateCommandQueue");
     program_ = buildProgram(context_.get(), device_, programSource, device_.correctlyRoundedDivideSqrt);
     maxSpeedKernel_ = createKernel(program_.get(), "maxSpeedSquared");
-    fitWorkGroups({}, {maxSpeedKernel_.get()});
+    viewKernel_ = createKernel(program_.get(), "writeDiskViews");
+    fitWorkGroups({}, {maxSpeedKernel_.get(), viewKernel_.get()});
     groupMax_ = createBuffer(context_.get(), kReductionGroups * sizeof(cl_float), "max speed per group");
+    groupSums_ =
+        createBuffer(context_.get(), kReductionGroups * CAROM_VIEW_SUM_COUNT * sizeof(cl_float), "view sums per group");
     firstNonFinite_ = createBuffer(context_.get(), sizeof(kNoneNonFinite), "first non-finite step and particle");
 }
 
@@ -54,6 +57,7 @@ void OpenClBackend::load(std::vector<Particle> particles) {
     state_.reset();
     next_.reset();
     tallies_.reset();
+    views_.reset();
 
     state_ = createBuffer(context_.get(), n * sizeof(Particle), "particle state");
     next_ = createBuffer(context_.get(), n * sizeof(Particle), "next particle state");
@@ -114,6 +118,44 @@ void OpenClBackend::readParticles(std::vector<Particle>& particles) {
     check(clEnqueueReadBuffer(queue_.get(), state_.get(), CL_TRUE, 0, particleCount_ * sizeof(Particle),
                               particles.data(), 0, nullptr, nullptr),
           "clEnqueueReadBuffer(particle state)");
+}
+
+std::optional<ViewSums> OpenClBackend::readView(ViewValue value, DiskView* out) {
+    confirmStep();
+    if (particleCount_ == 0) return ViewSums{};
+    if (!views_.get()) views_ = createBuffer(context_.get(), particleCount_ * sizeof(DiskView), "disk views");
+    const cl_uint count = static_cast<cl_uint>(particleCount_), kind = static_cast<cl_uint>(value);
+    const std::size_t groups =
+        std::min(kReductionGroups, (particleCount_ + reductionGroupSize_ - 1) / reductionGroupSize_);
+    setKernelArgs(viewKernel_.get(), state_.get(), slotIds(), count, kind, world().gravity, views_.get());
+    setLocalArg(viewKernel_.get(), 6, reductionGroupSize_ * 2 * sizeof(cl_float));
+    const cl_mem sums = groupSums_.get();
+    check(clSetKernelArg(viewKernel_.get(), 7, sizeof(cl_mem), &sums), "clSetKernelArg");
+    enqueue1d(queue_.get(), viewKernel_.get(), groups * reductionGroupSize_, reductionGroupSize_, "writeDiskViews",
+              profiler_.get());
+    std::vector<cl_float> groupSums(groups * CAROM_VIEW_SUM_COUNT);
+    check(clEnqueueReadBuffer(queue_.get(), views_.get(), CL_FALSE, 0, particleCount_ * sizeof(DiskView), out, 0,
+                              nullptr, nullptr),
+          "clEnqueueReadBuffer(disk views)");
+    check(clEnqueueReadBuffer(queue_.get(), groupSums_.get(), CL_TRUE, 0, groupSums.size() * sizeof(cl_float),
+                              groupSums.data(), 0, nullptr, nullptr),
+          "clEnqueueReadBuffer(view sums per group)");
+    ViewSums result;
+    result.minValue = HUGE_VALF;
+    result.maxValue = -HUGE_VALF;
+    for (std::size_t g = 0; g < groups; ++g) {
+        const cl_float* group = groupSums.data() + g * CAROM_VIEW_SUM_COUNT;
+        auto pair = [&](int at) { return double(group[at]) + double(group[at + 1]); };
+        result.kineticEnergy += pair(CAROM_VIEW_SUM_KINETIC);
+        result.potentialEnergy += pair(CAROM_VIEW_SUM_POTENTIAL);
+        result.momentum[0] += pair(CAROM_VIEW_SUM_MOMENTUM_X);
+        result.momentum[1] += pair(CAROM_VIEW_SUM_MOMENTUM_Y);
+        result.mass += pair(CAROM_VIEW_SUM_MASS);
+        result.speedSquared += pair(CAROM_VIEW_SUM_SPEED_SQUARED);
+        result.minValue = std::min(result.minValue, group[CAROM_VIEW_SUM_MIN_VALUE]);
+        result.maxValue = std::max(result.maxValue, group[CAROM_VIEW_SUM_MAX_VALUE]);
+    }
+    return result;
 }
 
 float OpenClBackend::maxSpeedSquared() {

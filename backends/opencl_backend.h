@@ -28,6 +28,9 @@ public:
 
     // Reads state_, stored by id.
     void readParticles(std::vector<Particle>& particles) override;
+    // writeDiskViews (kernels/view.cl) on the device: reads back 16 bytes a
+    // disk and the work-groups' sums.
+    std::optional<ViewSums> readView(ViewValue value, DiskView* out) override;
 
     // Seconds per kernel, transfer and host grid build over the steps so
     // far; null unless constructed with profiling.
@@ -35,7 +38,8 @@ public:
 
 protected:
     // `device`: see opencl::selectDevice. The program is built from
-    // `programSource`, which must hold maxSpeedSquared (kernels/step.cl).
+    // `programSource`, which must hold maxSpeedSquared (kernels/step.cl) and
+    // writeDiskViews (kernels/view.cl).
     // With `profiling`, each command's device time is recorded (profiler());
     // for explaining a step, not timing it.
     OpenClBackend(const WorldDef& world, const std::string& device, const char* programSource, bool profiling);
@@ -55,6 +59,8 @@ protected:
         enqueueStep(dt);
         return 1;
     }
+    // The id of the disk in each slot of state_; null where slot = id.
+    virtual cl_mem slotIds() const { return nullptr; }
     // Whether enqueueStep ends in a wait of its own; else advance() waits
     // every kStepsPerSync steps and at its end.
     virtual bool waitsEachStep() const { return false; }
@@ -107,6 +113,9 @@ private:
 
     opencl::Kernel maxSpeedKernel_;
     opencl::Buffer groupMax_;          // maxSpeedSquared's per-group results
+    opencl::Kernel viewKernel_;        // writeDiskViews
+    opencl::Buffer views_;             // its views, made at the first readView after load
+    opencl::Buffer groupSums_;         // and its per-group sums
     std::uint64_t substep_ = 0;        // substeps enqueued since load
     std::uint64_t nonFiniteBase_ = 0;  // the substep that step index 0 means
 };

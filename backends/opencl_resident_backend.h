@@ -34,6 +34,7 @@ private:
     void enqueueStep(float dt) override;
     std::uint64_t enqueueSteps(std::uint64_t steps, float dt) override;
     // A pairwise step ends in a wait of its own (confirmStep).
+    cl_mem slotIds() const override { return ids_.get(); }
     bool waitsEachStep() const override { return world_.collisions == CollisionScheme::Pairwise; }
     // Pairwise: waits for the last step's rounds (and runs the rest if its
     // batch fell short), then makes its result the current state.

@@ -7,19 +7,64 @@
 
 namespace carom {
 
+namespace {
+
+// One disk's share of the sums, in double: measureMotion and measureView add
+// the same terms, so their energies and momentum agree bit for bit.
+struct MotionTerms {
+    double speedSquared, kinetic, potential;  // v^2, m v^2 / 2, -m g . x
+    std::array<double, 2> momentum;           // m v
+};
+
+MotionTerms motionTerms(const Particle& p, const WorldDef& world) {
+    const double vx = p.velocity.x, vy = p.velocity.y, speedSquared = vx * vx + vy * vy;
+    return {speedSquared, 0.5 * p.mass * speedSquared,
+            -(p.mass * (double(world.gravity.x) * p.position.x + double(world.gravity.y) * p.position.y)),
+            {p.mass * vx, p.mass * vy}};
+}
+
+}  // namespace
+
 Diagnostics measureMotion(const std::vector<Particle>& particles, const WorldDef& world) {
     Diagnostics d;
     for (const Particle& p : particles) {
-        const double vx = p.velocity.x, vy = p.velocity.y;
-        d.kineticEnergy += 0.5 * p.mass * (vx * vx + vy * vy);
-        d.momentum[0] += p.mass * vx;
-        d.momentum[1] += p.mass * vy;
-        d.potentialEnergy -= p.mass * (double(world.gravity.x) * p.position.x + double(world.gravity.y) * p.position.y);
+        const MotionTerms terms = motionTerms(p, world);
+        d.kineticEnergy += terms.kinetic;
+        d.momentum[0] += terms.momentum[0];
+        d.momentum[1] += terms.momentum[1];
+        d.potentialEnergy += terms.potential;
         const float2 x = p.position;
         const bool inside = x.x >= 0.0f && x.x <= world.width && x.y >= 0.0f && x.y <= world.height;
         if (!inside) ++d.escaped;  // also counts NaN
     }
     return d;
+}
+
+ViewSums measureView(const std::vector<Particle>& particles, const WorldDef& world, ViewValue value, DiskView* out) {
+    ViewSums sums;
+    sums.minValue = particles.empty() ? 0.0f : HUGE_VALF;
+    sums.maxValue = particles.empty() ? 0.0f : -HUGE_VALF;
+    for (std::size_t i = 0; i < particles.size(); ++i) {
+        const Particle& p = particles[i];
+        float shown = p.radius;
+        switch (value) {
+            case ViewValue::Speed: shown = std::sqrt(p.velocity.x * p.velocity.x + p.velocity.y * p.velocity.y); break;
+            case ViewValue::Mass: shown = p.mass; break;
+            case ViewValue::Radius: break;
+            case ViewValue::Id: shown = float(i); break;
+        }
+        out[i] = {p.position, p.radius, shown};
+        const MotionTerms terms = motionTerms(p, world);
+        sums.kineticEnergy += terms.kinetic;
+        sums.potentialEnergy += terms.potential;
+        sums.momentum[0] += terms.momentum[0];
+        sums.momentum[1] += terms.momentum[1];
+        sums.mass += p.mass;
+        sums.speedSquared += terms.speedSquared;
+        sums.minValue = std::min(sums.minValue, shown);
+        sums.maxValue = std::max(sums.maxValue, shown);
+    }
+    return sums;
 }
 
 Overlaps findOverlaps(const std::vector<Particle>& particles, const WorldDef& world) {

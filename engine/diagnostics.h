@@ -35,5 +35,8 @@ Diagnostics measure(const std::vector<Particle>& particles, const WorldDef& worl
 // Energies, momentum and escaped particles: one pass, no grid search
 // (maxOverlap stays 0), for callers that measure every frame.
 Diagnostics measureMotion(const std::vector<Particle>& particles, const WorldDef& world);
+// World::readView on the host: the views in the particles' order, into
+// out[0..size), and their sums, in double.
+ViewSums measureView(const std::vector<Particle>& particles, const WorldDef& world, ViewValue value, DiskView* out);
 
 }  // namespace carom

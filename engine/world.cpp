@@ -160,6 +160,17 @@ void World::getDisks(Disk* out, std::size_t capacity) const {
 
 std::vector<Disk> World::disks() const { return disksOf(impl_->current()); }
 
+ViewSums World::readView(ViewValue value, DiskView* out, std::size_t capacity) const {
+    const std::size_t n = diskCount();
+    if (capacity < n)
+        throw Error("readView: room for " + std::to_string(capacity) + " views is less than diskCount() " +
+                    std::to_string(n));
+    // Measured where the state lives, even when the host holds a copy, so
+    // that every frame's sums are measured alike.
+    if (std::optional<ViewSums> sums = impl_->backend->readView(value, out)) return *sums;
+    return measureView(impl_->current(), impl_->def, value, out);
+}
+
 std::size_t World::diskCount() const { return impl_->backend->particleCount(); }
 
 static_assert(offsetof(Particle, position) == DiskMemory::kPosition * sizeof(float) &&

@@ -1,7 +1,9 @@
 /* The program of `carom bench` (embedded into the carom_bench library only):
- * the all-pairs baseline, with step.cl's integrate and maxSpeedSquared, and
+ * the all-pairs baseline, with step.cl's integrate and maxSpeedSquared and view.cl's
+ * writeDiskViews (every OpenClBackend has them), and
  * the copy that measures the device's memory bandwidth. */
 #include "step.cl"
+#include "view.cl"
 
 /* resolveCollisions against every other particle, O(N^2); integrate follows
  * as in the seed pipeline. */

@@ -60,6 +60,25 @@ typedef struct GridGeometry {
     int rows;
 } GridGeometry;
 
+/* What writeDiskViews (kernels/view.cl) measures, for World::readView: each
+ * work-group writes CAROM_VIEW_SUM_COUNT floats, the sums as float-float pairs
+ * (high, low) at these offsets, then the smallest and largest value. */
+#define CAROM_VIEW_SUM_KINETIC 0       /* m v^2 / 2 */
+#define CAROM_VIEW_SUM_POTENTIAL 2     /* -m g . x */
+#define CAROM_VIEW_SUM_MOMENTUM_X 4    /* m v.x */
+#define CAROM_VIEW_SUM_MOMENTUM_Y 6    /* m v.y */
+#define CAROM_VIEW_SUM_MASS 8          /* m */
+#define CAROM_VIEW_SUM_SPEED_SQUARED 10 /* v^2 */
+#define CAROM_VIEW_SUM_PAIRS 6
+#define CAROM_VIEW_SUM_MIN_VALUE 12
+#define CAROM_VIEW_SUM_MAX_VALUE 13
+#define CAROM_VIEW_SUM_COUNT 14
+/* Which value writeDiskViews writes: the public ViewValue's order. */
+#define CAROM_VIEW_VALUE_SPEED 0u
+#define CAROM_VIEW_VALUE_MASS 1u
+#define CAROM_VIEW_VALUE_RADIUS 2u
+#define CAROM_VIEW_VALUE_ID 3u
+
 #ifndef __OPENCL_VERSION__
 static_assert(sizeof(float2) == 8 && alignof(float2) == 8, "float2 must match OpenCL's");
 static_assert(sizeof(Particle) == 32 && alignof(Particle) == 32, "Particle is 32 bytes, 32-aligned");
@@ -71,6 +90,10 @@ static_assert(sizeof(ContactTally) == 28 && offsetof(ContactTally, wallImpulse) 
                   offsetof(ContactTally, lateContacts) == 24,
               "ContactTally must match the OpenCL struct");
 static_assert(sizeof(GridCell) == 8 && offsetof(GridCell, count) == 4, "GridCell is two uints");
+static_assert(sizeof(DiskView) == 16 && offsetof(DiskView, value) == 12, "DiskView is kernels/view.cl's float4");
+static_assert(int(ViewValue::Speed) == CAROM_VIEW_VALUE_SPEED && int(ViewValue::Mass) == CAROM_VIEW_VALUE_MASS &&
+                  int(ViewValue::Radius) == CAROM_VIEW_VALUE_RADIUS && int(ViewValue::Id) == CAROM_VIEW_VALUE_ID,
+              "ViewValue in the order of CAROM_VIEW_VALUE_*");
 } /* namespace carom */
 #endif
 

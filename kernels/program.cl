@@ -6,3 +6,4 @@
 #include "resident.cl"
 #include "pairwise.cl"
 #include "small_system.cl"
+#include "view.cl"

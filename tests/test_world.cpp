@@ -2,6 +2,7 @@
 // build has registered as its own case. A World must step exactly as the
 // engine's backend does, report the observables the command line reports,
 // and refuse bad input in library terms.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -134,7 +135,7 @@ TEST_CASE("world: disks go in and come out in id order") {
     CHECK(moved.diskCount() == scene.disks.size());
 }
 
-TEST_CASE("world: the events scheme's exact centres round to its disks, and the virial makes the pressure") {
+TEST_CASE("world: the events scheme's exact centres round to its disks and views, and the virial makes the pressure") {
     const Scene scene = gas(400, 0.4f);
     WorldDef def = worldFor(scene, ComputeEngine::Cpu, Boundary::Periodic);
     def.collisions = CollisionScheme::Events;
@@ -148,6 +149,16 @@ TEST_CASE("world: the events scheme's exact centres round to its disks, and the 
     for (std::size_t i = 0; i < disks.size(); ++i)
         differing += float(exact[i][0]) != disks[i].position.x || float(exact[i][1]) != disks[i].position.y;
     CHECK(differing == 0);
+
+    // Its view: the float copy's disks, with the sums of the double state,
+    // whose total is totalEnergy() bit for bit.
+    std::vector<DiskView> views(disks.size());
+    const ViewSums sums = world.readView(ViewValue::Id, views.data(), views.size());
+    CHECK(sums.kineticEnergy + sums.potentialEnergy == world.totalEnergy());
+    std::size_t wrongViews = 0;
+    for (std::size_t i = 0; i < views.size(); ++i)
+        wrongViews += views[i].value != float(i) || std::memcmp(&views[i].position, &disks[i].position, 8) != 0;
+    CHECK(wrongViews == 0);
 
     const Measurements m = world.measurements();
     REQUIRE(m.collisions > 0);
@@ -225,6 +236,104 @@ CAROM_BACKEND_TEST_CASE("world: disk memory follows the steps and outlives a new
         CHECK(world.diskMemory().base != memory.base);
         CHECK(std::memcmp(memory.base + (before.size() - 1) * memory.stride, &before.back().position, 8) == 0);
     }
+}
+
+namespace {
+
+// Every disk of `world` appears once in a view read first (before anything
+// else waits for the steps), with its own position and radius, and the sums
+// equal the exact double ones (the CPU's) within the rounding of each disk's
+// float terms, up to about 1e-7 of each, where the float-float sums add next
+// to nothing.
+void checkView(const World& world, ComputeEngine engine) {
+    const std::size_t n = world.diskCount();
+    std::vector<DiskView> views(n);
+    const ViewSums sums = world.readView(ViewValue::Id, views.data(), n);
+    const std::vector<Disk> disks = world.disks();
+    std::vector<int> seen(n, 0);
+    std::size_t wrong = 0;
+    for (const DiskView& view : views) {
+        const auto id = std::size_t(view.value);
+        REQUIRE(id < n);
+        ++seen[id];
+        wrong += std::memcmp(&view.position, &disks[id].position, 8) != 0 || view.radius != disks[id].radius;
+    }
+    CHECK(wrong == 0);
+    CHECK(std::count(seen.begin(), seen.end(), 1) == std::ptrdiff_t(n));
+    CHECK(sums.minValue == 0.0f);
+    CHECK(sums.maxValue == float(n - 1));
+
+    const double relative = engine == ComputeEngine::Cpu ? 0.0 : 3e-7;
+    const double kinetic = world.kineticEnergy(), potential = world.potentialEnergy();
+    CHECK(std::abs(sums.kineticEnergy - kinetic) <= relative * kinetic);
+    CHECK(std::abs(sums.potentialEnergy - potential) <= relative * std::abs(potential));
+    double mass = 0.0, speedSquared = 0.0;
+    for (const Disk& d : disks) {
+        mass += d.mass;
+        speedSquared += double(d.velocity.x) * d.velocity.x + double(d.velocity.y) * d.velocity.y;
+    }
+    const double momentumScale = std::sqrt(2.0 * kinetic * mass);  // sum of m |v| at most
+    CHECK(std::abs(sums.momentum[0] - world.momentum()[0]) <= relative * momentumScale);
+    CHECK(std::abs(sums.momentum[1] - world.momentum()[1]) <= relative * momentumScale);
+    CHECK(std::abs(sums.mass - mass) <= relative * mass);
+    CHECK(std::abs(sums.speedSquared - speedSquared) <= relative * speedSquared);
+}
+
+}  // namespace
+
+// A frame's view (issue 16), on every pipeline: after steps that reorder the
+// resident one's storage, after disks are added, and for more disks than one
+// launch of the view kernel has work-items (256 groups of up to 256).
+CAROM_BACKEND_TEST_CASE("world: a view holds every disk once, and its sums are the state's") {
+    const auto stepped = [&](const Scene& scene, std::uint64_t steps) {
+        World world(worldFor(scene, def.engine, Boundary::Walls));
+        world.setDisks(scene.disks);
+        world.step(steps);
+        return world;
+    };
+    const Scene scene = gas(3000, 0.4f);
+    World world = stepped(scene, 30);
+    {
+        CAPTURE("after 30 steps");
+        checkView(world, def.engine);
+    }
+    std::vector<DiskView> views(world.diskCount());
+    CHECK_THROWS_WITH_AS(world.readView(ViewValue::Id, views.data(), views.size() - 1),
+                         doctest::Contains("room for 2999 views is less than diskCount() 3000"), Error);
+
+    // Each value: speeds, masses and radii as the disks have them.
+    const std::vector<Disk> disks = world.disks();
+    world.readView(ViewValue::Id, views.data(), views.size());
+    for (ViewValue value : {ViewValue::Speed, ViewValue::Mass, ViewValue::Radius}) {
+        CAPTURE(int(value));
+        std::vector<DiskView> values(views.size());
+        const ViewSums valued = world.readView(value, values.data(), values.size());
+        float lowest = HUGE_VALF, highest = -HUGE_VALF;
+        std::size_t wrong = 0;
+        for (std::size_t s = 0; s < values.size(); ++s) {
+            const Disk& d = disks[std::size_t(views[s].value)];
+            const float expected = value == ViewValue::Mass   ? d.mass
+                                   : value == ViewValue::Radius ? d.radius
+                                                                : std::hypot(d.velocity.x, d.velocity.y);
+            wrong += std::abs(values[s].value - expected) > 1e-6f * expected;
+            lowest = std::min(lowest, values[s].value);
+            highest = std::max(highest, values[s].value);
+        }
+        CHECK(wrong == 0);
+        CHECK(valued.minValue == lowest);
+        CHECK(valued.maxValue == highest);
+    }
+
+    const std::vector<Disk> added(scene.disks.begin(), scene.disks.begin() + 12);
+    world.addDisks(added.data(), added.size());  // overlapping: the steps push them apart
+    world.step(2);
+    {
+        CAPTURE("after addDisks");
+        checkView(world, def.engine);
+    }
+
+    CAPTURE("70 000 disks");
+    checkView(stepped(gas(70000, 0.4f), 2), def.engine);
 }
 
 TEST_CASE("world: bad input is refused in library terms, naming the value") {

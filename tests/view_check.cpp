@@ -145,8 +145,12 @@ Camera viewDisksCamera() {
 
 }  // namespace
 
+// CAROM_VIEW_SCREENSHOT names the fixture's folder: screenshot (the CPU
+// engine, views in id order) by default, or screenshot_resident (views in the
+// device's cell order, with the ids the device keeps).
 TEST_CASE("screenshot: disks, empty space and walls are where the camera maps them") {
-    const Image image(outputDir() + "/screenshot/view.png");
+    const char* folder = std::getenv("CAROM_VIEW_SCREENSHOT");
+    const Image image(outputDir() + "/" + (folder ? folder : "screenshot") + "/view.png");
     REQUIRE(image.width == 400);
     REQUIRE(image.height == 300);
 
@@ -173,6 +177,15 @@ TEST_CASE("screenshot: disks, empty space and walls are where the camera maps th
     CHECK_COLOUR(image, 200, 237, kBoxInterior);
     CHECK_COLOUR(image, 200, 245, kBackground);
     CHECK_COLOUR(image, 5, 5, kBackground);
+}
+
+TEST_CASE("screenshot_mass: disks of equal mass take viridis' middle stop") {
+    const Image image(outputDir() + "/screenshot_mass/view.png");
+    const Rgb middle{0.164f, 0.471f, 0.558f};  // viridis(0.5), the 5th of its 9 stops (renderer.cpp)
+    CHECK_COLOUR(image, 200, 150, middle);
+    CHECK_COLOUR(image, 56, 204, middle);
+    CHECK_COLOUR(image, 344, 96, middle);
+    CHECK_COLOUR(image, 222, 150, kBoxInterior);
 }
 
 TEST_CASE("record: K frames give K numbered PNG files of the window size") {
@@ -342,6 +355,16 @@ TEST_CASE("burst: a right click in empty space adds 12 disks about the cursor, n
             CAPTURE(j);
             CHECK(std::hypot(disks[i].x - disks[j].x, disks[i].y - disks[j].y) >= disks[i].radius + disks[j].radius);
         }
+}
+
+TEST_CASE("burst_scene: with --scene a burst's disks are the scene's first group's") {
+    const std::vector<StateDisk> disks = readState(outputDir() + "/burst_scene/view.csv");
+    REQUIRE(disks.size() == 3 + 12);
+    for (std::size_t id = 3; id < disks.size(); ++id) {
+        CAPTURE(id);
+        CHECK(disks[id].radius == 2.0);
+        CHECK(disks[id].mass == 5.0);
+    }
 }
 
 TEST_CASE("zoom_pan: after two wheel steps out and a middle drag the disks are where the camera puts them") {

@@ -26,18 +26,17 @@ ImVec2 canvas(ImVec2 size) {
 
 // The speed histogram as a probability density, with the 2D Maxwell-Boltzmann
 // (Rayleigh) density for the current temperature drawn over it.
-void speedHistogram(const std::vector<Disk>& particles, double kineticEnergy) {
+// `speeds`: views whose values are speeds; `sums`: the readouts' sums.
+void speedHistogram(const std::vector<DiskView>& speeds, const ViewSums& sums) {
     constexpr int kBins = 40;
-    const double n = double(std::max<std::size_t>(1, particles.size()));
-    double meanMass = 0;
-    for (const Disk& p : particles) meanMass += p.mass;
-    meanMass /= n;
-    const double kT = kineticEnergy / n;  // 2D: E_kin = N kT
+    const double n = double(std::max<std::size_t>(1, speeds.size()));
+    const double meanMass = sums.mass / n;
+    const double kT = sums.kineticEnergy / n;  // 2D: E_kin = N kT
     const double vmax = std::max(1e-12, 3.0 * std::sqrt(2.0 * kT / meanMass));
     const double binWidth = vmax / kBins;
     std::vector<double> density(kBins, 0.0);
-    for (const Disk& p : particles) {
-        const int bin = int(std::hypot(p.velocity.x, p.velocity.y) / binWidth);
+    for (const DiskView& view : speeds) {
+        const int bin = int(view.value / binWidth);
         if (bin >= 0 && bin < kBins) density[bin] += 1.0 / (n * binWidth);
     }
     auto rayleigh = [&](double v) { return meanMass * v / kT * std::exp(-meanMass * v * v / (2 * kT)); };
@@ -219,7 +218,7 @@ void Viewer::drawPanels() {
     }
 
     if (ImGui::CollapsingHeader("Readouts", ImGuiTreeNodeFlags_DefaultOpen)) {
-        ImGui::Text("%zu disks, %.0f frames/s, %.3f ms per step", disks_.size(), ImGui::GetIO().Framerate,
+        ImGui::Text("%zu disks, %.0f frames/s, %.3f ms per step", views_.size(), ImGui::GetIO().Framerate,
                     simMsPerStep_);
         ImGui::Text("collisions per second: %.0f", collisionsPerSecond_);
         const bool events = world_->def().collisions == CollisionScheme::Events;
@@ -230,7 +229,7 @@ void Viewer::drawPanels() {
                         static_cast<unsigned long long>(counts.cellCrossings));
         }
         energyPlot(energyHistory_, gravityOn_);
-        ImGui::Text("total energy %.6g, drift %s", world_->totalEnergy(), energyDriftText().c_str());
+        ImGui::Text("total energy %.6g, drift %s", motion_.kinetic + motion_.potential, energyDriftText().c_str());
         tooltip(
             "(E - E0) / |E0|: the total energy's relative change since E0 was measured; n/a when E0 is 0 "
             "(then the change itself). Near 0 with the pairwise and events schemes; not with the simultaneous "
@@ -243,7 +242,7 @@ void Viewer::drawPanels() {
         ImGui::PopTextWrapPos();
         ImGui::Text("momentum (%.4g, %.4g)", motion_.momentum[0], motion_.momentum[1]);
         plot("##momentum", momentumHistory_);
-        speedHistogram(disks_, motion_.kinetic);
+        speedHistogram(speedViews(), viewSums_);
     }
     if (ImGui::CollapsingHeader("Controls") && ImGui::BeginTable("controls", 2)) {
         for (const Control& control : kControls) {

@@ -9,24 +9,45 @@
 namespace carom::viewer {
 namespace {
 
+// The disks' colour maps: viridis at 9 stops, and a port of palette.h's
+// idColour (tests/view_check.cpp checks screenshots against both).
 const char* const kDiskVertex = R"(#version 330 core
 layout(location = 0) in vec2 corner;   // unit quad, -1..1
 layout(location = 1) in vec3 disk;     // centre x, y and radius, world units
-layout(location = 2) in vec4 colour;
+layout(location = 2) in float value;   // DiskView::value
 uniform vec2 scale;                    // world -> normalized device coordinates
 uniform vec2 offset;
+uniform bool byId;
+uniform float low, high;
 out vec2 local;
-out vec4 diskColour;
+out vec3 diskColour;
+const vec3 stops[9] = vec3[9](vec3(0.267, 0.005, 0.329), vec3(0.283, 0.141, 0.458), vec3(0.254, 0.265, 0.530),
+                              vec3(0.207, 0.372, 0.553), vec3(0.164, 0.471, 0.558), vec3(0.128, 0.567, 0.551),
+                              vec3(0.135, 0.659, 0.518), vec3(0.478, 0.821, 0.318), vec3(0.993, 0.906, 0.144));
+vec3 viridis(float t) {
+    t = isnan(t) || isinf(t) ? 0.0 : clamp(t, 0.0, 1.0);
+    float position = t * 8.0;
+    int i = min(int(position), 7);
+    return mix(stops[i], stops[i + 1], position - float(i));
+}
+vec3 idColour(uint id) {
+    uint h = id * 2654435761u;
+    h ^= h >> 15;
+    float hue = float(h % 360u) / 60.0;
+    float x = 1.0 - abs(mod(hue, 2.0) - 1.0);
+    vec3 sectors[6] = vec3[6](vec3(1, x, 0), vec3(x, 1, 0), vec3(0, 1, x), vec3(0, x, 1), vec3(x, 0, 1), vec3(1, 0, x));
+    return 0.25 + 0.75 * sectors[int(hue) % 6];
+}
 void main() {
     local = corner;
-    diskColour = colour;
+    diskColour = byId ? idColour(uint(value)) : viridis(high > low ? (value - low) / (high - low) : 0.5);
     gl_Position = vec4((disk.xy + corner * disk.z) * scale + offset, 0.0, 1.0);
 }
 )";
 
 const char* const kDiskFragment = R"(#version 330 core
 in vec2 local;
-in vec4 diskColour;
+in vec3 diskColour;
 out vec4 fragment;
 void main() {
     float r = length(local);
@@ -34,7 +55,7 @@ void main() {
     if (r > 1.0 + edge) discard;
     // A darker rim so touching disks stay distinguishable, and an
     // antialiased edge.
-    vec3 rgb = mix(diskColour.rgb, diskColour.rgb * 0.55, smoothstep(0.8, 1.0, r));
+    vec3 rgb = mix(diskColour, diskColour * 0.55, smoothstep(0.8, 1.0, r));
     fragment = vec4(rgb, 1.0 - smoothstep(1.0 - edge, 1.0 + edge, r));
 }
 )";
@@ -113,7 +134,7 @@ Renderer::Renderer() {
 
     glGenVertexArrays(1, &diskVao_);
     glBindVertexArray(diskVao_);
-    const float quad[] = {-1, -1, 1, -1, 1, 1, -1, -1, 1, 1, -1, 1};
+    const float quad[] = {-1, -1, 1, -1, -1, 1, 1, 1};  // a triangle strip: 4 vertex shader runs a disk
     glGenBuffers(1, &cornerBuffer_);
     glBindBuffer(GL_ARRAY_BUFFER, cornerBuffer_);
     glBufferData(GL_ARRAY_BUFFER, sizeof quad, quad, GL_STATIC_DRAW);
@@ -122,11 +143,11 @@ Renderer::Renderer() {
     glGenBuffers(1, &instanceBuffer_);
     glBindBuffer(GL_ARRAY_BUFFER, instanceBuffer_);
     glEnableVertexAttribArray(1);
-    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(DiskInstance), nullptr);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(DiskView), nullptr);  // position, radius
     glVertexAttribDivisor(1, 1);
     glEnableVertexAttribArray(2);
-    glVertexAttribPointer(2, 4, GL_UNSIGNED_BYTE, GL_TRUE, sizeof(DiskInstance),
-                          reinterpret_cast<const void*>(offsetof(DiskInstance, rgba)));
+    glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, sizeof(DiskView),
+                          reinterpret_cast<const void*>(offsetof(DiskView, value)));
     glVertexAttribDivisor(2, 1);
 
     glGenVertexArrays(1, &flatVao_);
@@ -159,7 +180,8 @@ void Renderer::drawRectangles(const Camera& camera, const std::vector<float>& co
     glDrawArrays(GL_TRIANGLES, 0, GLsizei(corners.size() / 2));
 }
 
-void Renderer::draw(const Camera& camera, float boxWidth, float boxHeight, const std::vector<DiskInstance>& disks) {
+void Renderer::draw(const Camera& camera, float boxWidth, float boxHeight, const std::vector<DiskView>& disks,
+                    const DiskColours& colours) {
     const Vec2 window = camera.window();
     glViewport(0, 0, GLsizei(window.x), GLsizei(window.y));
     glClearColor(kBackground.r, kBackground.g, kBackground.b, 1.0f);
@@ -181,10 +203,13 @@ void Renderer::draw(const Camera& camera, float boxWidth, float boxHeight, const
 
     glUseProgram(diskProgram_);
     setCameraUniforms(diskProgram_, camera);
+    glUniform1i(glGetUniformLocation(diskProgram_, "byId"), colours.byId);
+    glUniform1f(glGetUniformLocation(diskProgram_, "low"), colours.low);
+    glUniform1f(glGetUniformLocation(diskProgram_, "high"), colours.high);
     glBindVertexArray(diskVao_);
     glBindBuffer(GL_ARRAY_BUFFER, instanceBuffer_);
-    glBufferData(GL_ARRAY_BUFFER, disks.size() * sizeof(DiskInstance), disks.data(), GL_STREAM_DRAW);
-    glDrawArraysInstanced(GL_TRIANGLES, 0, 6, GLsizei(disks.size()));
+    glBufferData(GL_ARRAY_BUFFER, disks.size() * sizeof(DiskView), disks.data(), GL_STREAM_DRAW);
+    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(disks.size()));
     glBindVertexArray(0);
 }
 

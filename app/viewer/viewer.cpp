@@ -36,7 +36,10 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-Motion measureMotion(const World& world) { return {world.kineticEnergy(), world.potentialEnergy(), world.momentum()}; }
+double millisecondsBetween(Clock::time_point start, Clock::time_point end) {
+    return std::chrono::duration<double, std::milli>(end - start).count();
+}
+
 
 double median(std::vector<double> values) {
     if (values.empty()) return 0.0;
@@ -169,7 +172,14 @@ std::vector<ScriptedEvent> readEventScript(const std::string& path, std::uint64_
         try {
             if (words.size() < 2) throw Error("a line is FRAME ACTION ARGUMENTS");
             const std::uint64_t frame = parseField("FRAME", words[0], 1, frames);
-            script.push_back({frame, parseScriptedEvent(words, window, cursor)});
+            const SDL_Event event = parseScriptedEvent(words, window, cursor);
+            script.push_back({frame, event});
+            if (event.type == SDL_KEYDOWN) {  // a key line is a press and a release, as a keyboard sends them
+                SDL_Event release = event;
+                release.type = SDL_KEYUP;
+                release.key.state = SDL_RELEASED;
+                script.push_back({frame, release});
+            }
         } catch (const Error& e) {
             throw Error("--events " + path + " line " + std::to_string(number) + " '" + line + "': " + e.what());
         }
@@ -310,6 +320,8 @@ void Viewer::openWindow() {
     if (!glContext_) throw Error(std::string("carom view needs OpenGL 3.3 (core profile): ") + SDL_GetError());
     SDL_GL_MakeCurrent(window_, glContext_);
     SDL_GL_SetSwapInterval(headless_ ? 0 : 1);  // vsync when a person watches
+    const GLubyte* renderer = glGetString(GL_RENDERER);
+    glRenderer_ = renderer ? reinterpret_cast<const char*>(renderer) : "an unnamed OpenGL renderer";
 
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
@@ -345,7 +357,7 @@ void Viewer::start(app::Setup setup) {
     World world = makeWorld(setup.world, setup.disks, setup.source);
     initial_ = std::move(setup);
     world_.emplace(std::move(world));
-    disks_ = world_->disks();
+    grabbed_ = -1;
     collisionsBeforeReset_ = collisionsAtLastReadout_ = 0;
     energyHistory_.clear();
     momentumHistory_.clear();
@@ -373,13 +385,14 @@ void Viewer::layOut() {
 }
 
 void Viewer::restartEnergyDrift() {
-    energyAtDriftStart_ = world_->totalEnergy();
-    motionAtDriftStart_ = measureMotion(*world_);
+    readView();
+    motionAtDriftStart_ = motion_;
+    energyAtDriftStart_ = motion_.kinetic + motion_.potential;
     driftTime_ = 0.0;
 }
 
 std::string Viewer::energyDriftText() const {
-    const double change = world_->totalEnergy() - energyAtDriftStart_;
+    const double change = motion_.kinetic + motion_.potential - energyAtDriftStart_;
     char text[64];
     if (energyAtDriftStart_ == 0.0)
         std::snprintf(text, sizeof text, "n/a (from 0, change %+.3g)", change);
@@ -391,7 +404,6 @@ std::string Viewer::energyDriftText() const {
 void Viewer::reset() {
     collisionsBeforeReset_ += world_->collisionCount();
     world_->setDisks(initial_.disks, initial_.source);
-    disks_ = world_->disks();
     restartEnergyDrift();
     grabbed_ = -1;
     message_ = "reset to the initial scene";
@@ -430,10 +442,9 @@ void Viewer::setCollisions(CollisionScheme scheme) {
     const CollisionScheme previous = collisions_;
     collisions_ = scheme;
     try {
-        World world = makeWorld(world_->def(), disks_, "the disks at the switch");
+        World world = makeWorld(world_->def(), world_->disks(), "the disks at the switch");
         collisionsBeforeReset_ += world_->collisionCount();
         world_.emplace(std::move(world));
-        disks_ = world_->disks();
         restartEnergyDrift();
         message_ = std::string(collisionSchemeName(scheme)) + " collisions from here; the drift restarts";
     } catch (const Error& e) {
@@ -458,16 +469,19 @@ double Viewer::simulatedSecondsPerSecond() const { return paused_ ? 0.0 : stepsP
 Vec2 Viewer::cursorPixel() const { return {cursorPoint_.x * pixelRatio_, cursorPoint_.y * pixelRatio_}; }
 
 void Viewer::grabNearest(Vec2 world) {
+    // The frame's views are in the engine's order: the ids come from a read of the disks.
+    const std::vector<Disk> disks = world_->disks();
     double best = 1e300;
     grabbed_ = -1;
-    for (std::size_t i = 0; i < disks_.size(); ++i) {
-        const double dx = disks_[i].position.x - world.x, dy = disks_[i].position.y - world.y;
-        const double d = std::sqrt(dx * dx + dy * dy) - disks_[i].radius;
+    for (std::size_t i = 0; i < disks.size(); ++i) {
+        const double dx = disks[i].position.x - world.x, dy = disks[i].position.y - world.y;
+        const double d = std::sqrt(dx * dx + dy * dy) - disks[i].radius;
         if (d < best) {
             best = d;
             grabbed_ = int(i);
         }
     }
+    if (grabbed_ >= 0) grabbedDisk_ = disks[std::size_t(grabbed_)];
     cursorVelocity_ = {0, 0};
     lastCursorWorld_ = world;
 }
@@ -481,8 +495,8 @@ void Viewer::applyGrab(double realSeconds) {
         cursorVelocity_ = {0.7 * cursorVelocity_.x + 0.3 * v.x, 0.7 * cursorVelocity_.y + 0.3 * v.y};
     }
     lastCursorWorld_ = cursor;
-    if (grabbed_ < 0 || grabbed_ >= int(disks_.size())) return;
-    Disk& p = disks_[grabbed_];
+    if (grabbed_ < 0 || grabbed_ >= int(world_->diskCount())) return;
+    Disk& p = grabbedDisk_;
     const WorldDef& w = world_->def();
     p.position.x = float(std::clamp(cursor.x, double(p.radius), double(w.width - p.radius)));
     p.position.y = float(std::clamp(cursor.y, double(p.radius), double(w.height - p.radius)));
@@ -495,9 +509,17 @@ void Viewer::applyGrab(double realSeconds) {
 
 void Viewer::spawnBurst(Vec2 world) {
     constexpr int kCount = 12;
-    const float radius = sceneEdit_.radiusMax;
-    const float mass = 0.5f * (sceneEdit_.massMin + sceneEdit_.massMax);
-    const float speed = std::max(1.0f, 2.0f * sceneEdit_.speed);
+    // Disks like the scene's: the panel's values, or the scene file's first group.
+    float radius = sceneEdit_.radiusMax;
+    float mass = 0.5f * (sceneEdit_.massMin + sceneEdit_.massMax);
+    float speed = sceneEdit_.speed;
+    if (sceneFileEdit_ && !sceneFileEdit_->groups.empty()) {
+        const GroupDef& group = sceneFileEdit_->groups.front();
+        radius = group.radiusMax;
+        mass = 0.5f * (group.massMin + group.massMax);
+        speed = group.temperature > 0 ? std::sqrt(2.0f * group.temperature / mass) : group.speed;  // rms speed in 2D
+    }
+    speed = std::max(1.0f, 2.0f * speed);
     const WorldDef& w = world_->def();
     if (2 * radius > std::min(w.width, w.height)) return;
     // A ring whose neighbours do not touch, flying outwards.
@@ -513,7 +535,6 @@ void Viewer::spawnBurst(Vec2 world) {
         p.velocity = carom::Vec2{float(speed * std::cos(angle)), float(speed * std::sin(angle))};
     }
     world_->addDisks(burst.data(), burst.size());
-    disks_ = world_->disks();
     restartEnergyDrift();
 }
 
@@ -600,11 +621,26 @@ void Viewer::advance(int ticks) {
             paused_ = true;
         }
     }
-    disks_ = world_->disks();
 }
 
-void Viewer::updateReadouts(double realSeconds) {
-    motion_ = measureMotion(*world_);
+void Viewer::readView() {
+    static_assert(int(Colouring::Speed) == int(ViewValue::Speed) && int(Colouring::Mass) == int(ViewValue::Mass) &&
+                      int(Colouring::Radius) == int(ViewValue::Radius) && int(Colouring::Id) == int(ViewValue::Id),
+                  "a colouring is the value it colours by");
+    views_.resize(world_->diskCount());
+    viewSums_ = world_->readView(ViewValue(colouring_), views_.data(), views_.size());
+    motion_ = {viewSums_.kineticEnergy, viewSums_.potentialEnergy, viewSums_.momentum};
+}
+
+const std::vector<DiskView>& Viewer::speedViews() {
+    if (colouring_ == Colouring::Speed) return views_;
+    speedViews_.resize(world_->diskCount());
+    world_->readView(ViewValue::Speed, speedViews_.data(), speedViews_.size());
+    return speedViews_;
+}
+
+void Viewer::readBack(double realSeconds) {
+    readView();
     energyHistory_.push_back({float(motion_.kinetic), float(motion_.potential)});
     momentumHistory_.push_back(float(std::hypot(motion_.momentum[0], motion_.momentum[1])));
     if (energyHistory_.size() > kHistoryLength) energyHistory_.pop_front();
@@ -620,30 +656,19 @@ void Viewer::updateReadouts(double realSeconds) {
     }
 }
 
-void Viewer::buildInstances() {
-    float lo = 1e30f, hi = -1e30f;
-    double meanSquareSpeed = 0;
-    for (const Disk& p : disks_) {
-        const float value = colouring_ == Colouring::Mass ? p.mass : p.radius;
-        lo = std::min(lo, value);
-        hi = std::max(hi, value);
-        meanSquareSpeed += double(p.velocity.x) * p.velocity.x + double(p.velocity.y) * p.velocity.y;
-    }
-    // Speeds map to colour up to 2.5 times the rms speed, so the scale
-    // follows the temperature.
-    const double topSpeed = std::max(1e-12, 2.5 * std::sqrt(meanSquareSpeed / std::max<std::size_t>(1, disks_.size())));
-    instances_.resize(disks_.size());
-    for (std::size_t i = 0; i < disks_.size(); ++i) {
-        const Disk& p = disks_[i];
-        Rgb c;
-        switch (colouring_) {
-            case Colouring::Speed: c = viridis(float(std::hypot(p.velocity.x, p.velocity.y) / topSpeed)); break;
-            case Colouring::Mass: c = viridis(hi > lo ? (p.mass - lo) / (hi - lo) : 0.5f); break;
-            case Colouring::Radius: c = viridis(hi > lo ? (p.radius - lo) / (hi - lo) : 0.5f); break;
-            case Colouring::Id: c = idColour(std::uint32_t(i)); break;
+DiskColours Viewer::diskColours() const {
+    switch (colouring_) {
+        case Colouring::Speed: {
+            // Speeds map to colour up to 2.5 times the rms speed, so the
+            // scale follows the temperature.
+            const double meanSquare = viewSums_.speedSquared / double(std::max<std::size_t>(1, views_.size()));
+            return {false, 0.0f, float(std::max(1e-12, 2.5 * std::sqrt(meanSquare)))};
         }
-        instances_[i] = {p.position.x, p.position.y, p.radius, packColour(c.r, c.g, c.b)};
+        case Colouring::Mass:
+        case Colouring::Radius: return {false, viewSums_.minValue, viewSums_.maxValue};
+        case Colouring::Id: break;
     }
+    return {true, 0.0f, 0.0f};
 }
 
 void Viewer::render() {
@@ -654,9 +679,8 @@ void Viewer::render() {
     ImGui::NewFrame();
     if (!hidePanels_) drawPanels();
     layOut();
-    buildInstances();
     const WorldDef& w = world_->def();
-    renderer_->draw(camera_, w.width, w.height, instances_);
+    renderer_->draw(camera_, w.width, w.height, views_, diskColours());
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
 }
@@ -664,12 +688,11 @@ void Viewer::render() {
 void Viewer::saveScreenshot(const std::string& path) { writeFramePng(path, drawableWidth_, drawableHeight_); }
 
 int Viewer::run() {
-    if (!headless_) {
-        std::printf("carom view: %zu disks on %s, %s collisions\n", disks_.size(), world_->deviceName().c_str(),
-                    collisionSchemeName(collisions_));
+    std::printf("carom view: %zu disks on %s, %s collisions, drawn by %s\n", world_->diskCount(),
+                world_->deviceName().c_str(), collisionSchemeName(collisions_), glRenderer_.c_str());
+    if (!headless_)
         for (const Control& control : kControls) std::printf("  %-18s %s\n", control.keys, control.action);
-    }
-    std::vector<double> frameMs, simulationMs, drawingMs;
+    std::vector<double> frameMs, steppingMs, readingMs, drawingMs;
     auto last = Clock::now();
     std::uint64_t rendered = 0;
     int signal = 0;
@@ -699,10 +722,12 @@ int Viewer::run() {
             ticks = std::min(int(accumulator_ / kTickSeconds), kMaxTicksPerFrame);
             accumulator_ = std::min(accumulator_ - ticks * kTickSeconds, kTickSeconds);
         }
+        const auto stepStart = Clock::now();
         applyGrab(headless_ ? kTickSeconds : realSeconds);  // headless: a throw's speed the same on every machine
         advance(ticks);
-        updateReadouts(realSeconds);
-        const double simulated = secondsSince(frameStart);
+        const auto readStart = Clock::now();
+        readBack(realSeconds);
+        const auto drawStart = Clock::now();
 
         render();
         if (!options_.record.empty()) {
@@ -716,21 +741,25 @@ int Viewer::run() {
         if (headless_ && (rendered == options_.frames || signal != 0) && !options_.screenshot.empty())
             saveScreenshot(options_.screenshot);
         SDL_GL_SwapWindow(window_);
+        // Headless frames are timed: OpenGL's queued work counts in this
+        // frame's drawing, not in the next frame's stepping.
+        if (headless_) glFinish();
         frameMs.push_back(secondsSince(frameStart) * 1e3);
-        simulationMs.push_back(simulated * 1e3);
-        drawingMs.push_back(frameMs.back() - simulationMs.back());
+        steppingMs.push_back(millisecondsBetween(stepStart, readStart));
+        readingMs.push_back(millisecondsBetween(readStart, drawStart));
+        drawingMs.push_back(secondsSince(drawStart) * 1e3);
         if (signal != 0) break;
     }
-    if (!options_.outputState.empty()) io::writeState(options_.outputState, disks_);
+    if (!options_.outputState.empty()) io::writeState(options_.outputState, world_->disks());
     const std::string groups = sceneFileEdit_ ? " (the scene's groups: " + groupsText(*sceneFileEdit_) + ")" : "";
     if (headless_)
         std::printf(
             "carom view: %llu frames of %zu disks%s, %s collisions, total energy drift %s over %.4g time "
-            "units (kinetic %+.4g, potential %+.4g); median frame %.2f ms (simulation %.2f ms, drawing %.2f ms)\n",
-            static_cast<unsigned long long>(rendered), disks_.size(), groups.c_str(), collisionSchemeName(collisions_),
+            "units (kinetic %+.4g, potential %+.4g); median frame %.2f ms (stepping %.2f ms, reading back %.2f ms, drawing %.2f ms)\n",
+            static_cast<unsigned long long>(rendered), world_->diskCount(), groups.c_str(), collisionSchemeName(collisions_),
             energyDriftText().c_str(), driftTime_, motion_.kinetic - motionAtDriftStart_.kinetic,
-            motion_.potential - motionAtDriftStart_.potential, median(frameMs), median(simulationMs),
-            median(drawingMs));
+            motion_.potential - motionAtDriftStart_.potential, median(frameMs), median(steppingMs),
+            median(readingMs), median(drawingMs));
     if (signal == 0) return 0;
     std::fprintf(stderr, "carom view: interrupted by %s", app::signalName(signal));
     if (headless_) {

@@ -55,8 +55,14 @@ private:
     void handleEvent(const SDL_Event& event);
     void applyGrab(double realSeconds);
     void advance(int ticks);
-    void updateReadouts(double realSeconds);
-    void buildInstances();
+    // Reads what the frame shows of the state: the disks and the readouts.
+    void readBack(double realSeconds);
+    // views_ and viewSums_ (and motion_ from them) from the world as it is now.
+    void readView();
+    // The views with speeds as values, for the speed histogram: views_
+    // coloured by speed, else a read of its own.
+    const std::vector<DiskView>& speedViews();
+    DiskColours diskColours() const;
     void render();
     void drawPanels();  // panels.cpp
 
@@ -95,8 +101,9 @@ private:
     SceneDef sceneEdit_;                         // the scene panel's values without --scene
     std::optional<SceneFileDef> sceneFileEdit_;  // and with it: the file's groups
     std::optional<World> world_;
-    std::vector<Disk> disks_;  // read back once per frame
-    std::vector<DiskInstance> instances_;
+    std::vector<DiskView> views_;  // read back once per frame, in the engine's order
+    ViewSums viewSums_;            // of views_
+    std::vector<DiskView> speedViews_;
 
     SDL_Window* window_ = nullptr;
     void* glContext_ = nullptr;
@@ -104,6 +111,7 @@ private:
     Camera camera_;
     int drawableWidth_ = 0, drawableHeight_ = 0;
     double pixelRatio_ = 1.0;  // drawable pixels per window point (HiDPI)
+    std::string glRenderer_;   // OpenGL's name for what draws (GL_RENDERER)
 
     Colouring colouring_ = Colouring::Speed;
     bool headless_ = false;
@@ -126,6 +134,7 @@ private:
 
     Vec2 cursorPoint_;     // [window points], from the mouse events
     int grabbed_ = -1;     // id of the disk held by the mouse
+    Disk grabbedDisk_;     // as it was when grabbed, then where the mouse puts it
     Vec2 cursorVelocity_;  // [world units per real second], smoothed
     Vec2 lastCursorWorld_;
     bool rightDown_ = false, rightDragged_ = false, middleDown_ = false;
@@ -135,7 +144,7 @@ private:
     double secondsSinceReadout_ = 0.0;
     double collisionsPerSecond_ = 0.0;
     double simMsPerStep_ = 0.0;
-    Motion motion_;                    // of disks_, once per frame
+    Motion motion_;                    // of views_, once per frame
     double energyAtDriftStart_ = 0.0;  // total energy when the drift started being measured
     Motion motionAtDriftStart_;        // and its parts then
     double driftTime_ = 0.0;           // simulated time since then

@@ -10,6 +10,7 @@
 //     def.gravity = {0.0f, -9.81f};
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -41,6 +42,33 @@ struct Disk {
     Vec2 velocity{0.0f, 0.0f};  // [length/time], |v| <= kMaxSpeed
     float mass = 1.0f;          // [mass], in [kMinMass, kMaxMass]
     float radius = 1.0f;        // [length], in [kMinLength, kMaxLength]; the disk must fit in the box
+};
+
+// What a renderer draws of one disk (World::readView): 16 bytes, so that a
+// frame reads back half of what the disk holds.
+struct DiskView {
+    Vec2 position;  // centre [length]
+    float radius;   // [length]
+    float value;    // the quantity ViewValue names, for the disk's colour
+};
+// DiskView::value: |v|, mass, radius, or the id (as a float: exact below
+// 2^24 = 16 777 216 disks, rounded above, where ids share values).
+enum class ViewValue { Speed, Mass, Radius, Id };
+
+// Sums over every disk that World::readView measures with the views, for a
+// viewer's readouts. On the CPU engine in double, equal to kineticEnergy()
+// and the others; with CollisionScheme::Events in double from its double
+// state (as totalEnergy(), while kineticEnergy() and the others measure its
+// float copy). On the OpenCL engines each disk's terms are rounded to float
+// (up to about 1e-7 of each), summed in float-float (about 44 bits) within a
+// work-group, then in double: close to, not bitwise equal to, the others.
+struct ViewSums {
+    double kineticEnergy = 0.0;               // sum of m v^2 / 2
+    double potentialEnergy = 0.0;             // -sum of m g . x
+    std::array<double, 2> momentum{};         // sum of m v
+    double mass = 0.0;                        // sum of m
+    double speedSquared = 0.0;                // sum of v^2, unweighted
+    float minValue = 0.0f, maxValue = 0.0f;   // of DiskView::value; 0 without disks
 };
 
 // The most disks a world may hold: disk ids and grid cell offsets are

@@ -187,6 +187,11 @@ public:
     void getDisks(Disk* out, std::size_t capacity) const;
     std::vector<Disk> disks() const;
     std::size_t diskCount() const;
+    // What a renderer needs of every disk, in the order the engine keeps them
+    // (not by id: no reordering, and on a GPU only these 16 bytes a disk are
+    // read back), into `out`, which has room for `capacity`; returns the
+    // readouts' sums. Throws Error when capacity is less than diskCount().
+    ViewSums readView(ViewValue value, DiskView* out, std::size_t capacity) const;
     // The CPU engine's own disks, without a copy (DiskMemory above), with the
     // pairwise and simultaneous schemes; empty (base null) on the OpenCL
     // engines and with CollisionScheme::Events, which keep them elsewhere.
