@@ -50,18 +50,19 @@ DeviceGrid::DeviceGrid(cl_context context, const DeviceInfo& device, cl_program 
                     std::to_string(cellCount) +
                     "; use the host-grid pipeline (ComputeEngine::OpenClHostGrid, --pipeline seed)");
 
+    // The scan publishes sums of particles in 30 bits (scanCountsIntoCells).
+    if (particleCount >= (std::size_t(1) << 30))
+        throw Error("the device grid holds fewer than 2^30 disks, got " + std::to_string(particleCount));
+
     countKernel_ = createKernel(program, "countCells");
-    scanCountsKernel_ = createKernel(program, "scanCountsIntoCells");
-    scanKernel_ = createKernel(program, "scanTiles");
-    addOffsetsKernel_ = createKernel(program, "addTileOffsets");
+    scanKernel_ = createKernel(program, "scanCountsIntoCells");
     scatterKernel_ = createKernel(program, "scatterToCells");
     sortKernel_ = createKernel(program, "sortCellSegments");
     groupSize_ = kGridGroupSize;
-    for (cl_kernel k : {countKernel_.get(), addOffsetsKernel_.get(), scatterKernel_.get(), sortKernel_.get()})
+    for (cl_kernel k : {countKernel_.get(), scatterKernel_.get(), sortKernel_.get()})
         groupSize_ = std::min(groupSize_, kernelWorkGroupLimit(k, device.id));
-    const std::size_t scanLimit = std::min(kernelWorkGroupLimit(scanCountsKernel_.get(), device.id),
-                                           kernelWorkGroupLimit(scanKernel_.get(), device.id));
-    scanGroupSize_ = scanGroupSize(device, scanLimit, maxScanGroupSize, kScanItems);
+    scanGroupSize_ =
+        scanGroupSize(device, kernelWorkGroupLimit(scanKernel_.get(), device.id), maxScanGroupSize, kScanItems);
     tileLength_ = scanGroupSize_ * kScanItems;
 
     counts_ = createBuffer(context, cellCount * sizeof(cl_uint), "cell counts");
@@ -70,62 +71,38 @@ DeviceGrid::DeviceGrid(cl_context context, const DeviceInfo& device, cl_program 
     cellOrder_ = createBuffer(context, particleCount * sizeof(cl_uint), "slots in cell order");
     cellOf_ = createBuffer(context, particleCount * sizeof(cl_uint), "cell of each particle");
     rankInCell_ = createBuffer(context, particleCount * sizeof(cl_uint), "rank in cell");
-    zeroOffset_ = createBuffer(context, sizeof(cl_uint), "zero tile offset");
-    levelSizes_.push_back(cellCount);
-    while (levelSizes_.back() > tileLength_) levelSizes_.push_back(tiles(levelSizes_.back()));
-    for (std::size_t size : levelSizes_)
-        tileSums_.push_back(createBuffer(context, tiles(size) * sizeof(cl_uint), "scan tile sums"));
+    cellCount_ = cellCount;
+    scanStatus_ = createBuffer(context, (1 + tiles(cellCount)) * sizeof(cl_uint), "scan status");
+    nextScanStatus_ = createBuffer(context, (1 + tiles(cellCount)) * sizeof(cl_uint), "next scan status");
 }
 
 void DeviceGrid::count(cl_command_queue queue, cl_mem state) {
-    enqueueZero(queue, zeroOffset_.get(), sizeof(cl_uint), "zero tile offset");
-    enqueueZero(queue, counts_.get(), levelSizes_[0] * sizeof(cl_uint), "cell counts");
+    enqueueZero(queue, scanStatus_.get(), (1 + tiles(cellCount_)) * sizeof(cl_uint), "scan status");
+    enqueueZero(queue, counts_.get(), cellCount_ * sizeof(cl_uint), "cell counts");
     setKernelArgs(countKernel_.get(), state, cl_uint(particleCount_), geometry_, counts_.get(), cellOf_.get(),
                   rankInCell_.get());
     enqueue1d(queue, countKernel_.get(), particleCount_, groupSize_, "countCells", profiler_);
 }
 
 void DeviceGrid::build(cl_command_queue queue, cl_mem ids, cl_mem sortedIds) {
-    scanCellCounts(queue);
-    const cl_uint tileLength = cl_uint(tileLength_);
-    setKernelArgs(scatterKernel_.get(), cellOf_.get(), rankInCell_.get(), cells_.get(), cellTileOffsets(), tileLength,
-                  cl_uint(particleCount_), ids, cellOrder_.get(), sortedIds);
+    const cl_uint cellCount = cl_uint(cellCount_);
+    setKernelArgs(scanKernel_.get(), counts_.get(), cellCount, cells_.get(), scanStatus_.get(), nextScanStatus_.get());
+    setLocalArg(scanKernel_.get(), 5, scanTileBytes(scanGroupSize_, kScanItems));
+    setLocalArg(scanKernel_.get(), 6, scanRunBytes(scanGroupSize_));
+    enqueue1d(queue, scanKernel_.get(), tiles(cellCount_) * scanGroupSize_, scanGroupSize_, "scanCountsIntoCells",
+              profiler_);
+    std::swap(scanStatus_, nextScanStatus_);
+    setKernelArgs(scatterKernel_.get(), cellOf_.get(), rankInCell_.get(), cells_.get(), cl_uint(particleCount_), ids,
+                  cellOrder_.get(), sortedIds);
     enqueue1d(queue, scatterKernel_.get(), particleCount_, groupSize_, "scatterToCells", profiler_);
-    const cl_uint cellCount = cl_uint(levelSizes_[0]);
-    setKernelArgs(sortKernel_.get(), cells_.get(), cellTileOffsets(), tileLength, cellCount, cellOrder_.get(),
-                  sortedIds, nextCounts_.get());
-    enqueue1d(queue, sortKernel_.get(), cellCount, groupSize_, "sortCellSegments", profiler_);
-}
-
-// Scans the counts into the cells and every level of tile sums upwards (each
-// tile's total lands in the level above), then adds the scanned tile sums
-// back downwards to level 1: scatterToCells and sortCellSegments add level 0's.
-void DeviceGrid::scanCellCounts(cl_command_queue queue) {
-    const std::size_t tileBytes = scanTileBytes(scanGroupSize_, kScanItems), runBytes = scanRunBytes(scanGroupSize_);
-    setKernelArgs(scanCountsKernel_.get(), counts_.get(), cl_uint(levelSizes_[0]), cells_.get(), tileSums_[0].get());
-    setLocalArg(scanCountsKernel_.get(), 4, tileBytes);
-    setLocalArg(scanCountsKernel_.get(), 5, runBytes);
-    enqueue1d(queue, scanCountsKernel_.get(), tiles(levelSizes_[0]) * scanGroupSize_, scanGroupSize_,
-              "scanCountsIntoCells", profiler_);
-    for (std::size_t level = 1; level < levelSizes_.size(); ++level) {
-        setKernelArgs(scanKernel_.get(), tileSums_[level - 1].get(), cl_uint(levelSizes_[level]),
-                      tileSums_[level].get());
-        setLocalArg(scanKernel_.get(), 3, tileBytes);
-        setLocalArg(scanKernel_.get(), 4, runBytes);
-        enqueue1d(queue, scanKernel_.get(), tiles(levelSizes_[level]) * scanGroupSize_, scanGroupSize_, "scanTiles",
-                  profiler_);
-    }
-    for (std::size_t level = levelSizes_.size() - 1; level-- > 1;) {
-        setKernelArgs(addOffsetsKernel_.get(), tileSums_[level - 1].get(), cl_uint(levelSizes_[level]),
-                      cl_uint(tileLength_), tileSums_[level].get());
-        enqueue1d(queue, addOffsetsKernel_.get(), levelSizes_[level], groupSize_, "addTileOffsets", profiler_);
-    }
+    setKernelArgs(sortKernel_.get(), cells_.get(), cellCount, cellOrder_.get(), sortedIds, nextCounts_.get());
+    enqueue1d(queue, sortKernel_.get(), cellCount_, groupSize_, "sortCellSegments", profiler_);
 }
 
 Grid DeviceGrid::read(cl_command_queue queue, cl_mem sortedIds) const {
     Grid grid;
     grid.geometry = geometry_;
-    grid.cells.resize(levelSizes_[0]);
+    grid.cells.resize(cellCount_);
     grid.sortedIndices.resize(particleCount_);
     check(clEnqueueReadBuffer(queue, cells_.get(), CL_TRUE, 0, grid.cells.size() * sizeof(GridCell), grid.cells.data(),
                               0, nullptr, nullptr),

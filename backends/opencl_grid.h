@@ -22,10 +22,9 @@ class DeviceGrid {
 public:
     DeviceGrid() = default;
     // Kernels from `program`, buffers for `particleCount` particles; launches
-    // are recorded in `profiler` when given. The scan runs in work-groups of
-    // up to maxScanGroupSize (a power of two), each scanning a tile of 16
-    // values per work-item; more cells than a tile holds take one more scan
-    // level per factor of the tile length.
+    // are recorded in `profiler` when given. The scan runs in one launch of
+    // work-groups of up to maxScanGroupSize (a power of two), each scanning a
+    // tile of 16 values per work-item (kernels/grid.cl, scanCountsIntoCells).
     DeviceGrid(cl_context context, const DeviceInfo& device, cl_program program, GridGeometry geometry,
                std::size_t particleCount, Profiler* profiler = nullptr, std::size_t maxScanGroupSize = 512);
 
@@ -41,8 +40,8 @@ public:
     // The current grid, read back (for tests and diagnostics). Call after
     // build(), with its `sortedIds`.
     Grid read(cl_command_queue queue, cl_mem sortedIds) const;
-    std::size_t scanLevels() const { return levelSizes_.size(); }
-    std::size_t cellCount() const { return levelSizes_[0]; }
+    std::size_t scanTiles() const { return tileLength_ > 0 ? tiles(cellCount_) : 0; }
+    std::size_t cellCount() const { return cellCount_; }
 
     // The largest power-of-two work-group of at most maxGroupSize and
     // kernelLimit work-items whose scan tile of `items` values per work-item,
@@ -61,11 +60,11 @@ public:
     cl_mem cellOrder() const { return cellOrder_.get(); }
     cl_mem cellOf() const { return cellOf_.get(); }
     cl_mem rankInCell() const { return rankInCell_.get(); }
+    // The scan status the next build starts from: 1 + scanTiles() words, all
+    // zero between builds (the build before zeroed them).
+    cl_mem scanStatus() const { return scanStatus_.get(); }
 
 private:
-    void scanCellCounts(cl_command_queue queue);
-    // The scanned tile offsets of the cells' level (zero with one tile).
-    cl_mem cellTileOffsets() const { return levelSizes_.size() > 1 ? tileSums_[0].get() : zeroOffset_.get(); }
     std::size_t tiles(std::size_t n) const { return (n + tileLength_ - 1) / tileLength_; }
 
     GridGeometry geometry_{};
@@ -74,11 +73,13 @@ private:
     std::size_t groupSize_ = 0;       // for the one-item-per-particle/cell kernels
     std::size_t scanGroupSize_ = 64;  // a power of two
     std::size_t tileLength_ = 0;      // values per scan work-group
+    std::size_t cellCount_ = 0;
 
-    Kernel countKernel_, scanCountsKernel_, scanKernel_, addOffsetsKernel_, scatterKernel_, sortKernel_;
-    Buffer counts_, nextCounts_, cells_, cellOrder_, cellOf_, rankInCell_, zeroOffset_;  // cellOrder_: slots
-    std::vector<std::size_t> levelSizes_;  // values per scan level; [0] = cells
-    std::vector<Buffer> tileSums_;         // [L]: the tile sums of level L (at the top, the total)
+    Kernel countKernel_, scanKernel_, scatterKernel_, sortKernel_;
+    Buffer counts_, nextCounts_, cells_, cellOrder_, cellOf_, rankInCell_;  // cellOrder_: slots
+    // The scan's ticket and tile words (scanCountsIntoCells): the current
+    // one zero before each build, which zeroes the other and swaps them.
+    Buffer scanStatus_, nextScanStatus_;
 };
 
 }  // namespace carom::opencl

@@ -8,10 +8,10 @@
  *
  *   countCells           the cell of each slot's particle, and its arrival
  *                        rank in that cell (atomic_inc on the cell's count)
- *   scanCountsIntoCells, exclusive prefix sum of the counts into the cells'
- *   scanTiles,           starts, tile by tile, with the tile sums scanned
- *   addTileOffsets       level by level; the cells' own level gets its tile
- *                        offsets added by the next two kernels, saving a pass
+ *   scanCountsIntoCells  exclusive prefix sum of the counts into the cells'
+ *                        starts in one pass: each work-group scans a tile
+ *                        and adds the sum of the tiles before it, which it
+ *                        learns from them as they finish (decoupled look-back)
  *   scatterToCells       each slot, and its id, to start + rank of its cell
  *   sortCellSegments     each cell's slots and ids into ascending id: the ids
  *                        are then sortedIndices
@@ -100,56 +100,63 @@ static inline uint carom_scan_tile(
     return total;
 }
 
-/* The cells' level: each cell gets its start within its tile and its count;
- * the tile's total goes to tileSums. */
+/* A tile's word in the scan's status (scanCountsIntoCells): 0 until the tile
+ * publishes; then a flag and a value of 30 bits (a sum of particles, fewer
+ * than kMaxParticles < 2^30). */
+#define CAROM_TILE_TOTAL 0x40000000u  /* the value is the tile's own total */
+#define CAROM_TILE_PREFIX 0x80000000u /* the value is the sum of this tile and every tile before it */
+#define CAROM_TILE_VALUE 0x3FFFFFFFu
+
+/* Each cell's start and count, in one pass. A work-group takes the next tile
+ * in the order work-groups start (a ticket in status[0]), scans it, publishes
+ * its total in status[1 + tile], and adds up the published words of the tiles
+ * before it, back to the first that holds a prefix; then it publishes its own
+ * prefix. It waits only for tiles whose work-groups started before it: OpenCL
+ * 1.2 promises no progress between work-groups, but every device carom runs
+ * on (NVIDIA, PoCL's threads) keeps running a work-group once started. The
+ * words are read and written with atomics, so a word is seen whole. `status` must be zero on entry; the kernel
+ * zeroes `nextStatus`, which the next build passes as its status. */
 __kernel void scanCountsIntoCells(__global const uint* counts,
                                   uint n,
                                   __global GridCell* cells,
-                                  __global uint* tileSums,
+                                  __global uint* status,
+                                  __global uint* nextStatus,
                                   __local uint* tile,
                                   __local uint* runSums)
 {
+    __local uint tileIndex, before;
     const uint lid = get_local_id(0);
     const uint size = get_local_size(0);
+    if (lid == 0) tileIndex = atomic_inc(&status[0]);
+    barrier(CLK_LOCAL_MEM_FENCE);
+    const uint t = tileIndex;
     const uint tileLength = size * CAROM_SCAN_ITEMS;
-    const uint first = get_group_id(0) * tileLength;
+    const uint first = t * tileLength;
     const uint total = carom_scan_tile(counts, n, first, CAROM_SCAN_ITEMS, tile, runSums);
+    if (lid == 0) {
+        nextStatus[1 + t] = 0u;
+        if (t == 0) nextStatus[0] = 0u;
+        uint prefix = 0u;
+        if (t > 0) {
+            atomic_xchg(&status[1 + t], CAROM_TILE_TOTAL | total);
+            for (uint j = t; j-- > 0;) {
+                uint word;
+                do word = atomic_or(&status[1 + j], 0u);
+                while (word == 0u);
+                prefix += word & CAROM_TILE_VALUE;
+                if (word & CAROM_TILE_PREFIX) break;
+            }
+        }
+        atomic_xchg(&status[1 + t], CAROM_TILE_PREFIX | (prefix + total));
+        before = prefix;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
     for (uint k = lid; k < tileLength && first + k < n; k += size) {
         GridCell cell;
-        cell.start = tile[carom_padded(k)];
-        cell.count = (k + 1 < tileLength ? tile[carom_padded(k + 1)] : total) - cell.start;
+        cell.start = before + tile[carom_padded(k)];
+        cell.count = (k + 1 < tileLength ? tile[carom_padded(k + 1)] : total) - tile[carom_padded(k)];
         cells[first + k] = cell;
     }
-    if (lid == 0) tileSums[get_group_id(0)] = total;
-}
-
-/* The levels above: tile sums scanned in place, their totals one level up. */
-__kernel void scanTiles(
-    __global uint* values, uint n, __global uint* tileSums, __local uint* tile, __local uint* runSums)
-{
-    const uint lid = get_local_id(0);
-    const uint size = get_local_size(0);
-    const uint tileLength = size * CAROM_SCAN_ITEMS;
-    const uint first = get_group_id(0) * tileLength;
-    const uint total = carom_scan_tile(values, n, first, CAROM_SCAN_ITEMS, tile, runSums);
-    for (uint k = lid; k < tileLength && first + k < n; k += size) values[first + k] = tile[carom_padded(k)];
-    if (lid == 0) tileSums[get_group_id(0)] = total;
-}
-
-/* Adds to each value the scanned sum of the tiles before its tile. */
-__kernel void addTileOffsets(__global uint* values, uint n, uint tileLength, __global const uint* tileOffsets)
-{
-    const uint index = get_global_id(0);
-    if (index < n) values[index] += tileOffsets[index / tileLength];
-}
-
-/* The start of cell c: its start within its scan tile plus the tile's offset. */
-static inline uint carom_cell_start(__global const GridCell* cells,
-                                    uint c,
-                                    __global const uint* tileOffsets,
-                                    uint tileLength)
-{
-    return cells[c].start + tileOffsets[c / tileLength];
 }
 
 /* Slot `slot` to the start of its cell plus its arrival rank, with its id:
@@ -169,8 +176,6 @@ static inline void carom_scatter_slot(uint slot,
 __kernel void scatterToCells(__global const uint* cellOf,
                              __global const uint* rankInCell,
                              __global const GridCell* cells,
-                             __global const uint* tileOffsets,
-                             uint tileLength,
                              uint count,
                              __global const uint* ids,
                              __global uint* cellOrder,
@@ -178,8 +183,7 @@ __kernel void scatterToCells(__global const uint* cellOf,
 {
     const uint slot = get_global_id(0);
     if (slot >= count) return;
-    carom_scatter_slot(slot, carom_cell_start(cells, cellOf[slot], tileOffsets, tileLength), rankInCell, ids, cellOrder,
-                       sortedIds);
+    carom_scatter_slot(slot, cells[cellOf[slot]].start, rankInCell, ids, cellOrder, sortedIds);
 }
 
 /* Sorts a cell's slots and ids, as scattered in arrival order, into ascending
@@ -203,13 +207,10 @@ static inline void carom_sort_cell(GridCell cell, __global uint* cellOrder, __gl
     }
 }
 
-/* Per cell: completes the cell's start (adds its tile's offset); zeroes the
- * cell's count in `nextCounts`, which the step counts the new positions
- * into; sorts the cell's slots and ids by id: sortedIds is then
- * sortedIndices. */
-__kernel void sortCellSegments(__global GridCell* cells,
-                               __global const uint* tileOffsets,
-                               uint tileLength,
+/* Per cell: zeroes the cell's count in `nextCounts`, which the step counts
+ * the new positions into; sorts the cell's slots and ids by id: sortedIds is
+ * then sortedIndices. */
+__kernel void sortCellSegments(__global const GridCell* cells,
                                uint cellCount,
                                __global uint* cellOrder,
                                __global uint* sortedIds,
@@ -218,8 +219,5 @@ __kernel void sortCellSegments(__global GridCell* cells,
     const uint c = get_global_id(0);
     if (c >= cellCount) return;
     nextCounts[c] = 0u;
-    GridCell cell = cells[c];
-    cell.start = carom_cell_start(cells, c, tileOffsets, tileLength);
-    cells[c] = cell;
-    carom_sort_cell(cell, cellOrder, sortedIds);
+    carom_sort_cell(cells[c], cellOrder, sortedIds);
 }

@@ -102,7 +102,7 @@ TEST_CASE("resident grid: the device builds the shared builder's cells and sorte
     }
 }
 
-TEST_CASE("resident grid: the scan gives the same grid with one to four levels") {
+TEST_CASE("resident grid: the one-pass scan gives the same grid from one tile to thousands") {
     using namespace opencl;
     const char* selector = std::getenv("CAROM_TEST_DEVICE");
     const DeviceInfo device = selectDevice(selector ? selector : "");
@@ -114,30 +114,65 @@ TEST_CASE("resident grid: the scan gives the same grid with one to four levels")
     const Program program = buildProgram(context.get(), device, kernelSource(), false);
 
     const WorldDef world = box(400, 300);
-    const std::vector<Particle> ps = randomDisks(11, 20000, world, 1.0f);
-    const Grid host = hostGrid(ps, gridGeometryFor(world.width, world.height, 1.0f, ps.size()));
+    // Two states of as many disks in the same grid: builds take their counts
+    // in turn, so that a scan runs on status words the build before zeroed
+    // after a build of other counts used them (a word left over would give a
+    // tile a wrong start, where a tile looks back before the one before it
+    // publishes: a matter of timing, so each build's zeroing is checked too).
+    const std::vector<Particle> states[2] = {randomDisks(11, 20000, world, 1.0f), randomDisks(12, 20000, world, 1.0f)};
+    const GridGeometry geometry = gridGeometryFor(world.width, world.height, 1.0f, states[0].size());
+    const Grid hosts[2] = {hostGrid(states[0], geometry), hostGrid(states[1], geometry)};
     const auto upload = [&](const void* data, std::size_t bytes) {
         Buffer buffer = createBuffer(context.get(), bytes, "test data");
         check(clEnqueueWriteBuffer(queue.get(), buffer.get(), CL_TRUE, 0, bytes, data, 0, nullptr, nullptr),
               "clEnqueueWriteBuffer");
         return buffer;
     };
-    std::vector<cl_uint> ids(ps.size());
+    const std::size_t n = states[0].size();
+    std::vector<cl_uint> ids(n);
     std::iota(ids.begin(), ids.end(), cl_uint{0});
-    const Buffer state = upload(ps.data(), ps.size() * sizeof(Particle));
-    const Buffer idBuffer = upload(ids.data(), ids.size() * sizeof(cl_uint));
-    const Buffer sortedIds = createBuffer(context.get(), ps.size() * sizeof(cl_uint), "sorted ids");
-    // Small scan groups make small tiles, so ~30 000 cells need several levels.
-    std::size_t mostLevels = 0;
+    const Buffer stateBuffers[2] = {upload(states[0].data(), n * sizeof(Particle)),
+                                    upload(states[1].data(), n * sizeof(Particle))};
+    const Buffer idBuffer = upload(ids.data(), n * sizeof(cl_uint));
+    const Buffer sortedIds = createBuffer(context.get(), n * sizeof(cl_uint), "sorted ids");
+    const auto poison = [&](cl_mem buffer, std::size_t bytes) {
+        const cl_uint junk = 0xFFFFFFFFu;
+        check(clEnqueueFillBuffer(queue.get(), buffer, &junk, sizeof junk, 0, bytes, 0, nullptr, nullptr),
+              "clEnqueueFillBuffer");
+    };
+    const auto copy = [&](cl_mem from, cl_mem to, std::size_t bytes) {
+        check(clEnqueueCopyBuffer(queue.get(), from, to, 0, 0, bytes, 0, nullptr, nullptr), "clEnqueueCopyBuffer");
+    };
+    // Small scan groups make small tiles: ~30 000 cells take up to ~1 900
+    // tiles, each adding up the totals of the tiles before it that have not
+    // published their prefix yet (how far back depends on how many run at once).
+    std::size_t mostTiles = 0;
     for (std::size_t group : {1, 2, 8, 512}) {
-        DeviceGrid grid(context.get(), device, program.get(), host.geometry, ps.size(), nullptr, group);
-        grid.count(queue.get(), state.get());
-        grid.build(queue.get(), idBuffer.get(), sortedIds.get());
-        CAPTURE(grid.scanLevels());
-        checkSameGrid(grid.read(queue.get(), sortedIds.get()), host);
-        mostLevels = std::max(mostLevels, grid.scanLevels());
+        DeviceGrid grid(context.get(), device, program.get(), geometry, n, nullptr, group);
+        DeviceGrid counted[2] = {DeviceGrid(context.get(), device, program.get(), geometry, n, nullptr, group),
+                                 DeviceGrid(context.get(), device, program.get(), geometry, n, nullptr, group)};
+        for (int k = 0; k < 2; ++k) counted[k].count(queue.get(), stateBuffers[k].get());
+        grid.count(queue.get(), stateBuffers[0].get());  // zeroes the first status buffer
+        CAPTURE(grid.scanTiles());
+        for (int build = 0; build < 5; ++build) {
+            CAPTURE(build);
+            const int k = build / 2 % 2;  // 0 0 1 1 0: each status buffer sees other counts each time
+            copy(counted[k].counts(), grid.counts(), grid.cellCount() * sizeof(cl_uint));
+            copy(counted[k].cellOf(), grid.cellOf(), n * sizeof(cl_uint));
+            copy(counted[k].rankInCell(), grid.rankInCell(), n * sizeof(cl_uint));
+            poison(grid.cells(), grid.cellCount() * sizeof(GridCell));
+            poison(sortedIds.get(), n * sizeof(cl_uint));
+            grid.build(queue.get(), idBuffer.get(), sortedIds.get());
+            checkSameGrid(grid.read(queue.get(), sortedIds.get()), hosts[k]);
+            std::vector<cl_uint> next(1 + grid.scanTiles());
+            check(clEnqueueReadBuffer(queue.get(), grid.scanStatus(), CL_TRUE, 0, next.size() * sizeof(cl_uint),
+                                      next.data(), 0, nullptr, nullptr),
+                  "clEnqueueReadBuffer(scan status)");
+            CHECK(std::count(next.begin(), next.end(), 0u) == std::ptrdiff_t(next.size()));
+        }
+        mostTiles = std::max(mostTiles, grid.scanTiles());
     }
-    CHECK(mostLevels >= 4);
+    CHECK(mostTiles >= 1000);
 }
 
 namespace {
