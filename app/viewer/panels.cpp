@@ -61,17 +61,24 @@ void speedHistogram(const std::vector<DiskView>& speeds, const ViewSums& sums) {
 // The kinetic energy over the last frames and, with gravity, the potential
 // and total energies (white), on one scale that includes 0: the kinetic and
 // potential lines mirror each other while the total stays flat.
-void energyPlot(const std::deque<EnergySample>& history, bool gravity) {
+// Without gravity the kinetic energy; with gravity the kinetic, potential
+// and total energy's changes since `driftStart`, on one
+// scale: their exchange shows however large the potential energy is beside
+// the kinetic.
+void energyPlot(const std::deque<EnergySample>& history, bool gravity, const EnergySample& driftStart) {
     constexpr ImU32 kKinetic = IM_COL32(90, 150, 220, 255), kPotential = IM_COL32(120, 200, 120, 255),
                     kTotal = IM_COL32(240, 240, 240, 255);
-    const auto total = [](const EnergySample& e) { return e.kinetic + e.potential; };
-    float lo = 0, hi = 0;
+    const EnergySample zero = gravity ? driftStart : EnergySample{};
+    const auto kinetic = [&](const EnergySample& e) { return e.kinetic - zero.kinetic; };
+    const auto potential = [&](const EnergySample& e) { return e.potential - zero.potential; };
+    const auto total = [&](const EnergySample& e) { return kinetic(e) + potential(e); };
+    double lo = 0, hi = 0;
     for (const EnergySample& e : history)
-        for (const float value : {e.kinetic, gravity ? e.potential : 0.0f, gravity ? total(e) : 0.0f}) {
+        for (const double value : {kinetic(e), gravity ? potential(e) : 0.0, gravity ? total(e) : 0.0}) {
             lo = std::min(lo, value);
             hi = std::max(hi, value);
         }
-    const float margin = hi > lo ? 0.05f * (hi - lo) : 1.0f;  // keeps the lines off the edges
+    const double margin = hi > lo ? 0.05 * (hi - lo) : 1.0;  // keeps the lines off the edges
     lo -= margin;
     hi += margin;
     const ImVec2 size(ImGui::GetContentRegionAvail().x, 70);
@@ -80,13 +87,13 @@ void energyPlot(const std::deque<EnergySample>& history, bool gravity) {
         std::vector<ImVec2> points;
         for (std::size_t k = 0; k < history.size(); ++k)
             points.push_back(ImVec2(origin.x + size.x * float(k) / float(std::max<std::size_t>(1, history.size() - 1)),
-                                    origin.y + size.y * (1 - (value(history[k]) - lo) / (hi - lo))));
+                                    origin.y + size.y * float(1 - (value(history[k]) - lo) / (hi - lo))));
         ImGui::GetWindowDrawList()->AddPolyline(points.data(), int(points.size()), colour, 0, 1.5f);
     };
     // The flat total first, under the lines that move.
     if (gravity) line(kTotal, total);
-    line(kKinetic, [](const EnergySample& e) { return e.kinetic; });
-    if (gravity) line(kPotential, [](const EnergySample& e) { return e.potential; });
+    line(kKinetic, kinetic);
+    if (gravity) line(kPotential, potential);
     ImGui::Dummy(size);
     const EnergySample last = history.empty() ? EnergySample{} : history.back();
     ImGui::TextColored(ImColor(kKinetic), "kinetic %.6g", last.kinetic);
@@ -95,6 +102,9 @@ void energyPlot(const std::deque<EnergySample>& history, bool gravity) {
         ImGui::TextColored(ImColor(kPotential), "potential %.6g", last.potential);
         ImGui::SameLine();
         ImGui::TextColored(ImColor(kTotal), "total");
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextDisabled("lines: changes since the drift's start");
+        ImGui::PopTextWrapPos();
     }
 }
 
@@ -228,7 +238,7 @@ void Viewer::drawPanels() {
                         static_cast<unsigned long long>(counts.wallBounces),
                         static_cast<unsigned long long>(counts.cellCrossings));
         }
-        energyPlot(energyHistory_, gravityOn_);
+        energyPlot(energyHistory_, gravityOn_, {motionAtDriftStart_.kinetic, motionAtDriftStart_.potential});
         ImGui::Text("total energy %.6g, drift %s", motion_.kinetic + motion_.potential, energyDriftText().c_str());
         tooltip(
             "(E - E0) / |E0|: the total energy's relative change since E0 was measured; n/a when E0 is 0 "

@@ -641,7 +641,7 @@ const std::vector<DiskView>& Viewer::speedViews() {
 
 void Viewer::readBack(double realSeconds) {
     readView();
-    energyHistory_.push_back({float(motion_.kinetic), float(motion_.potential)});
+    energyHistory_.push_back({motion_.kinetic, motion_.potential});
     momentumHistory_.push_back(float(std::hypot(motion_.momentum[0], motion_.momentum[1])));
     if (energyHistory_.size() > kHistoryLength) energyHistory_.pop_front();
     if (momentumHistory_.size() > kHistoryLength) momentumHistory_.pop_front();

@@ -17,7 +17,7 @@ namespace carom::viewer {
 struct ScriptedEvent;  // viewer.cpp: one line of --events
 
 struct EnergySample {
-    float kinetic = 0, potential = 0;
+    double kinetic = 0, potential = 0;
 };
 
 // What the readouts show of the state, measured once per frame.
