@@ -531,9 +531,10 @@ std::vector<ExactDisk> EventDrivenBackend::exactState() const {
     return state;
 }
 
-void EventDrivenBackend::readParticles(std::vector<Particle>& particles) {
-    const std::vector<ExactDisk> exact = exactState();
-    particles.resize(exact.size());
+void EventDrivenBackend::readParticles(std::vector<Particle>& particles) { particles = roundedParticles(exactState()); }
+
+std::vector<Particle> EventDrivenBackend::roundedParticles(const std::vector<ExactDisk>& exact) const {
+    std::vector<Particle> particles(exact.size());
     const auto width = float(width_), height = float(height_);
     for (std::size_t i = 0; i < exact.size(); ++i) {
         const ExactDisk& e = exact[i];
@@ -551,11 +552,12 @@ void EventDrivenBackend::readParticles(std::vector<Particle>& particles) {
         }
         particles[i] = p;
     }
+    return particles;
 }
 
-ViewSums EventDrivenBackend::exactSums() const {
+ViewSums EventDrivenBackend::exactSums(const std::vector<ExactDisk>& exact) const {
     ViewSums sums;
-    for (const ExactDisk& e : exactState()) {
+    for (const ExactDisk& e : exact) {
         const double speedSquared = e.vx * e.vx + e.vy * e.vy;
         sums.kineticEnergy += 0.5 * e.mass * speedSquared;
         sums.potentialEnergy -= e.mass * (gx_ * e.x + gy_ * e.y);
@@ -567,18 +569,17 @@ ViewSums EventDrivenBackend::exactSums() const {
     return sums;
 }
 
-double EventDrivenBackend::kineticEnergy() const { return exactSums().kineticEnergy; }
+double EventDrivenBackend::kineticEnergy() const { return exactSums(exactState()).kineticEnergy; }
 
 double EventDrivenBackend::totalEnergy() const {
-    const ViewSums sums = exactSums();
+    const ViewSums sums = exactSums(exactState());
     return sums.kineticEnergy + sums.potentialEnergy;
 }
 
 std::optional<ViewSums> EventDrivenBackend::readView(ViewValue value, DiskView* out) {
-    std::vector<Particle> particles;
-    readParticles(particles);
-    const ViewSums copy = measureView(particles, world(), value, out);
-    ViewSums sums = exactSums();
+    const std::vector<ExactDisk> exact = exactState();
+    const ViewSums copy = measureView(roundedParticles(exact), world(), value, out);
+    ViewSums sums = exactSums(exact);
     sums.minValue = copy.minValue;
     sums.maxValue = copy.maxValue;
     return sums;

@@ -64,8 +64,6 @@ public:
     // gravity), at the current time, in double.
     double kineticEnergy() const;
     double totalEnergy() const;
-    // Its energies, momentum, mass and v^2 summed in double (no values).
-    ViewSums exactSums() const;
     // The current time since setParticles (or the origin of the restored state).
     double time() const { return now_; }
     const EventCounts& eventCounts() const { return counts_; }
@@ -81,6 +79,11 @@ public:
     void restore(const EventEngineState& state);
 
 private:
+    // `exact` (exactState()) rounded to float, as readParticles gives it.
+    std::vector<Particle> roundedParticles(const std::vector<ExactDisk>& exact) const;
+    // The energies, momentum, mass and v^2 of `exact` summed in double (no values).
+    ViewSums exactSums(const std::vector<ExactDisk>& exact) const;
+
     void load(std::vector<Particle> particles) override;
     void advance(std::uint64_t substeps, float dt) override;
     float maxSpeedSquared() override;

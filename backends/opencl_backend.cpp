@@ -127,10 +127,9 @@ std::optional<ViewSums> OpenClBackend::readView(ViewValue value, DiskView* out) 
     const cl_uint count = static_cast<cl_uint>(particleCount_), kind = static_cast<cl_uint>(value);
     const std::size_t groups =
         std::min(kReductionGroups, (particleCount_ + reductionGroupSize_ - 1) / reductionGroupSize_);
-    setKernelArgs(viewKernel_.get(), state_.get(), slotIds(), count, kind, world().gravity, views_.get());
-    setLocalArg(viewKernel_.get(), 6, reductionGroupSize_ * 2 * sizeof(cl_float));
-    const cl_mem sums = groupSums_.get();
-    check(clSetKernelArg(viewKernel_.get(), 7, sizeof(cl_mem), &sums), "clSetKernelArg");
+    setKernelArgs(viewKernel_.get(), state_.get(), slotIds(), count, kind, world().gravity, views_.get(),
+                  groupSums_.get());
+    setLocalArg(viewKernel_.get(), 7, reductionGroupSize_ * 2 * sizeof(cl_float));
     enqueue1d(queue_.get(), viewKernel_.get(), groups * reductionGroupSize_, reductionGroupSize_, "writeDiskViews",
               profiler_.get());
     std::vector<cl_float> groupSums(groups * CAROM_VIEW_SUM_COUNT);

@@ -18,7 +18,8 @@ struct MotionTerms {
 
 MotionTerms motionTerms(const Particle& p, const WorldDef& world) {
     const double vx = p.velocity.x, vy = p.velocity.y, speedSquared = vx * vx + vy * vy;
-    return {speedSquared, 0.5 * p.mass * speedSquared,
+    return {speedSquared,
+            0.5 * p.mass * speedSquared,
             -(p.mass * (double(world.gravity.x) * p.position.x + double(world.gravity.y) * p.position.y)),
             {p.mass * vx, p.mass * vy}};
 }

@@ -63,11 +63,11 @@ typedef struct GridGeometry {
 /* What writeDiskViews (kernels/view.cl) measures, for World::readView: each
  * work-group writes CAROM_VIEW_SUM_COUNT floats, the sums as float-float pairs
  * (high, low) at these offsets, then the smallest and largest value. */
-#define CAROM_VIEW_SUM_KINETIC 0       /* m v^2 / 2 */
-#define CAROM_VIEW_SUM_POTENTIAL 2     /* -m g . x */
-#define CAROM_VIEW_SUM_MOMENTUM_X 4    /* m v.x */
-#define CAROM_VIEW_SUM_MOMENTUM_Y 6    /* m v.y */
-#define CAROM_VIEW_SUM_MASS 8          /* m */
+#define CAROM_VIEW_SUM_KINETIC 0        /* m v^2 / 2 */
+#define CAROM_VIEW_SUM_POTENTIAL 2      /* -m g . x */
+#define CAROM_VIEW_SUM_MOMENTUM_X 4     /* m v.x */
+#define CAROM_VIEW_SUM_MOMENTUM_Y 6     /* m v.y */
+#define CAROM_VIEW_SUM_MASS 8           /* m */
 #define CAROM_VIEW_SUM_SPEED_SQUARED 10 /* v^2 */
 #define CAROM_VIEW_SUM_PAIRS 6
 #define CAROM_VIEW_SUM_MIN_VALUE 12

@@ -25,8 +25,8 @@ __kernel void writeDiskViews(__global const Particle* state,
                              uint valueKind,
                              float2 gravity,
                              __global float4* views,
-                             __local float2* scratch,
-                             __global float* groupSums)
+                             __global float* groupSums,
+                             __local float2* scratch)
 {
     float2 sums[CAROM_VIEW_SUM_PAIRS];
     for (int q = 0; q < CAROM_VIEW_SUM_PAIRS; ++q) sums[q] = (float2)(0.0f, 0.0f);

@@ -312,7 +312,7 @@ CAROM_BACKEND_TEST_CASE("world: a view holds every disk once, and its sums are t
         std::size_t wrong = 0;
         for (std::size_t s = 0; s < values.size(); ++s) {
             const Disk& d = disks[std::size_t(views[s].value)];
-            const float expected = value == ViewValue::Mass   ? d.mass
+            const float expected = value == ViewValue::Mass     ? d.mass
                                    : value == ViewValue::Radius ? d.radius
                                                                 : std::hypot(d.velocity.x, d.velocity.y);
             wrong += std::abs(values[s].value - expected) > 1e-6f * expected;

@@ -40,7 +40,6 @@ double millisecondsBetween(Clock::time_point start, Clock::time_point end) {
     return std::chrono::duration<double, std::milli>(end - start).count();
 }
 
-
 double median(std::vector<double> values) {
     if (values.empty()) return 0.0;
     std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
@@ -387,17 +386,17 @@ void Viewer::layOut() {
 void Viewer::restartEnergyDrift() {
     readView();
     motionAtDriftStart_ = motion_;
-    energyAtDriftStart_ = motion_.kinetic + motion_.potential;
     driftTime_ = 0.0;
 }
 
 std::string Viewer::energyDriftText() const {
-    const double change = motion_.kinetic + motion_.potential - energyAtDriftStart_;
+    const double start = motionAtDriftStart_.kinetic + motionAtDriftStart_.potential;
+    const double change = motion_.kinetic + motion_.potential - start;
     char text[64];
-    if (energyAtDriftStart_ == 0.0)
+    if (start == 0.0)
         std::snprintf(text, sizeof text, "n/a (from 0, change %+.3g)", change);
     else
-        std::snprintf(text, sizeof text, "%+.3g", change / std::abs(energyAtDriftStart_));
+        std::snprintf(text, sizeof text, "%+.3g", change / std::abs(start));
     return text;
 }
 
@@ -755,11 +754,12 @@ int Viewer::run() {
     if (headless_)
         std::printf(
             "carom view: %llu frames of %zu disks%s, %s collisions, total energy drift %s over %.4g time "
-            "units (kinetic %+.4g, potential %+.4g); median frame %.2f ms (stepping %.2f ms, reading back %.2f ms, drawing %.2f ms)\n",
-            static_cast<unsigned long long>(rendered), world_->diskCount(), groups.c_str(), collisionSchemeName(collisions_),
-            energyDriftText().c_str(), driftTime_, motion_.kinetic - motionAtDriftStart_.kinetic,
-            motion_.potential - motionAtDriftStart_.potential, median(frameMs), median(steppingMs),
-            median(readingMs), median(drawingMs));
+            "units (kinetic %+.4g, potential %+.4g); median frame %.2f ms (stepping %.2f ms, reading back %.2f ms, "
+            "drawing %.2f ms)\n",
+            static_cast<unsigned long long>(rendered), world_->diskCount(), groups.c_str(),
+            collisionSchemeName(collisions_), energyDriftText().c_str(), driftTime_,
+            motion_.kinetic - motionAtDriftStart_.kinetic, motion_.potential - motionAtDriftStart_.potential,
+            median(frameMs), median(steppingMs), median(readingMs), median(drawingMs));
     if (signal == 0) return 0;
     std::fprintf(stderr, "carom view: interrupted by %s", app::signalName(signal));
     if (headless_) {

@@ -144,10 +144,9 @@ private:
     double secondsSinceReadout_ = 0.0;
     double collisionsPerSecond_ = 0.0;
     double simMsPerStep_ = 0.0;
-    Motion motion_;                    // of views_, once per frame
-    double energyAtDriftStart_ = 0.0;  // total energy when the drift started being measured
-    Motion motionAtDriftStart_;        // and its parts then
-    double driftTime_ = 0.0;           // simulated time since then
+    Motion motion_;              // of views_, once per frame
+    Motion motionAtDriftStart_;  // motion_ when the drift started being measured
+    double driftTime_ = 0.0;     // simulated time since then
     std::deque<EnergySample> energyHistory_;
     std::deque<float> momentumHistory_;
     std::string message_;  // the last error or notice, shown in the panels

@@ -63,12 +63,12 @@ enum class ViewValue { Speed, Mass, Radius, Id };
 // (up to about 1e-7 of each), summed in float-float (about 44 bits) within a
 // work-group, then in double: close to, not bitwise equal to, the others.
 struct ViewSums {
-    double kineticEnergy = 0.0;               // sum of m v^2 / 2
-    double potentialEnergy = 0.0;             // -sum of m g . x
-    std::array<double, 2> momentum{};         // sum of m v
-    double mass = 0.0;                        // sum of m
-    double speedSquared = 0.0;                // sum of v^2, unweighted
-    float minValue = 0.0f, maxValue = 0.0f;   // of DiskView::value; 0 without disks
+    double kineticEnergy = 0.0;              // sum of m v^2 / 2
+    double potentialEnergy = 0.0;            // -sum of m g . x
+    std::array<double, 2> momentum{};        // sum of m v
+    double mass = 0.0;                       // sum of m
+    double speedSquared = 0.0;               // sum of v^2, unweighted
+    float minValue = 0.0f, maxValue = 0.0f;  // of DiskView::value; 0 without disks
 };
 
 // The most disks a world may hold: disk ids and grid cell offsets are
