@@ -58,12 +58,10 @@ void speedHistogram(const std::vector<DiskView>& speeds, const ViewSums& sums) {
     ImGui::TextDisabled("bars: speeds; curve: Rayleigh for kT = %.4g, m = %.3g", kT, meanMass);
 }
 
-// The kinetic energy over the last frames and, with gravity, the potential
-// and total energies (white), on one scale that includes 0: the kinetic and
-// potential lines mirror each other while the total stays flat.
-// Without gravity the kinetic energy; with gravity the kinetic, potential
-// and total energy's changes since `driftStart`, on one
-// scale: their exchange shows however large the potential energy is beside
+// The kinetic energy over the last frames, on a scale that includes 0. With
+// gravity, the kinetic, potential and total (white) energies' changes since
+// `driftStart` instead: the kinetic and potential lines mirror each other
+// while the total stays flat, however large the potential energy is beside
 // the kinetic.
 void energyPlot(const std::deque<EnergySample>& history, bool gravity, const EnergySample& driftStart) {
     constexpr ImU32 kKinetic = IM_COL32(90, 150, 220, 255), kPotential = IM_COL32(120, 200, 120, 255),
