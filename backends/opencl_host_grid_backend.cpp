@@ -91,7 +91,7 @@ void OpenClHostGridBackend::stepPairwise(float dt) {
     pairwise_.enqueueStep(
         queue, {state_.get(), sortedIndices_.get(), sortedIndices_.get(), cellOf_.get(), cells_.get(), tallies_.get()},
         step);
-    recordRounds(pairwise_.complete(queue).rounds);
+    recordRounds(pairwise_.complete(queue));
     setKernelArgs(finishByIdKernel_.get(), state_.get(), step, tallies_.get(), nextStepIndex(), firstNonFinite_.get());
     enqueue1d(queue, finishByIdKernel_.get(), count, workGroupSize_, "finishStepById", profiler_.get());
     enqueueNonFiniteRead();

@@ -13,12 +13,22 @@ namespace {
 // latency on a GPU; a list longer than all of them is strided over.
 constexpr std::size_t kListItemsPerComputeUnit = 2048;
 
-// counts_: three lengths per round, rounds 0 .. kMaxPairwiseRounds, one
-// entry that stays 0 (the finish condition once the rounds are capped), then
-// the two words where the finish kernel records a disk it left non-finite,
-// which are not cleared with the lengths and are read back with them.
-constexpr std::size_t kCounts = 3 * (kMaxPairwiseRounds + 1) + 1;
-constexpr cl_uint kAlwaysZero = kCounts - 1;
+// A round runs as launches when the step before's pending list for it held
+// at least this many disks, and in resolveRoundsInGroup's one work-group
+// otherwise. Measured on an H200 (bench/results/nvidia-h200-group-rounds.txt,
+// resident pairwise ms a step, two runs each): at 256, 0.117 / 0.162 / 0.328
+// / 2.65 ms at 10^4 / 10^5 / 10^6 / 1.6*10^7 disks; at 1 024, 0.115 / 0.163
+// / 0.350 / 2.71; at 4 096, 0.37 ms at 10^5 (rounds of a few thousand disks
+// are slow on one compute unit); before, every round in launches: 0.137 /
+// 0.190 / 0.357 / 2.67.
+constexpr cl_uint kLaunchedRoundLength = 256;
+// resolveRoundsInGroup's work-group, at most.
+constexpr std::size_t kRoundsGroupSize = 1024;
+
+// counts_: three lengths per round, rounds 0 .. kMaxPairwiseRounds, then the
+// two words where the finish kernel records a disk it left non-finite, which
+// are not cleared with the lengths and are read back with them.
+constexpr std::size_t kCounts = 3 * (kMaxPairwiseRounds + 1);
 constexpr std::size_t kNonFiniteWords = 2;
 constexpr std::size_t kCountsWithRecord = kCounts + kNonFiniteWords;
 
@@ -32,8 +42,10 @@ DevicePairwise::DevicePairwise(cl_context context, const DeviceInfo& device, cl_
     forwardKernel_ = createKernel(program, "findEventsForward");
     listedKernel_ = createKernel(program, "searchListed");
     resolveKernel_ = createKernel(program, "resolveEvents");
+    roundsInGroupKernel_ = createKernel(program, "resolveRoundsInGroup");
     for (cl_kernel k : {forwardKernel_.get(), listedKernel_.get(), resolveKernel_.get()})
         groupSize_ = std::min(groupSize_, kernelWorkGroupLimit(k, device.id));
+    roundsGroupSize_ = std::min(kRoundsGroupSize, kernelWorkGroupLimit(roundsInGroupKernel_.get(), device.id));
     listItems_ = std::min((particleCount + groupSize_ - 1) / groupSize_ * groupSize_,
                           std::max<std::size_t>(1, device.computeUnits) * kListItemsPerComputeUnit);
 
@@ -85,7 +97,16 @@ void DevicePairwise::enqueueRound(cl_command_queue queue, unsigned int round) {
     enqueue1d(queue, resolveKernel_.get(), listItems_, groupSize_, "resolveEvents", profiler_);
     searchListed(queue, CAROM_SEARCH_CHANGED, changed_.get(), round, 3 * round + 1, epoch);
     searchListed(queue, CAROM_SEARCH_ALL, dirty_.get(), round, 3 * round + 2, epoch);
-    lastRound_ = round;
+}
+
+void DevicePairwise::enqueueRoundsInGroup(cl_command_queue queue, unsigned int firstRound) {
+    const StepBuffers& b = buffers_;
+    const cl_uint firstEpoch = reserveEpochs(queue, kMaxPairwiseRounds - firstRound + 1);
+    setKernelArgs(roundsInGroupKernel_.get(), b.state, b.slots, b.ids, b.cellOf, b.cells, step_, b.tallies,
+                  events_.get(), pending_[0].get(), pending_[1].get(), changed_.get(), dirty_.get(),
+                  pendingMarks_.get(), changedMarks_.get(), dirtyMarks_.get(), counts_.get(), cl_uint{firstRound},
+                  cl_uint{kMaxPairwiseRounds}, firstEpoch);
+    enqueue1d(queue, roundsInGroupKernel_.get(), roundsGroupSize_, roundsGroupSize_, "resolveRoundsInGroup", profiler_);
 }
 
 void DevicePairwise::enqueueStep(cl_command_queue queue, const StepBuffers& buffers, const CaromStepParams& step) {
@@ -98,8 +119,8 @@ void DevicePairwise::enqueueStep(cl_command_queue queue, const StepBuffers& buff
                   cl_uint{epoch});
     enqueue1d(queue, forwardKernel_.get(), particleCount_, groupSize_, "findEventsForward", profiler_);
     searchListed(queue, CAROM_SEARCH_ALL, dirty_.get(), 0, 2, epoch);
-    lastRound_ = 0;
-    for (unsigned int round = 1; round <= std::min(batch_, kMaxPairwiseRounds); ++round) enqueueRound(queue, round);
+    for (unsigned int round = 1; round <= launchedRounds_; ++round) enqueueRound(queue, round);
+    if (launchedRounds_ < kMaxPairwiseRounds) enqueueRoundsInGroup(queue, launchedRounds_ + 1);
 }
 
 cl_uint DevicePairwise::nonFiniteIndex() { return kCounts; }
@@ -111,22 +132,17 @@ DevicePairwise::Lists DevicePairwise::lists() const {
             pendingMarks_.get(), changedMarks_.get(), dirtyMarks_.get(), counts_.get()};
 }
 
-cl_uint DevicePairwise::reserveStepEpochs(cl_command_queue queue) {
-    if (epoch_ > std::numeric_limits<unsigned int>::max() - (kMaxPairwiseRounds + 1)) {
+cl_uint DevicePairwise::reserveEpochs(cl_command_queue queue, unsigned int count) {
+    if (epoch_ > std::numeric_limits<unsigned int>::max() - count) {
         clearMarks(queue);
         epoch_ = 0;
     }
     const cl_uint first = epoch_ + 1;
-    epoch_ += kMaxPairwiseRounds + 1;
-    lastRound_ = kMaxPairwiseRounds;  // the kernel runs every round there is: complete() runs none
+    epoch_ += count;
     return first;
 }
 
 const cl_uint* DevicePairwise::nonFiniteRecord() const { return hostCounts_.data() + kCounts; }
-
-cl_uint DevicePairwise::finishCondition() const {
-    return lastRound_ == kMaxPairwiseRounds ? kAlwaysZero : 3 * lastRound_;
-}
 
 void DevicePairwise::readLengths(cl_command_queue queue) {
     check(clEnqueueReadBuffer(queue, counts_.get(), CL_TRUE, 0, kCountsWithRecord * sizeof(cl_uint), hostCounts_.data(),
@@ -134,20 +150,16 @@ void DevicePairwise::readLengths(cl_command_queue queue) {
           "clEnqueueReadBuffer(list lengths)");
 }
 
-DevicePairwise::Completion DevicePairwise::complete(cl_command_queue queue) {
-    Completion completion;
+unsigned int DevicePairwise::complete(cl_command_queue queue) {
     readLengths(queue);
-    while (hostCounts_[3 * lastRound_] != 0 && lastRound_ < kMaxPairwiseRounds) {
-        completion.finishSkipped = true;
-        const unsigned int last = std::min(kMaxPairwiseRounds, lastRound_ + batch_);
-        while (lastRound_ < last) enqueueRound(queue, lastRound_ + 1);
-        readLengths(queue);
-    }
-    for (unsigned int r = 1; r <= lastRound_; ++r)
-        if (hostCounts_[3 * r + 1] > 0) completion.rounds = r;
-    // The next step likely needs about as many rounds: enqueue them in one batch.
-    batch_ = std::max(2u, completion.rounds + 1);
-    return completion;
+    unsigned int rounds = 0;
+    for (unsigned int r = 1; r <= kMaxPairwiseRounds; ++r)
+        if (hostCounts_[3 * r + 1] > 0) rounds = r;
+    // The next step's lists are likely about as long as this one's.
+    launchedRounds_ = 0;
+    while (launchedRounds_ < kMaxPairwiseRounds && hostCounts_[3 * launchedRounds_] >= kLaunchedRoundLength)
+        ++launchedRounds_;
+    return rounds;
 }
 
 }  // namespace carom::opencl

@@ -2,14 +2,14 @@
 // for both pipelines: the same passes as the CPU backend's, so the same
 // events in the same rounds, bit for bit.
 //
-// A step enqueues the first search and a batch of rounds, as many as the
-// step before needed and one more, without waiting: a round whose pending
-// list is empty resolves nothing, so running past the last event changes
-// nothing. The kernel that finishes the step is enqueued right behind, with
-// a condition the device checks (finishCondition): the batch left no event
-// pending. complete() later reads the lists' lengths, once; in the rare step
-// whose batch fell short it runs the remaining rounds (reading after each
-// batch), and the caller enqueues the finish again.
+// A step enqueues the first search, the first rounds as launches of their
+// three passes, and the rest in one launch of resolveRoundsInGroup, without
+// waiting: one work-group runs them with barriers until no event is left, so
+// every step's rounds are done when its last kernel is. Long lists need the
+// whole device, short ones not the three launches a round (about 17 us on
+// an H200): a round runs as launches when its pending list was long in the
+// step before (kLaunchedRoundLength). Which kernel runs a round changes no
+// result. complete() later reads the lists' lengths, once.
 #pragma once
 
 #include <cstddef>
@@ -34,61 +34,53 @@ public:
         cl_mem state, slots, ids, cellOf, cells, tallies;
     };
 
-    // Enqueues the first search and a batch of rounds of one (sub)step.
+    // Enqueues the rounds of one (sub)step: afterwards a finish kernel may follow.
     void enqueueStep(cl_command_queue queue, const StepBuffers& buffers, const CaromStepParams& step);
-    // A finish kernel enqueued after enqueueStep runs only if
-    // lengths()[finishCondition()] is 0: no event pending after the batch.
+    // The list lengths, where a finish kernel also records (nonFiniteIndex).
     cl_mem lengths() const { return counts_.get(); }
-    cl_uint finishCondition() const;
-    // The parameters of the step enqueueStep enqueued last.
-    const CaromStepParams& step() const { return step_; }
 
     // Where a finish kernel records a disk it left non-finite: the two words
     // of lengths() from nonFiniteIndex() (carom_record_non_finite). The
-    // caller sets them once; complete() and readLengths() read them back
-    // with the lengths, so the record costs no read of its own.
+    // caller sets them once; complete() reads them back with the lengths,
+    // so the record costs no read of its own.
     static cl_uint nonFiniteIndex();
     const cl_uint* nonFiniteRecord() const;
-    // Waits for the queue and reads the lengths and the record.
-    void readLengths(cl_command_queue queue);
 
-    struct Completion {
-        unsigned int rounds = 0;     // rounds that resolved an event
-        bool finishSkipped = false;  // the batch fell short: enqueue the finish again (its condition now holds)
-    };
-    // Waits for the step's rounds; runs the rest if the batch fell short.
-    Completion complete(cl_command_queue queue);
+    // Waits for the step's rounds and returns how many resolved an event.
+    unsigned int complete(cl_command_queue queue);
 
     // For a kernel that runs a whole step in one work-group instead of
     // enqueueStep (stepSmallPairwise, kernels/small_system.cl): the lists,
-    // the number of lengths it zeroes, and the epochs its rounds may take,
-    // firstEpoch .. firstEpoch + kMaxPairwiseRounds (the marks are cleared
-    // when they would wrap). complete() then reads its rounds.
+    // the number of lengths it zeroes, and `count` epochs for its rounds,
+    // from the one returned (the marks are cleared when they would wrap).
+    // complete() then reads its rounds.
     struct Lists {
         cl_mem events, pending0, pending1, changed, dirty, pendingMarks, changedMarks, dirtyMarks, lengths;
     };
     Lists lists() const;
     static cl_uint lengthCount();
-    cl_uint reserveStepEpochs(cl_command_queue queue);
+    cl_uint reserveEpochs(cl_command_queue queue, unsigned int count);
 
 private:
     unsigned int nextEpoch(cl_command_queue queue);
-    void clearMarks(cl_command_queue queue);  // zeroes the three lists' marks
+    void readLengths(cl_command_queue queue);  // waits for the queue; reads the lengths and the record
+    void clearMarks(cl_command_queue queue);   // zeroes the three lists' marks
     void enqueueRound(cl_command_queue queue, unsigned int round);
+    void enqueueRoundsInGroup(cl_command_queue queue, unsigned int firstRound);
     void searchListed(cl_command_queue queue, int mode, cl_mem listed, unsigned int round, unsigned int listIndex,
                       unsigned int epoch);
 
     std::size_t particleCount_ = 0;
     Profiler* profiler_ = nullptr;
     std::size_t groupSize_ = 64;
-    std::size_t listItems_ = 64;  // work-items of a list kernel, which stride over its list
-    Kernel forwardKernel_, listedKernel_, resolveKernel_;
+    std::size_t listItems_ = 64;        // work-items of a list kernel, which stride over its list
+    std::size_t roundsGroupSize_ = 64;  // resolveRoundsInGroup's one work-group
+    Kernel forwardKernel_, listedKernel_, resolveKernel_, roundsInGroupKernel_;
     Buffer events_, pending_[2], changed_, dirty_, pendingMarks_, changedMarks_, dirtyMarks_, counts_;
     std::vector<cl_uint> hostCounts_;
     unsigned int epoch_ = 0;
-    unsigned int batch_ = 4;      // rounds enqueued per batch, adapted to the steps before
-    unsigned int lastRound_ = 0;  // the last round enqueued for the current step
-    StepBuffers buffers_{};       // the current step's
+    unsigned int launchedRounds_ = 4;  // rounds 1 .. this run as launches (from the step before's lengths)
+    StepBuffers buffers_{};            // the current step's
     CaromStepParams step_{};
 };
 

@@ -157,7 +157,7 @@ void OpenClResidentBackend::stepPairwise(float dt) {
 
 void OpenClResidentBackend::enqueueSmallPairwise(const CaromStepParams& step, cl_uint stepIndex) {
     const opencl::DevicePairwise::Lists l = pairwise_.lists();
-    const cl_uint firstEpoch = pairwise_.reserveStepEpochs(queue_.get());
+    const cl_uint firstEpoch = pairwise_.reserveEpochs(queue_.get(), kMaxPairwiseRounds + 1);
     setKernelArgs(smallPairwiseKernel_.get(), state_.get(), next_.get(), ids_.get(), sortedIds_.get(),
                   deviceGrid_.cells(), deviceGrid_.counts(), deviceGrid_.nextCounts(), deviceGrid_.cellOrder(),
                   deviceGrid_.cellOf(), deviceGrid_.rankInCell(), step, tallies_.get(), l.events, l.pending0,
@@ -179,14 +179,13 @@ void OpenClResidentBackend::enqueuePairwiseFinish(const CaromStepParams& step, c
                   deviceGrid_.rankInCell());
     setLocalArg(finishAndCountKernel_.get(), 9, reductionGroupSize_ * sizeof(cl_float));
     const cl_mem speedBits = speedBits_.get(), lengths = pairwise_.lengths();
-    const cl_uint parity = speedParity_, condition = pairwise_.finishCondition();
+    const cl_uint parity = speedParity_;
     check(clSetKernelArg(finishAndCountKernel_.get(), 10, sizeof(cl_mem), &speedBits), "clSetKernelArg");
     check(clSetKernelArg(finishAndCountKernel_.get(), 11, sizeof(cl_uint), &parity), "clSetKernelArg");
     check(clSetKernelArg(finishAndCountKernel_.get(), 12, sizeof(cl_mem), &lengths), "clSetKernelArg");
-    check(clSetKernelArg(finishAndCountKernel_.get(), 13, sizeof(cl_uint), &condition), "clSetKernelArg");
     const cl_uint nonFiniteIndex = DevicePairwise::nonFiniteIndex();
-    check(clSetKernelArg(finishAndCountKernel_.get(), 14, sizeof(cl_uint), &stepIndex), "clSetKernelArg");
-    check(clSetKernelArg(finishAndCountKernel_.get(), 15, sizeof(cl_uint), &nonFiniteIndex), "clSetKernelArg");
+    check(clSetKernelArg(finishAndCountKernel_.get(), 13, sizeof(cl_uint), &stepIndex), "clSetKernelArg");
+    check(clSetKernelArg(finishAndCountKernel_.get(), 14, sizeof(cl_uint), &nonFiniteIndex), "clSetKernelArg");
     enqueue1d(queue_.get(), finishAndCountKernel_.get(), finishItems_, reductionGroupSize_, "finishPairwiseAndCount",
               profiler_.get());
 }
@@ -194,14 +193,10 @@ void OpenClResidentBackend::enqueuePairwiseFinish(const CaromStepParams& step, c
 void OpenClResidentBackend::confirmStep() {
     if (!unconfirmed_) return;
     unconfirmed_ = false;
-    const DevicePairwise::Completion completion = pairwise_.complete(queue_.get());
-    if (completion.finishSkipped) {
-        enqueuePairwiseFinish(pairwise_.step(), unconfirmedStepIndex_);
-        pairwise_.readLengths(queue_.get());  // rare: a wait of its own, for the finish's record
-    }
+    const unsigned int rounds = pairwise_.complete(queue_.get());
     std::copy_n(pairwise_.nonFiniteRecord(), 2, firstNonFiniteRead_);
     checkNonFinite();
-    recordRounds(completion.rounds);
+    recordRounds(rounds);
     speedKnown_ = true;
     std::swap(state_, next_);
     std::swap(ids_, sortedIds_);

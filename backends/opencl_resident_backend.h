@@ -66,7 +66,7 @@ private:
     unsigned int speedParity_ = 0;      // the word the last step wrote
     bool speedKnown_ = false;           // whether that word holds the current state's
     bool unconfirmed_ = false;          // a pairwise step was enqueued and not yet confirmed
-    cl_uint unconfirmedStepIndex_ = 0;  // and its nextStepIndex() (its parameters: pairwise_.step())
+    cl_uint unconfirmedStepIndex_ = 0;  // and its nextStepIndex()
     std::size_t finishItems_ = 0;       // work-items of finishPairwiseAndCount, which stride over the particles
 };
 

@@ -9,9 +9,13 @@
  * The lists' lengths live in `counts`, three per round r (0 = the first
  * search): counts[3r] the pending list built in round r, counts[3r + 1] the
  * disks changed in it, counts[3r + 2] the dirty ones. The host zeroes them
- * once per step, and reads them to see when no event is left. A list kernel
- * runs a fixed number of work-items that stride over its list, whose length
- * only the device knows when the kernel is enqueued. */
+ * once per step, and reads them after it. A list kernel runs a fixed number
+ * of work-items that stride over its list, whose length only the device
+ * knows when the kernel is enqueued. The first rounds, whose lists are long,
+ * run as launches of these kernels; the rest, whose lists are short, run in
+ * one launch of resolveRoundsInGroup, which does the same passes in one
+ * work-group with barriers between them (three launches a round cost more
+ * than a round of a few hundred disks). */
 #include "pairwise.h"
 
 static inline CaromList carom_list(__global uint* items, __global uint* counts, uint countIndex, __global uint* marks)
@@ -112,4 +116,86 @@ __kernel void finishStepById(__global Particle* state,
     if (i >= step.count) return;
     state[i] = carom_finish_step(state[i], step, &tallies[i]);
     carom_record_non_finite(state[i], i, stepIndex, firstNonFinite);
+}
+
+/* Runs pass(k) for the entries of a list whose length is lengths[index], by
+ * the work-group, then waits for all of it. */
+#define CAROM_FOR_LISTED(items, lengths, index, k, pass)                                             \
+    do {                                                                                             \
+        const uint carom_length = (lengths)[index];                                                  \
+        for (uint carom_e = get_local_id(0); carom_e < carom_length; carom_e += get_local_size(0)) { \
+            const uint k = (items)[carom_e];                                                         \
+            pass;                                                                                    \
+        }                                                                                            \
+        barrier(CLK_GLOBAL_MEM_FENCE);                                                               \
+    } while (0)
+
+/* Rounds firstRound, firstRound + 1, ... of a step, by one work-group: those
+ * of resolveEvents and searchListed, with barriers instead of launches, round
+ * after round until none is pending or round maxRounds ran. Round r uses
+ * epoch firstEpoch + (r - firstRound) and reads the pending list of round
+ * r - 1 from pending0 for odd r and pending1 for even r, as the launches do;
+ * the lengths of the rounds before are in `lengths`. */
+static inline void carom_rounds_in_group(uint firstRound,
+                                         uint maxRounds,
+                                         uint firstEpoch,
+                                         __global Particle* state,
+                                         __global const uint* slots,
+                                         __global const uint* ids,
+                                         __global const uint* cellOf,
+                                         __global const GridCell* cells,
+                                         CaromStepParams step,
+                                         __global ContactTally* tallies,
+                                         __global CaromEvent* events,
+                                         __global uint* pending0,
+                                         __global uint* pending1,
+                                         __global uint* changed,
+                                         __global uint* dirty,
+                                         __global uint* pendingMarks,
+                                         __global uint* changedMarks,
+                                         __global uint* dirtyMarks,
+                                         __global uint* lengths)
+{
+    uint epoch = firstEpoch;
+    for (uint round = firstRound; round <= maxRounds && lengths[3 * (round - 1)] != 0u; ++round, ++epoch) {
+        __global const uint* resolving = round % 2 == 1 ? pending0 : pending1;
+        const CaromList changedList = carom_list(changed, lengths, 3 * round + 1, changedMarks);
+        const CaromList dirtyList = carom_list(dirty, lengths, 3 * round + 2, dirtyMarks);
+        const CaromList pendingList = carom_list(round % 2 == 1 ? pending1 : pending0, lengths, 3 * round, pendingMarks);
+        CAROM_FOR_LISTED(resolving, lengths, 3 * (round - 1), k,
+                         carom_resolve_event(k, state, slots, ids, events, step, tallies, changedList, pendingList,
+                                             epoch));
+        CAROM_FOR_LISTED(changed, lengths, 3 * round + 1, k,
+                         carom_find_event(k, state, slots, ids, cellOf, cells, step, events, CAROM_SEARCH_CHANGED,
+                                          changedList, dirtyList, pendingList, epoch));
+        CAROM_FOR_LISTED(dirty, lengths, 3 * round + 2, k,
+                         carom_find_event(k, state, slots, ids, cellOf, cells, step, events, CAROM_SEARCH_ALL,
+                                          changedList, dirtyList, pendingList, epoch));
+    }
+}
+
+/* Rounds firstRound .. maxRounds (those with events left) in one work-group:
+ * carom_rounds_in_group, after the launches of the rounds before. */
+__kernel void resolveRoundsInGroup(__global Particle* state,
+                                   __global const uint* slots,
+                                   __global const uint* ids,
+                                   __global const uint* cellOf,
+                                   __global const GridCell* cells,
+                                   CaromStepParams step,
+                                   __global ContactTally* tallies,
+                                   __global CaromEvent* events,
+                                   __global uint* pending0,
+                                   __global uint* pending1,
+                                   __global uint* changed,
+                                   __global uint* dirty,
+                                   __global uint* pendingMarks,
+                                   __global uint* changedMarks,
+                                   __global uint* dirtyMarks,
+                                   __global uint* counts,
+                                   uint firstRound,
+                                   uint maxRounds,
+                                   uint firstEpoch)
+{
+    carom_rounds_in_group(firstRound, maxRounds, firstEpoch, state, slots, ids, cellOf, cells, step, tallies, events,
+                          pending0, pending1, changed, dirty, pendingMarks, changedMarks, dirtyMarks, counts);
 }

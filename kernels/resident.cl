@@ -103,10 +103,8 @@ static inline float carom_group_max(float value, __local float* scratch)
     return largest;
 }
 
-/* The end of a pairwise step (its rounds: kernels/pairwise.cl), if its
- * rounds are done: lengths[condition] is 0 (backends/opencl_pairwise.h;
- * otherwise the host enqueues more rounds and this kernel again). For each
- * k, particle sortedIds[k] is finished from slot cellOrder[k] of `state`
+/* The end of a pairwise step, after its rounds (kernels/pairwise.cl). For
+ * each k, particle sortedIds[k] is finished from slot cellOrder[k] of `state`
  * into slot k of `next` and counted into the next step's grid. The kernel
  * also takes the largest v.x^2 + v.y^2 of the new state, which sizes the
  * next step's substeps, so that needs no pass of its own: each work-item
@@ -130,11 +128,9 @@ __kernel void finishPairwiseAndCount(__global const Particle* state,
                                      __global uint* speedBits,
                                      uint parity,
                                      __global uint* lengths,
-                                     uint condition,
                                      uint stepIndex,
                                      uint nonFiniteIndex)
 {
-    if (lengths[condition] != 0u) return; /* the same for every work-item */
     float largest = 0.0f;
     for (uint k = get_global_id(0); k < step.count; k += get_global_size(0))
         largest = fmax(largest, carom_finish_slot(k, state, cellOrder, sortedIds, step, next, tallies, nextCounts,

@@ -98,21 +98,9 @@ __kernel void stepSmallSystem(__global Particle* state,
     }
 }
 
-/* Runs pass(k) for the entries of a list whose length is lengths[index], by
- * the work-group, then waits for all of it. */
-#define CAROM_FOR_LISTED(items, lengths, index, k, pass)                                  \
-    do {                                                                                  \
-        const uint carom_length = (lengths)[index];                                       \
-        for (uint carom_e = get_local_id(0); carom_e < carom_length; carom_e += get_local_size(0)) { \
-            const uint k = (items)[carom_e];                                              \
-            pass;                                                                         \
-        }                                                                                 \
-        barrier(CLK_GLOBAL_MEM_FENCE);                                                    \
-    } while (0)
-
-/* One pairwise step: the grid build, the passes findEventsForward,
- * searchListed and resolveEvents enqueue (backends/opencl_pairwise.cpp), round
- * after round until none is pending or `maxRounds` ran, then
+/* One pairwise step: the grid build, the passes findEventsForward and
+ * searchListed enqueue for round 0 (backends/opencl_pairwise.cpp), the rounds
+ * until none is pending or `maxRounds` ran (carom_rounds_in_group), then
  * finishPairwiseAndCount's. The list lengths start zeroed (the first
  * lengthCount words of `lengths`); round r uses epoch firstEpoch + r, and
  * round r's pending list is pending0 for even r and pending1 for odd r, as on
@@ -161,11 +149,11 @@ __kernel void stepSmallPairwise(__global Particle* state,
     barrier(CLK_GLOBAL_MEM_FENCE);
 
     /* Round 0: every disk forward, then the dirty ones over all neighbours. */
-    uint epoch = firstEpoch;
+    const uint epoch = firstEpoch;
     const CaromList none = carom_list(0, lengths, 0, 0);
-    CaromList changedList = carom_list(changed, lengths, 1, changedMarks);
-    CaromList dirtyList = carom_list(dirty, lengths, 2, dirtyMarks);
-    CaromList pendingList = carom_list(pending0, lengths, 0, pendingMarks);
+    const CaromList changedList = carom_list(changed, lengths, 1, changedMarks);
+    const CaromList dirtyList = carom_list(dirty, lengths, 2, dirtyMarks);
+    const CaromList pendingList = carom_list(pending0, lengths, 0, pendingMarks);
     for (uint k = lid; k < step.count; k += size)
         carom_find_event(k, state, cellOrder, sortedIds, cellOf, cells, step, events, CAROM_SEARCH_FORWARD, none,
                          dirtyList, pendingList, epoch);
@@ -174,22 +162,8 @@ __kernel void stepSmallPairwise(__global Particle* state,
                      carom_find_event(k, state, cellOrder, sortedIds, cellOf, cells, step, events, CAROM_SEARCH_ALL,
                                       changedList, dirtyList, pendingList, epoch));
 
-    for (uint round = 1; round <= maxRounds && lengths[3 * (round - 1)] != 0u; ++round) {
-        ++epoch;
-        __global const uint* resolving = round % 2 == 1 ? pending0 : pending1;
-        changedList = carom_list(changed, lengths, 3 * round + 1, changedMarks);
-        dirtyList = carom_list(dirty, lengths, 3 * round + 2, dirtyMarks);
-        pendingList = carom_list(round % 2 == 1 ? pending1 : pending0, lengths, 3 * round, pendingMarks);
-        CAROM_FOR_LISTED(resolving, lengths, 3 * (round - 1), k,
-                         carom_resolve_event(k, state, cellOrder, sortedIds, events, step, tallies, changedList,
-                                             pendingList, epoch));
-        CAROM_FOR_LISTED(changed, lengths, 3 * round + 1, k,
-                         carom_find_event(k, state, cellOrder, sortedIds, cellOf, cells, step, events,
-                                          CAROM_SEARCH_CHANGED, changedList, dirtyList, pendingList, epoch));
-        CAROM_FOR_LISTED(dirty, lengths, 3 * round + 2, k,
-                         carom_find_event(k, state, cellOrder, sortedIds, cellOf, cells, step, events,
-                                          CAROM_SEARCH_ALL, changedList, dirtyList, pendingList, epoch));
-    }
+    carom_rounds_in_group(1, maxRounds, epoch + 1, state, cellOrder, sortedIds, cellOf, cells, step, tallies, events,
+                          pending0, pending1, changed, dirty, pendingMarks, changedMarks, dirtyMarks, lengths);
 
     float largest = 0.0f;
     for (uint k = lid; k < step.count; k += size)

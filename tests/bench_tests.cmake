@@ -54,9 +54,9 @@ if(OpenCL_FOUND)
     carom_cli_test(pipeline_resident_on_cpu fail "--pipeline: 'resident' needs --backend opencl"
                    "${run}|--pipeline|resident")
     carom_bench_profile_test(seed_pairwise opencl-seed 500
-        "buildGrid (host)|upload grid|findEventsForward|resolveEvents|finishStepById|read list lengths|download state")
+        "buildGrid (host)|upload grid|findEventsForward|resolveRoundsInGroup|finishStepById|read list lengths|download state")
     # Above and below the resident pipeline's small-system limit (2 048 disks).
     carom_bench_profile_test(resident_pairwise opencl-resident 3000
-        "scanCountsIntoCells|scatterToCells|sortCellSegments|findEventsForward|resolveEvents|finishPairwiseAndCount|read list lengths")
+        "scanCountsIntoCells|scatterToCells|sortCellSegments|findEventsForward|resolveRoundsInGroup|finishPairwiseAndCount|read list lengths")
     carom_bench_profile_test(resident_small_pairwise opencl-resident 500 "stepSmallPairwise|read list lengths")
 endif()
