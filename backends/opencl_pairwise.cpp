@@ -1,6 +1,7 @@
 #include "backends/opencl_pairwise.h"
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
 
 #include "backends/backend.h"
@@ -25,12 +26,12 @@ constexpr cl_uint kLaunchedRoundLength = 256;
 // resolveRoundsInGroup's work-group, at most.
 constexpr std::size_t kRoundsGroupSize = 1024;
 
-// counts_: three lengths per round, rounds 0 .. kMaxPairwiseRounds, then the
-// two words where the finish kernel records a disk it left non-finite, which
-// are not cleared with the lengths and are read back with them.
+// counts_: three lengths per round, rounds 0 .. kMaxPairwiseRounds, then
+// the finish kernel's record (kRecordWords), which is not cleared with the
+// lengths and is read back with them.
 constexpr std::size_t kCounts = 3 * (kMaxPairwiseRounds + 1);
 constexpr std::size_t kNonFiniteWords = 2;
-constexpr std::size_t kCountsWithRecord = kCounts + kNonFiniteWords;
+constexpr std::size_t kCountsWithRecord = kCounts + DevicePairwise::kRecordWords;
 
 }  // namespace
 
@@ -125,6 +126,8 @@ void DevicePairwise::enqueueStep(cl_command_queue queue, const StepBuffers& buff
 
 cl_uint DevicePairwise::nonFiniteIndex() { return kCounts; }
 
+cl_uint DevicePairwise::speedIndex() { return kCounts + kNonFiniteWords; }
+
 cl_uint DevicePairwise::lengthCount() { return kCounts; }
 
 DevicePairwise::Lists DevicePairwise::lists() const {
@@ -143,6 +146,12 @@ cl_uint DevicePairwise::reserveEpochs(cl_command_queue queue, unsigned int count
 }
 
 const cl_uint* DevicePairwise::nonFiniteRecord() const { return hostCounts_.data() + kCounts; }
+
+float DevicePairwise::speedSquaredRecord(unsigned int parity) const {
+    float largest;
+    std::memcpy(&largest, &hostCounts_[speedIndex() + parity], sizeof(largest));
+    return largest;
+}
 
 void DevicePairwise::readLengths(cl_command_queue queue) {
     check(clEnqueueReadBuffer(queue, counts_.get(), CL_TRUE, 0, kCountsWithRecord * sizeof(cl_uint), hostCounts_.data(),

@@ -36,15 +36,20 @@ public:
 
     // Enqueues the rounds of one (sub)step: afterwards a finish kernel may follow.
     void enqueueStep(cl_command_queue queue, const StepBuffers& buffers, const CaromStepParams& step);
-    // The list lengths, where a finish kernel also records (nonFiniteIndex).
+    // The list lengths, where a finish kernel also records (nonFiniteIndex, speedIndex).
     cl_mem lengths() const { return counts_.get(); }
 
     // Where a finish kernel records a disk it left non-finite: the two words
-    // of lengths() from nonFiniteIndex() (carom_record_non_finite). The
+    // of lengths() from nonFiniteIndex() (carom_record_non_finite); and the
+    // largest v.x^2 + v.y^2 of the state it leaves, as a float's bits: word
+    // speedIndex() + parity, the other word zeroed for the step after. The
     // caller sets them once; complete() reads them back with the lengths,
     // so the record costs no read of its own.
+    static constexpr std::size_t kRecordWords = 4;  // nonFiniteIndex()'s two words, then speedIndex()'s two
     static cl_uint nonFiniteIndex();
+    static cl_uint speedIndex();
     const cl_uint* nonFiniteRecord() const;
+    float speedSquaredRecord(unsigned int parity) const;
 
     // Waits for the step's rounds and returns how many resolved an event.
     unsigned int complete(cl_command_queue queue);

@@ -51,7 +51,6 @@ OpenClResidentBackend::OpenClResidentBackend(const WorldDef& world, const std::s
     smallPairwiseGroupSize_ =
         opencl::DeviceGrid::scanGroupSize(device_, kernelWorkGroupLimit(smallPairwiseKernel_.get(), device_.id),
                                           kSmallSystemGroupSize, kSmallSystemScanItems, sizeof(cl_float));
-    speedBits_ = createBuffer(context_.get(), 2 * sizeof(cl_uint), "largest speed squared");
 }
 
 void OpenClResidentBackend::releaseState() {
@@ -78,11 +77,12 @@ void OpenClResidentBackend::loadState(std::vector<Particle> particles) {
     smallSystem_ = n <= kSmallSystemParticles;
     if (world_.collisions != CollisionScheme::Pairwise) return;
     pairwise_ = DevicePairwise(context_.get(), device_, program_.get(), n, queue_.get(), profiler_.get());
+    // The finish's record: no disk non-finite, no speed yet.
+    const cl_uint record[DevicePairwise::kRecordWords] = {kNoneNonFinite[0], kNoneNonFinite[1], 0u, 0u};
     check(clEnqueueWriteBuffer(queue_.get(), pairwise_.lengths(), CL_TRUE,
-                               DevicePairwise::nonFiniteIndex() * sizeof(cl_uint), sizeof(kNoneNonFinite),
-                               kNoneNonFinite, 0, nullptr, nullptr),
-          "clEnqueueWriteBuffer(first non-finite step and particle)");
-    enqueueZero(queue_.get(), speedBits_.get(), 2 * sizeof(cl_uint), "largest speed squared");
+                               DevicePairwise::nonFiniteIndex() * sizeof(cl_uint), sizeof(record), record, 0, nullptr,
+                               nullptr),
+          "clEnqueueWriteBuffer(the finish's record)");
     finishItems_ = std::min((n + reductionGroupSize_ - 1) / reductionGroupSize_,
                             std::max<std::size_t>(1, device_.computeUnits) * kFinishGroupsPerComputeUnit) *
                    reductionGroupSize_;
@@ -162,8 +162,9 @@ void OpenClResidentBackend::enqueueSmallPairwise(const CaromStepParams& step, cl
                   deviceGrid_.cells(), deviceGrid_.counts(), deviceGrid_.nextCounts(), deviceGrid_.cellOrder(),
                   deviceGrid_.cellOf(), deviceGrid_.rankInCell(), step, tallies_.get(), l.events, l.pending0,
                   l.pending1, l.changed, l.dirty, l.pendingMarks, l.changedMarks, l.dirtyMarks, l.lengths,
-                  opencl::DevicePairwise::lengthCount(), firstEpoch, cl_uint{kMaxPairwiseRounds}, speedBits_.get(),
-                  cl_uint{speedParity_}, stepIndex, opencl::DevicePairwise::nonFiniteIndex());
+                  opencl::DevicePairwise::lengthCount(), firstEpoch, cl_uint{kMaxPairwiseRounds},
+                  opencl::DevicePairwise::speedIndex(), cl_uint{speedParity_}, stepIndex,
+                  opencl::DevicePairwise::nonFiniteIndex());
     const std::size_t group = smallPairwiseGroupSize_;
     setLocalArg(smallPairwiseKernel_.get(), 28, opencl::DeviceGrid::scanTileBytes(group, kSmallSystemScanItems));
     setLocalArg(smallPairwiseKernel_.get(), 29, opencl::DeviceGrid::scanRunBytes(group));
@@ -171,21 +172,14 @@ void OpenClResidentBackend::enqueueSmallPairwise(const CaromStepParams& step, cl
     enqueue1d(queue_.get(), smallPairwiseKernel_.get(), group, group, "stepSmallPairwise", profiler_.get());
 }
 
-// The kernel records a disk left non-finite in the pairwise lengths, which
-// confirmStep reads anyway.
+// The kernel records a disk left non-finite and the largest speed after the
+// pairwise lengths, which confirmStep reads anyway.
 void OpenClResidentBackend::enqueuePairwiseFinish(const CaromStepParams& step, cl_uint stepIndex) {
     setKernelArgs(finishAndCountKernel_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), step,
-                  next_.get(), tallies_.get(), deviceGrid_.nextCounts(), deviceGrid_.cellOf(),
-                  deviceGrid_.rankInCell());
-    setLocalArg(finishAndCountKernel_.get(), 9, reductionGroupSize_ * sizeof(cl_float));
-    const cl_mem speedBits = speedBits_.get(), lengths = pairwise_.lengths();
-    const cl_uint parity = speedParity_;
-    check(clSetKernelArg(finishAndCountKernel_.get(), 10, sizeof(cl_mem), &speedBits), "clSetKernelArg");
-    check(clSetKernelArg(finishAndCountKernel_.get(), 11, sizeof(cl_uint), &parity), "clSetKernelArg");
-    check(clSetKernelArg(finishAndCountKernel_.get(), 12, sizeof(cl_mem), &lengths), "clSetKernelArg");
-    const cl_uint nonFiniteIndex = DevicePairwise::nonFiniteIndex();
-    check(clSetKernelArg(finishAndCountKernel_.get(), 13, sizeof(cl_uint), &stepIndex), "clSetKernelArg");
-    check(clSetKernelArg(finishAndCountKernel_.get(), 14, sizeof(cl_uint), &nonFiniteIndex), "clSetKernelArg");
+                  next_.get(), tallies_.get(), deviceGrid_.nextCounts(), deviceGrid_.cellOf(), deviceGrid_.rankInCell(),
+                  pairwise_.lengths(), DevicePairwise::speedIndex(), cl_uint{speedParity_}, stepIndex,
+                  DevicePairwise::nonFiniteIndex());
+    setLocalArg(finishAndCountKernel_.get(), 14, reductionGroupSize_ * sizeof(cl_float));
     enqueue1d(queue_.get(), finishAndCountKernel_.get(), finishItems_, reductionGroupSize_, "finishPairwiseAndCount",
               profiler_.get());
 }
@@ -222,11 +216,7 @@ void OpenClResidentBackend::readParticles(std::vector<Particle>& particles) {
 float OpenClResidentBackend::maxSpeedSquared() {
     confirmStep();
     if (!speedKnown_) return OpenClBackend::maxSpeedSquared();
-    cl_float largest = 0.0f;
-    check(clEnqueueReadBuffer(queue_.get(), speedBits_.get(), CL_TRUE, speedParity_ * sizeof(cl_uint), sizeof(cl_float),
-                              &largest, 0, nullptr, nullptr),
-          "clEnqueueReadBuffer(largest speed squared)");
-    return largest;
+    return pairwise_.speedSquaredRecord(speedParity_);
 }
 
 Grid OpenClResidentBackend::readDeviceGrid() {

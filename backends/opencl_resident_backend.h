@@ -60,10 +60,10 @@ private:
     opencl::Buffer ids_;               // the particle id in each slot of state_
     opencl::Buffer sortedIds_;         // sortedIndices, then the ids of next_'s slots
     opencl::DevicePairwise pairwise_;  // pairwise
-    // Pairwise: the finish records a disk left non-finite in the pairwise
-    // lengths, which its step reads anyway (DevicePairwise::nonFiniteIndex).
-    opencl::Buffer speedBits_;          // pairwise: the largest v^2 each step leaves (two words)
-    unsigned int speedParity_ = 0;      // the word the last step wrote
+    // Pairwise: the finish records a disk left non-finite and the largest
+    // v^2 after the pairwise lengths, which its step reads anyway
+    // (DevicePairwise::nonFiniteIndex, speedIndex).
+    unsigned int speedParity_ = 0;      // the speed word the last step wrote
     bool speedKnown_ = false;           // whether that word holds the current state's
     bool unconfirmed_ = false;          // a pairwise step was enqueued and not yet confirmed
     cl_uint unconfirmedStepIndex_ = 0;  // and its nextStepIndex()

@@ -110,11 +110,11 @@ static inline float carom_group_max(float value, __local float* scratch)
  * next step's substeps, so that needs no pass of its own: each work-item
  * strides over the particles, the work-group (a power of two) reduces, and
  * atomic_max on the float's bits (non-negative floats order like their bits)
- * collects it in speedBits[parity]; the first work-item zeroes the other
- * word for the step after. max is exact in any order: this equals the
+ * collects it in lengths[speedIndex + parity]; the first work-item zeroes the
+ * other word for the step after. max is exact in any order: this equals the
  * maxSpeedSquared reduction bit for bit. A disk left non-finite is recorded
- * under `stepIndex` in lengths[nonFiniteIndex..+1] (carom_record_non_finite),
- * which the host reads back with the list lengths. */
+ * under `stepIndex` in lengths[nonFiniteIndex..+1] (carom_record_non_finite).
+ * The host reads both back with the list lengths, in one read. */
 __kernel void finishPairwiseAndCount(__global const Particle* state,
                                      __global const uint* cellOrder,
                                      __global const uint* sortedIds,
@@ -124,13 +124,14 @@ __kernel void finishPairwiseAndCount(__global const Particle* state,
                                      __global uint* nextCounts,
                                      __global uint* cellOf,
                                      __global uint* rankInCell,
-                                     __local float* scratch,
-                                     __global uint* speedBits,
-                                     uint parity,
                                      __global uint* lengths,
+                                     uint speedIndex,
+                                     uint parity,
                                      uint stepIndex,
-                                     uint nonFiniteIndex)
+                                     uint nonFiniteIndex,
+                                     __local float* scratch)
 {
+    __global uint* speedBits = lengths + speedIndex;
     float largest = 0.0f;
     for (uint k = get_global_id(0); k < step.count; k += get_global_size(0))
         largest = fmax(largest, carom_finish_slot(k, state, cellOrder, sortedIds, step, next, tallies, nextCounts,

@@ -106,7 +106,7 @@ __kernel void stepSmallSystem(__global Particle* state,
  * round r's pending list is pending0 for even r and pending1 for odd r, as on
  * the host. The finished state lands in `next` (slot k: particle
  * sortedIds[k]) and is counted into `nextCounts`; its largest
- * v.x^2 + v.y^2 in speedBits[parity] (the other word zeroed); a disk left
+ * v.x^2 + v.y^2 in lengths[speedIndex + parity] (the other word zeroed); a disk left
  * non-finite is recorded under `stepIndex` in lengths[nonFiniteIndex..+1]. */
 __kernel void stepSmallPairwise(__global Particle* state,
                                 __global Particle* next,
@@ -132,7 +132,7 @@ __kernel void stepSmallPairwise(__global Particle* state,
                                 uint lengthCount,
                                 uint firstEpoch,
                                 uint maxRounds,
-                                __global uint* speedBits,
+                                uint speedIndex,
                                 uint parity,
                                 uint stepIndex,
                                 uint nonFiniteIndex,
@@ -171,7 +171,7 @@ __kernel void stepSmallPairwise(__global Particle* state,
                                                   cellOf, rankInCell, stepIndex, lengths + nonFiniteIndex));
     const float groupLargest = carom_group_max(largest, scratch);
     if (lid == 0) {
-        speedBits[parity] = as_uint(groupLargest);
-        speedBits[1 - parity] = 0u;
+        lengths[speedIndex + parity] = as_uint(groupLargest);
+        lengths[speedIndex + 1 - parity] = 0u;
     }
 }
