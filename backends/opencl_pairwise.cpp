@@ -20,7 +20,7 @@ constexpr std::size_t kListItemsPerComputeUnit = 2048;
 // resident pairwise ms a step, two runs each): at 256, 0.117 / 0.162 / 0.328
 // / 2.65 ms at 10^4 / 10^5 / 10^6 / 1.6*10^7 disks; at 1 024, 0.115 / 0.163
 // / 0.350 / 2.71; at 4 096, 0.37 ms at 10^5 (rounds of a few thousand disks
-// are slow on one compute unit); before, every round in launches: 0.137 /
+// are slow on one compute unit); before, every round in launches: 0.138 /
 // 0.190 / 0.357 / 2.67.
 constexpr cl_uint kLaunchedRoundLength = 256;
 // resolveRoundsInGroup's work-group, at most.
@@ -30,8 +30,8 @@ constexpr std::size_t kRoundsGroupSize = 1024;
 // the finish kernel's record (kRecordWords), which is not cleared with the
 // lengths and is read back with them.
 constexpr std::size_t kCounts = 3 * (kMaxPairwiseRounds + 1);
-constexpr std::size_t kNonFiniteWords = 2;
 constexpr std::size_t kCountsWithRecord = kCounts + DevicePairwise::kRecordWords;
+static_assert(DevicePairwise::kSpeedWords == 2, "a speed word for each parity");
 
 }  // namespace
 

@@ -45,7 +45,9 @@ public:
     // speedIndex() + parity, the other word zeroed for the step after. The
     // caller sets them once; complete() reads them back with the lengths,
     // so the record costs no read of its own.
-    static constexpr std::size_t kRecordWords = 4;  // nonFiniteIndex()'s two words, then speedIndex()'s two
+    static constexpr std::size_t kNonFiniteWords = 2, kSpeedWords = 2;
+    static constexpr std::size_t kRecordWords =
+        kNonFiniteWords + kSpeedWords;  // nonFiniteIndex()'s, then speedIndex()'s
     static cl_uint nonFiniteIndex();
     static cl_uint speedIndex();
     const cl_uint* nonFiniteRecord() const;
@@ -84,8 +86,10 @@ private:
     Buffer events_, pending_[2], changed_, dirty_, pendingMarks_, changedMarks_, dirtyMarks_, counts_;
     std::vector<cl_uint> hostCounts_;
     unsigned int epoch_ = 0;
-    unsigned int launchedRounds_ = 4;  // rounds 1 .. this run as launches (from the step before's lengths)
-    StepBuffers buffers_{};            // the current step's
+    // Rounds 1 .. this run as launches: set from the step before's lengths;
+    // the first step's is a guess.
+    unsigned int launchedRounds_ = 4;
+    StepBuffers buffers_{};  // the current step's
     CaromStepParams step_{};
 };
 

@@ -78,6 +78,7 @@ void OpenClResidentBackend::loadState(std::vector<Particle> particles) {
     if (world_.collisions != CollisionScheme::Pairwise) return;
     pairwise_ = DevicePairwise(context_.get(), device_, program_.get(), n, queue_.get(), profiler_.get());
     // The finish's record: no disk non-finite, no speed yet.
+    static_assert(DevicePairwise::kNonFiniteWords == 2 && DevicePairwise::kSpeedWords == 2, "the record's layout");
     const cl_uint record[DevicePairwise::kRecordWords] = {kNoneNonFinite[0], kNoneNonFinite[1], 0u, 0u};
     check(clEnqueueWriteBuffer(queue_.get(), pairwise_.lengths(), CL_TRUE,
                                DevicePairwise::nonFiniteIndex() * sizeof(cl_uint), sizeof(record), record, 0, nullptr,
@@ -140,16 +141,16 @@ void OpenClResidentBackend::stepPairwise(float dt) {
     if (nonFinite()) return;
     const CaromStepParams step = stepParams(dt);
     speedParity_ = 1 - speedParity_;
-    unconfirmedStepIndex_ = nextStepIndex();
+    const cl_uint stepIndex = nextStepIndex();
     if (smallSystem_) {
-        enqueueSmallPairwise(step, unconfirmedStepIndex_);
+        enqueueSmallPairwise(step, stepIndex);
     } else {
         deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get());
         pairwise_.enqueueStep(queue_.get(),
                               {state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), deviceGrid_.cellOf(),
                                deviceGrid_.cells(), tallies_.get()},
                               step);
-        enqueuePairwiseFinish(step, unconfirmedStepIndex_);
+        enqueuePairwiseFinish(step, stepIndex);
     }
     check(clFlush(queue_.get()), "clFlush");
     unconfirmed_ = true;

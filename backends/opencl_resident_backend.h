@@ -36,8 +36,9 @@ private:
     // A pairwise step ends in a wait of its own (confirmStep).
     cl_mem slotIds() const override { return ids_.get(); }
     bool waitsEachStep() const override { return world_.collisions == CollisionScheme::Pairwise; }
-    // Pairwise: waits for the last step's rounds (and runs the rest if its
-    // batch fell short), then makes its result the current state.
+    // Pairwise: waits for the last step (one read brings its list lengths,
+    // non-finite record and largest speed), then makes its result the
+    // current state.
     void confirmStep() override;
     float maxSpeedSquared() override;
     void stepSimultaneous(float dt);
@@ -63,11 +64,10 @@ private:
     // Pairwise: the finish records a disk left non-finite and the largest
     // v^2 after the pairwise lengths, which its step reads anyway
     // (DevicePairwise::nonFiniteIndex, speedIndex).
-    unsigned int speedParity_ = 0;      // the speed word the last step wrote
-    bool speedKnown_ = false;           // whether that word holds the current state's
-    bool unconfirmed_ = false;          // a pairwise step was enqueued and not yet confirmed
-    cl_uint unconfirmedStepIndex_ = 0;  // and its nextStepIndex()
-    std::size_t finishItems_ = 0;       // work-items of finishPairwiseAndCount, which stride over the particles
+    unsigned int speedParity_ = 0;  // the speed word the last step wrote
+    bool speedKnown_ = false;       // whether that word holds the current state's
+    bool unconfirmed_ = false;      // a pairwise step was enqueued and not yet confirmed
+    std::size_t finishItems_ = 0;   // work-items of finishPairwiseAndCount, which stride over the particles
 };
 
 }  // namespace carom

@@ -191,11 +191,11 @@ __kernel void resolveRoundsInGroup(__global Particle* state,
                                    __global uint* pendingMarks,
                                    __global uint* changedMarks,
                                    __global uint* dirtyMarks,
-                                   __global uint* counts,
+                                   __global uint* lengths,
                                    uint firstRound,
                                    uint maxRounds,
                                    uint firstEpoch)
 {
     carom_rounds_in_group(firstRound, maxRounds, firstEpoch, state, slots, ids, cellOf, cells, step, tallies, events,
-                          pending0, pending1, changed, dirty, pendingMarks, changedMarks, dirtyMarks, counts);
+                          pending0, pending1, changed, dirty, pendingMarks, changedMarks, dirtyMarks, lengths);
 }

@@ -131,12 +131,12 @@ __kernel void finishPairwiseAndCount(__global const Particle* state,
                                      uint nonFiniteIndex,
                                      __local float* scratch)
 {
-    __global uint* speedBits = lengths + speedIndex;
+    __global uint* speedWords = lengths + speedIndex;
     float largest = 0.0f;
     for (uint k = get_global_id(0); k < step.count; k += get_global_size(0))
         largest = fmax(largest, carom_finish_slot(k, state, cellOrder, sortedIds, step, next, tallies, nextCounts,
                                                   cellOf, rankInCell, stepIndex, lengths + nonFiniteIndex));
-    if (get_global_id(0) == 0) speedBits[1 - parity] = 0u;
+    if (get_global_id(0) == 0) speedWords[1 - parity] = 0u;
     const float groupLargest = carom_group_max(largest, scratch);
-    if (get_local_id(0) == 0) atomic_max(&speedBits[parity], as_uint(groupLargest));
+    if (get_local_id(0) == 0) atomic_max(&speedWords[parity], as_uint(groupLargest));
 }
