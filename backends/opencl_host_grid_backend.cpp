@@ -91,13 +91,15 @@ void OpenClHostGridBackend::stepPairwise(float dt) {
     pairwise_.enqueueStep(
         queue, {state_.get(), sortedIndices_.get(), sortedIndices_.get(), cellOf_.get(), cells_.get(), tallies_.get()},
         step);
-    recordRounds(pairwise_.complete(queue));
+    // The rounds finish on the device, so the finish and the download follow
+    // them in the queue; the lengths are read once all of it is done.
     setKernelArgs(finishByIdKernel_.get(), state_.get(), step, tallies_.get(), nextStepIndex(), firstNonFinite_.get());
     enqueue1d(queue, finishByIdKernel_.get(), count, workGroupSize_, "finishStepById", profiler_.get());
     enqueueNonFiniteRead();
     check(clEnqueueReadBuffer(queue, state_.get(), CL_TRUE, 0, count * sizeof(Particle), hostState_.data(), 0, nullptr,
                               eventSlot(profiler_.get(), "download state")),
           "clEnqueueReadBuffer(particle state)");
+    recordRounds(pairwise_.complete(queue));
     checkNonFinite();
 }
 
