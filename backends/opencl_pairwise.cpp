@@ -31,7 +31,6 @@ constexpr std::size_t kRoundsGroupSize = 1024;
 // lengths and is read back with them.
 constexpr std::size_t kCounts = 3 * (kMaxPairwiseRounds + 1);
 constexpr std::size_t kCountsWithRecord = kCounts + DevicePairwise::kRecordWords;
-static_assert(DevicePairwise::kSpeedWords == 2, "a speed word for each parity");
 
 }  // namespace
 

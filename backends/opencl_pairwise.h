@@ -45,7 +45,7 @@ public:
     // speedIndex() + parity, the other word zeroed for the step after. The
     // caller sets them once; complete() reads them back with the lengths,
     // so the record costs no read of its own.
-    static constexpr std::size_t kNonFiniteWords = 2, kSpeedWords = 2;
+    static constexpr std::size_t kNonFiniteWords = 2, kSpeedWords = 2;  // a speed word for each parity
     static constexpr std::size_t kRecordWords =
         kNonFiniteWords + kSpeedWords;  // nonFiniteIndex()'s, then speedIndex()'s
     static cl_uint nonFiniteIndex();

@@ -77,9 +77,9 @@ void OpenClResidentBackend::loadState(std::vector<Particle> particles) {
     smallSystem_ = n <= kSmallSystemParticles;
     if (world_.collisions != CollisionScheme::Pairwise) return;
     pairwise_ = DevicePairwise(context_.get(), device_, program_.get(), n, queue_.get(), profiler_.get());
-    // The finish's record: no disk non-finite, no speed yet.
-    static_assert(DevicePairwise::kNonFiniteWords == 2 && DevicePairwise::kSpeedWords == 2, "the record's layout");
-    const cl_uint record[DevicePairwise::kRecordWords] = {kNoneNonFinite[0], kNoneNonFinite[1], 0u, 0u};
+    // The finish's record: no disk non-finite, no speed yet (zero).
+    cl_uint record[DevicePairwise::kRecordWords] = {};
+    std::copy_n(kNoneNonFinite, DevicePairwise::kNonFiniteWords, record);
     check(clEnqueueWriteBuffer(queue_.get(), pairwise_.lengths(), CL_TRUE,
                                DevicePairwise::nonFiniteIndex() * sizeof(cl_uint), sizeof(record), record, 0, nullptr,
                                nullptr),
@@ -189,7 +189,7 @@ void OpenClResidentBackend::confirmStep() {
     if (!unconfirmed_) return;
     unconfirmed_ = false;
     const unsigned int rounds = pairwise_.complete(queue_.get());
-    std::copy_n(pairwise_.nonFiniteRecord(), 2, firstNonFiniteRead_);
+    std::copy_n(pairwise_.nonFiniteRecord(), DevicePairwise::kNonFiniteWords, firstNonFiniteRead_);
     checkNonFinite();
     recordRounds(rounds);
     speedKnown_ = true;
