@@ -1,4 +1,4 @@
-// `carom bench`: the performance comparison of the methods (bench/methods.h),
+// `carom bench`: the performance comparison of the methods (app/bench/methods.h),
 // each under the collision schemes it runs, over a sweep of N on one scene,
 // against the measured memory bandwidths.
 #include <algorithm>
@@ -14,7 +14,7 @@
 #include "app/commands.h"
 #include "app/host_info.h"
 #include "app/number_options.h"
-#include "bench/report.h"
+#include "app/bench/report.h"
 
 namespace carom::app {
 

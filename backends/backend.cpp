@@ -6,13 +6,7 @@
 #include <string>
 #include <utility>
 
-#include "backends/cpu_backend.h"
-#include "backends/event_driven_backend.h"
 #include "kernels/physics.h"
-#ifdef CAROM_HAVE_OPENCL
-#include "backends/opencl_host_grid_backend.h"
-#include "backends/opencl_resident_backend.h"
-#endif
 
 namespace carom {
 
@@ -199,39 +193,6 @@ float maxSpeedSquaredOf(const Particle* particles, std::size_t count) {
 #pragma omp parallel for reduction(max : largest) schedule(static) if (n >= kParallelPassLength)
     for (std::int64_t i = 0; i < n; ++i) largest = std::max(largest, carom_speed_squared(particles[i]));
     return largest;
-}
-
-std::vector<std::string> availableBackends() {
-#ifdef CAROM_HAVE_OPENCL
-    return {"cpu", "opencl"};
-#else
-    return {"cpu"};
-#endif
-}
-
-std::unique_ptr<Backend> makeBackend(const WorldDef& world) {
-    if (world.engine != ComputeEngine::Cpu && world.collisions == CollisionScheme::Events)
-        throw Error(std::string("CollisionScheme::Events runs on ComputeEngine::Cpu only (one thread, double "
-                                "precision); got ComputeEngine ") +
-                    computeEngineName(world.engine));
-    switch (world.engine) {
-        case ComputeEngine::Cpu:
-            if (world.collisions == CollisionScheme::Events) return std::make_unique<EventDrivenBackend>(world);
-            return std::make_unique<CpuBackend>(world);
-        case ComputeEngine::OpenClHostGrid:
-        case ComputeEngine::OpenClResident:
-#ifdef CAROM_HAVE_OPENCL
-            if (world.engine == ComputeEngine::OpenClResident)
-                return std::make_unique<OpenClResidentBackend>(world, world.device);
-            return std::make_unique<OpenClHostGridBackend>(world, world.device);
-#else
-            throw Error(std::string("ComputeEngine ") + computeEngineName(world.engine) +
-                        " needs OpenCL, which this carom was built without (no OpenCL headers or loader were "
-                        "found); allowed: ComputeEngine::Cpu");
-#endif
-    }
-    throw Error("WorldDef::engine " + std::to_string(static_cast<int>(world.engine)) +
-                " is not a ComputeEngine; allowed: Cpu, OpenClHostGrid, OpenClResident");
 }
 
 }  // namespace carom

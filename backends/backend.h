@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/carom.h"
+#include "engine/scene.h"
 #include "engine/grid.h"
 #include "engine/observables.h"
 #include "kernels/pairwise.h"
@@ -174,16 +174,5 @@ void drainTallyArray(ContactTally* tallies, std::size_t count, ContactTotals& to
 // For implementations holding the state on the host: the largest
 // v.x^2 + v.y^2 (an OpenMP max reduction; max is exact in any order).
 float maxSpeedSquaredOf(const Particle* particles, std::size_t count);
-
-// Creates the backend `def.kind` for the world; throws Error for an unknown
-// kind or device, or when OpenCL is unavailable.
-std::unique_ptr<Backend> makeBackend(const WorldDef& world);
-// The same on `engine`, whatever world.engine says.
-inline std::unique_ptr<Backend> makeBackend(const EngineDef& engine, const WorldDef& world) {
-    return makeBackend(onEngine(world, engine));
-}
-
-// The backend kinds this build offers, for messages and tests.
-std::vector<std::string> availableBackends();
 
 }  // namespace carom

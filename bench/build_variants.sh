@@ -43,11 +43,11 @@ for v in $variants; do
     case $v in
         main) ;;
         launched*)
-            edit "$src/backends/opencl_pairwise.cpp" "constexpr cl_uint kLaunchedRoundLength = 256;" \
+            edit "$src/backends/opencl/pairwise.cpp" "constexpr cl_uint kLaunchedRoundLength = 256;" \
                 "constexpr cl_uint kLaunchedRoundLength = ${v#launched};" ;;
         scan8)
             edit "$src/kernels/small_system.cl" "#define CAROM_SMALL_SYSTEM_SCAN_ITEMS 4" "#define CAROM_SMALL_SYSTEM_SCAN_ITEMS 8"
-            edit "$src/backends/opencl_resident_backend.cpp" "kSmallSystemScanItems = 4;" "kSmallSystemScanItems = 8;" ;;
+            edit "$src/backends/opencl/resident.cpp" "kSmallSystemScanItems = 4;" "kSmallSystemScanItems = 8;" ;;
         nogrid)
             edit "$src/kernels/small_system.cl" "        carom_build_grid_in_group(step.count, cellCount, counts, cells, cellOf, rankInCell, ids, cellOrder, sortedIds,
                                   counts, tile, runSums);" "" ;;

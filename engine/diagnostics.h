@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/carom.h"
+#include "engine/scene.h"
 
 namespace carom {
 

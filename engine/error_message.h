@@ -7,7 +7,7 @@
 #include <sstream>
 #include <string_view>
 
-#include "engine/carom.h"
+#include "engine/scene.h"
 
 namespace carom {
 

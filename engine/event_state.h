@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/carom.h"
+#include "engine/scene.h"
 
 namespace carom {
 

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/carom.h"
+#include "engine/scene.h"
 #include "kernels/physics.h"
 
 namespace carom {

@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/carom.h"
+#include "engine/scene.h"
 
 namespace carom {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "engine/carom.h"
+#include "engine/scene.h"
 #include "engine/constants.h"
 #include "engine/diagnostics.h"
 #include "engine/error_message.h"

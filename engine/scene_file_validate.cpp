@@ -7,7 +7,7 @@
 
 #include "engine/constants.h"
 #include "engine/error_message.h"
-#include "engine/carom.h"
+#include "engine/scene.h"
 #include "engine/scene_region.h"
 
 namespace carom {

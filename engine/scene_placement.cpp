@@ -9,7 +9,7 @@
 #include <carom/random.h>
 #include <carom/world.h>
 
-#include "engine/carom.h"
+#include "engine/scene.h"
 #include "engine/constants.h"
 #include "engine/error_message.h"
 #include "engine/grid.h"

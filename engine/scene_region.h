@@ -2,7 +2,7 @@
 // (scene_file_validate.cpp) and its placement (scene_placement.cpp) share.
 #pragma once
 
-#include "engine/carom.h"
+#include "engine/scene.h"
 
 namespace carom {
 

@@ -1,7 +1,7 @@
 # Writes OUTPUT, a C++ file defining NAMESPACE::kernelSource() (declared in
 # HEADER), from the OpenCL source ENTRY with its local #include "..." lines
 # inlined (resolved in the entry's folder), so the binary carries its kernels.
-#   cmake -DENTRY=kernels/program.cl -DOUTPUT=kernel_source.cpp -DHEADER=backends/kernel_source.h
+#   cmake -DENTRY=kernels/program.cl -DOUTPUT=kernel_source.cpp -DHEADER=backends/opencl/program.h
 #         -DNAMESPACE=carom::opencl -P embed.cmake
 
 function(inline_includes file result)

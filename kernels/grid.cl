@@ -25,7 +25,7 @@
 
 /* Values each work-item scans in a tile of the grid build's scan kernels; a
  * tile is get_local_size(0) times this. The host sizes the local buffers to
- * match (backends/opencl_grid.cpp). */
+ * match (backends/opencl/grid.cpp). */
 #define CAROM_SCAN_ITEMS 16
 
 /* Counts the particle in slot i into its cell. `counts` must start at zero.

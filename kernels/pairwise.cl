@@ -1,5 +1,5 @@
 /* The passes of a pairwise step (kernels/pairwise.h), one kernel each, for
- * both OpenCL pipelines; backends/opencl_pairwise.cpp enqueues them.
+ * both OpenCL pipelines; backends/opencl/pairwise.cpp enqueues them.
  *
  * A disk is its position k in sortedIndices (`ids`); `state[slots[k]]` is
  * its particle and `cellOf[slots[k]]` its cell: the seed pipeline stores the

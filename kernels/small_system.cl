@@ -1,5 +1,5 @@
 /* Whole steps of a small system in one work-group, for the resident
- * pipeline (backends/opencl_resident_backend.cpp): at a few thousand disks
+ * pipeline (backends/opencl/resident.cpp): at a few thousand disks
  * the launches of a step (the grid build's, the step's, the pairwise
  * rounds') cost more than the work, and one work-group does it all, with
  * barriers between the passes instead of launches. The passes are those of
@@ -99,7 +99,7 @@ __kernel void stepSmallSystem(__global Particle* state,
 }
 
 /* One pairwise step: the grid build, the passes findEventsForward and
- * searchListed enqueue for round 0 (backends/opencl_pairwise.cpp), the rounds
+ * searchListed enqueue for round 0 (backends/opencl/pairwise.cpp), the rounds
  * until none is pending or `maxRounds` ran (carom_rounds_in_group), then
  * finishPairwiseAndCount's. The list lengths start zeroed (the first
  * lengthCount words of `lengths`); round r uses epoch firstEpoch + r, and

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/checkpoint.h"
+#include "io/checkpoint.h"
 #include "support.h"
 
 namespace carom::test {

@@ -13,7 +13,7 @@
 
 #include <carom/world.h>
 
-#include "backends/backend.h"
+#include "world/make_backend.h"
 
 namespace carom::test {
 

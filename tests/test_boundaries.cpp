@@ -2,7 +2,7 @@
 // adaptive substeps, registered once per backend and pipeline.
 #include <cmath>
 
-#include "engine/checkpoint.h"
+#include "io/checkpoint.h"
 #include "engine/diagnostics.h"
 #include "support.h"
 

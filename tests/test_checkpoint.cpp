@@ -7,7 +7,7 @@
 #include <iterator>
 
 #include "checkpoint_support.h"
-#include "engine/checkpoint.h"
+#include "io/checkpoint.h"
 #include "support.h"
 
 using namespace carom;

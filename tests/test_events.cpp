@@ -15,7 +15,7 @@
 #include <iomanip>
 #include <sstream>
 
-#include "backends/event_driven_backend.h"
+#include "backends/event_driven.h"
 #include "support.h"
 
 using namespace carom;

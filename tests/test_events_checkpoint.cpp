@@ -8,9 +8,9 @@
 #include <cstring>
 #include <limits>
 
-#include "backends/event_driven_backend.h"
+#include "backends/event_driven.h"
 #include "checkpoint_support.h"
-#include "engine/checkpoint.h"
+#include "io/checkpoint.h"
 #include "support.h"
 
 using namespace carom;

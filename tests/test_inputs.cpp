@@ -12,9 +12,9 @@
 #include <sstream>
 
 #include <carom/io.h>
-#include "engine/checkpoint.h"
+#include "io/checkpoint.h"
 #include <carom/world.h>
-#include "engine/state_csv.h"
+#include "io/state_csv.h"
 #include "support.h"
 
 using namespace carom;

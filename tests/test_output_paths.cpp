@@ -1,5 +1,5 @@
 // Where outputs go (symlinks, special files, one file under two names) and
-// how a resumed run continues them (carom/files.h, engine/output_paths.h).
+// how a resumed run continues them (carom/files.h, io/output_paths.h).
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -12,8 +12,8 @@
 #endif
 
 #include <carom/files.h>
-#include "engine/output_paths.h"
-#include "engine/stats.h"
+#include "io/output_paths.h"
+#include "io/stats.h"
 #include "support.h"
 
 using namespace carom;

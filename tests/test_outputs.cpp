@@ -14,10 +14,10 @@
 #include <carom/files.h>
 #include "engine/diagnostics.h"
 #include <carom/world.h>
-#include "engine/state_csv.h"
-#include "engine/stats.h"
+#include "io/state_csv.h"
+#include "io/stats.h"
 #include "engine/text_format.h"
-#include "engine/trajectory.h"
+#include "io/trajectory.h"
 #include "support.h"
 
 using namespace carom;

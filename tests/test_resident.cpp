@@ -7,13 +7,13 @@
 #include <numeric>
 #include <random>
 
-#include "bench/all_pairs_cpu.h"
+#include "app/bench/all_pairs_cpu.h"
 #include "engine/grid.h"
 #include "support.h"
 #ifdef CAROM_HAVE_OPENCL
-#include "backends/kernel_source.h"
-#include "backends/opencl_resident_backend.h"
-#include "bench/all_pairs_opencl.h"
+#include "backends/opencl/program.h"
+#include "backends/opencl/resident.h"
+#include "app/bench/all_pairs_opencl.h"
 #endif
 
 using namespace carom;

@@ -6,7 +6,7 @@
 
 #include "engine/constants.h"
 #include "engine/diagnostics.h"
-#include "engine/state_csv.h"
+#include "io/state_csv.h"
 #include "support.h"
 
 using namespace carom;

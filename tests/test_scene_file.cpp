@@ -9,7 +9,7 @@
 #include "engine/diagnostics.h"
 #include <carom/io.h>
 
-#include "engine/carom.h"
+#include "engine/scene.h"
 #include "support.h"
 
 using namespace carom;

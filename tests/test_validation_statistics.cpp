@@ -8,7 +8,7 @@
 #include <doctest/doctest.h>
 
 #include "app/validate/statistics.h"
-#include "engine/carom.h"
+#include "engine/scene.h"
 
 using namespace carom;
 using namespace carom::validation;

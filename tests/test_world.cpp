@@ -17,7 +17,7 @@
 #include "engine/diagnostics.h"
 #include "engine/disk_conversion.h"
 #include "engine/observables.h"
-#include "engine/carom.h"
+#include "engine/scene.h"
 #include "support.h"
 
 using namespace carom;

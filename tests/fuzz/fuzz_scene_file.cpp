@@ -7,7 +7,7 @@
 
 #include <carom/io.h>
 
-#include "engine/carom.h"
+#include "engine/scene.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     try {

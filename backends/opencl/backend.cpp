@@ -1,0 +1,188 @@
+#include "backends/opencl/backend.h"
+
+#include <algorithm>
+#include <utility>
+
+namespace carom {
+
+using namespace opencl;
+
+namespace {
+
+// Steps enqueued between waits for the device: bounds the commands in flight
+// on a long run, while one wait per batch costs the GPU almost no idle time.
+constexpr std::uint64_t kStepsPerSync = 64;
+
+// Work-groups of the max-speed reduction: enough to fill a GPU, few enough
+// for the host to finish the reduction at once.
+constexpr std::size_t kReductionGroups = 256;
+
+}  // namespace
+
+OpenClBackend::OpenClBackend(const WorldDef& world, const std::string& device, const char* programSource,
+                             bool profiling)
+    : Backend(world), profiler_(profiling ? std::make_unique<Profiler>() : nullptr), device_(selectDevice(device)) {
+    cl_int status = CL_SUCCESS;
+    context_ = Context(clCreateContext(nullptr, 1, &device_.id, nullptr, nullptr, &status));
+    check(status, "clCreateContext");
+    queue_ =
+        Queue(clCreateCommandQueue(context_.get(), device_.id, profiling ? CL_QUEUE_PROFILING_ENABLE : 0, &status));
+    check(status, "clCreateCommandQueue");
+    program_ = buildProgram(context_.get(), device_, programSource, device_.correctlyRoundedDivideSqrt);
+    maxSpeedKernel_ = createKernel(program_.get(), "maxSpeedSquared");
+    viewKernel_ = createKernel(program_.get(), "writeDiskViews");
+    fitWorkGroups({}, {maxSpeedKernel_.get(), viewKernel_.get()});
+    groupMax_ = createBuffer(context_.get(), kReductionGroups * sizeof(cl_float), "max speed per group");
+    groupSums_ =
+        createBuffer(context_.get(), kReductionGroups * CAROM_VIEW_SUM_COUNT * sizeof(cl_float), "view sums per group");
+    firstNonFinite_ = createBuffer(context_.get(), sizeof(kNoneNonFinite), "first non-finite step and particle");
+}
+
+std::string OpenClBackend::device() const {
+    return device_.name + " (" + device_.platformName + ", " + device_.version + "), " + pipelineName() + " pipeline";
+}
+
+void OpenClBackend::fitWorkGroups(std::initializer_list<cl_kernel> perParticle,
+                                  std::initializer_list<cl_kernel> reducing) {
+    for (cl_kernel kernel : perParticle)
+        workGroupSize_ = std::min(workGroupSize_, kernelWorkGroupLimit(kernel, device_.id));
+    for (cl_kernel kernel : reducing)
+        while (reductionGroupSize_ > kernelWorkGroupLimit(kernel, device_.id)) reductionGroupSize_ /= 2;
+}
+
+void OpenClBackend::load(std::vector<Particle> particles) {
+    const std::size_t n = particles.size();
+    // Free the previous state's buffers first: a state may fill the device.
+    releaseState();
+    state_.reset();
+    next_.reset();
+    tallies_.reset();
+    views_.reset();
+
+    state_ = createBuffer(context_.get(), n * sizeof(Particle), "particle state");
+    next_ = createBuffer(context_.get(), n * sizeof(Particle), "next particle state");
+    tallies_ = createBuffer(context_.get(), n * sizeof(ContactTally), "contact tallies");
+    check(clEnqueueWriteBuffer(queue_.get(), state_.get(), CL_TRUE, 0, n * sizeof(Particle), particles.data(), 0,
+                               nullptr, nullptr),
+          "clEnqueueWriteBuffer(particle state)");
+    enqueueZero(queue_.get(), tallies_.get(), n * sizeof(ContactTally), "contact tallies");
+    check(clEnqueueWriteBuffer(queue_.get(), firstNonFinite_.get(), CL_TRUE, 0, sizeof(kNoneNonFinite), kNoneNonFinite,
+                               0, nullptr, nullptr),
+          "clEnqueueWriteBuffer(first non-finite step and particle)");
+    substep_ = nonFiniteBase_ = 0;
+    loadState(std::move(particles));
+    finish();
+    if (profiler_) profiler_->clear();  // the profile covers steps only
+}
+
+void OpenClBackend::finish() {
+    enqueueNonFiniteRead();
+    check(clFinish(queue_.get()), "clFinish");
+    if (profiler_) profiler_->collect();
+    checkNonFinite();
+}
+
+void OpenClBackend::enqueueNonFiniteRead() {
+    check(clEnqueueReadBuffer(queue_.get(), firstNonFinite_.get(), CL_FALSE, 0, sizeof(firstNonFiniteRead_),
+                              firstNonFiniteRead_, 0, nullptr, nullptr),
+          "clEnqueueReadBuffer(first non-finite step and particle)");
+}
+
+void OpenClBackend::checkNonFinite() {
+    if (firstNonFiniteRead_[0] == kNoneNonFinite[0])
+        nonFiniteBase_ = substep_;
+    else
+        recordNonFinite(nonFiniteBase_ + firstNonFiniteRead_[0], firstNonFiniteRead_[1]);
+}
+
+// Stops at the first wait that finds a disk non-finite: after every step in
+// the pipelines that wait each step, every kStepsPerSync steps in the others
+// (whose steps until then stay as cheap, carom_count_into_cell).
+void OpenClBackend::advance(std::uint64_t steps, float dt) {
+    const bool waits = waitsEachStep();
+    for (std::uint64_t s = 0; s < steps && !nonFinite();) {
+        s += enqueueSteps(std::min(steps - s, waits ? 1 : kStepsPerSync - s % kStepsPerSync), dt);
+        if (!waits && s % kStepsPerSync == 0) finish();
+    }
+    if (!waits) finish();
+}
+
+void OpenClBackend::awaitSteps() {
+    confirmStep();
+    finish();
+}
+
+void OpenClBackend::readParticles(std::vector<Particle>& particles) {
+    confirmStep();
+    particles.resize(particleCount_);
+    check(clEnqueueReadBuffer(queue_.get(), state_.get(), CL_TRUE, 0, particleCount_ * sizeof(Particle),
+                              particles.data(), 0, nullptr, nullptr),
+          "clEnqueueReadBuffer(particle state)");
+}
+
+std::optional<ViewSums> OpenClBackend::readView(ViewValue value, DiskView* out) {
+    confirmStep();
+    if (particleCount_ == 0) return ViewSums{};
+    if (!views_.get()) views_ = createBuffer(context_.get(), particleCount_ * sizeof(DiskView), "disk views");
+    const cl_uint count = static_cast<cl_uint>(particleCount_), kind = static_cast<cl_uint>(value);
+    const std::size_t groups =
+        std::min(kReductionGroups, (particleCount_ + reductionGroupSize_ - 1) / reductionGroupSize_);
+    setKernelArgs(viewKernel_.get(), state_.get(), slotIds(), count, kind, world().gravity, views_.get(),
+                  groupSums_.get());
+    setLocalArg(viewKernel_.get(), 7, reductionGroupSize_ * 2 * sizeof(cl_float));
+    enqueue1d(queue_.get(), viewKernel_.get(), groups * reductionGroupSize_, reductionGroupSize_, "writeDiskViews",
+              profiler_.get());
+    std::vector<cl_float> groupSums(groups * CAROM_VIEW_SUM_COUNT);
+    check(clEnqueueReadBuffer(queue_.get(), views_.get(), CL_FALSE, 0, particleCount_ * sizeof(DiskView), out, 0,
+                              nullptr, nullptr),
+          "clEnqueueReadBuffer(disk views)");
+    check(clEnqueueReadBuffer(queue_.get(), groupSums_.get(), CL_TRUE, 0, groupSums.size() * sizeof(cl_float),
+                              groupSums.data(), 0, nullptr, nullptr),
+          "clEnqueueReadBuffer(view sums per group)");
+    ViewSums result;
+    result.minValue = HUGE_VALF;
+    result.maxValue = -HUGE_VALF;
+    for (std::size_t g = 0; g < groups; ++g) {
+        const cl_float* group = groupSums.data() + g * CAROM_VIEW_SUM_COUNT;
+        auto pair = [&](int at) { return double(group[at]) + double(group[at + 1]); };
+        result.kineticEnergy += pair(CAROM_VIEW_SUM_KINETIC);
+        result.potentialEnergy += pair(CAROM_VIEW_SUM_POTENTIAL);
+        result.momentum[0] += pair(CAROM_VIEW_SUM_MOMENTUM_X);
+        result.momentum[1] += pair(CAROM_VIEW_SUM_MOMENTUM_Y);
+        result.mass += pair(CAROM_VIEW_SUM_MASS);
+        result.speedSquared += pair(CAROM_VIEW_SUM_SPEED_SQUARED);
+        result.minValue = std::min(result.minValue, group[CAROM_VIEW_SUM_MIN_VALUE]);
+        result.maxValue = std::max(result.maxValue, group[CAROM_VIEW_SUM_MAX_VALUE]);
+    }
+    return result;
+}
+
+float OpenClBackend::maxSpeedSquared() {
+    confirmStep();
+    const cl_uint count = static_cast<cl_uint>(particleCount_);
+    const std::size_t groups =
+        std::min(kReductionGroups, (particleCount_ + reductionGroupSize_ - 1) / reductionGroupSize_);
+    setKernelArgs(maxSpeedKernel_.get(), state_.get(), count);
+    setLocalArg(maxSpeedKernel_.get(), 2, reductionGroupSize_ * sizeof(cl_float));
+    const cl_mem groupMaxBuffer = groupMax_.get();
+    check(clSetKernelArg(maxSpeedKernel_.get(), 3, sizeof(cl_mem), &groupMaxBuffer), "clSetKernelArg");
+    enqueue1d(queue_.get(), maxSpeedKernel_.get(), groups * reductionGroupSize_, reductionGroupSize_, "maxSpeedSquared",
+              profiler_.get());
+    std::vector<cl_float> groupMax(groups);
+    check(clEnqueueReadBuffer(queue_.get(), groupMax_.get(), CL_TRUE, 0, groups * sizeof(cl_float), groupMax.data(), 0,
+                              nullptr, nullptr),
+          "clEnqueueReadBuffer(max speed per group)");
+    return *std::max_element(groupMax.begin(), groupMax.end());
+}
+
+void OpenClBackend::drainTallies(ContactTotals& totals) {
+    confirmStep();
+    std::vector<ContactTally> tallies(particleCount_);
+    check(clEnqueueReadBuffer(queue_.get(), tallies_.get(), CL_TRUE, 0, tallies.size() * sizeof(ContactTally),
+                              tallies.data(), 0, nullptr, nullptr),
+          "clEnqueueReadBuffer(contact tallies)");
+    drainTallyArray(tallies.data(), tallies.size(), totals);
+    enqueueZero(queue_.get(), tallies_.get(), tallies.size() * sizeof(ContactTally), "contact tallies");
+}
+
+}  // namespace carom

@@ -1,0 +1,123 @@
+// The OpenCL backends: this base owns the device, context, queue and program
+// and what every pipeline shares (the state and contact tallies on the
+// device, the max-speed reduction, the record of a disk left non-finite, the
+// profiler); one class per pipeline runs the steps:
+//  - OpenClHostGridBackend ("seed", backends/opencl/host_grid.h): the
+//    host builds the grid, uploads it and reads the new state back each step;
+//  - OpenClResidentBackend ("resident", backends/opencl/resident.h):
+//    state and grid stay on the device;
+//  - bench::AllPairsOpenClBackend (app/bench/all_pairs_opencl.h): the naive
+//    O(N^2) baseline of `carom bench`, with a program of its own.
+// Seed and resident give bitwise identical results (and equal the CPU
+// backend's where exactArithmetic()); all-pairs sums in another order.
+#pragma once
+
+#include <initializer_list>
+#include <memory>
+
+#include "backends/backend.h"
+#include "backends/opencl/runtime.h"
+
+namespace carom {
+
+class OpenClBackend : public Backend {
+public:
+    std::string device() const override;
+    bool exactArithmetic() const override { return device_.correctlyRoundedDivideSqrt; }
+    const opencl::DeviceInfo& deviceInfo() const { return device_; }
+
+    // Reads state_, stored by id.
+    void readParticles(std::vector<Particle>& particles) override;
+    // writeDiskViews (kernels/view.cl) on the device: reads back 16 bytes a
+    // disk and the work-groups' sums.
+    std::optional<ViewSums> readView(ViewValue value, DiskView* out) override;
+
+    // Seconds per kernel, transfer and host grid build over the steps so
+    // far; null unless constructed with profiling.
+    opencl::Profiler* profiler() { return profiler_.get(); }
+
+protected:
+    // `device`: see opencl::selectDevice. The program is built from
+    // `programSource`, which must hold maxSpeedSquared (kernels/step.cl) and
+    // writeDiskViews (kernels/view.cl).
+    // With `profiling`, each command's device time is recorded (profiler());
+    // for explaining a step, not timing it.
+    OpenClBackend(const WorldDef& world, const std::string& device, const char* programSource, bool profiling);
+
+    // The pipeline's name in device(): "seed", "resident", "all-pairs".
+    virtual const char* pipelineName() const = 0;
+    // Frees the buffers the pipeline keeps for the state loaded before.
+    virtual void releaseState() = 0;
+    // Makes the pipeline's buffers for `particles`, which state_ holds by id.
+    virtual void loadState(std::vector<Particle> particles) = 0;
+    // Enqueues one substep of dt.
+    virtual void enqueueStep(float dt) = 0;
+    // Enqueues up to `steps` (>= 1) substeps of dt and returns how many: one
+    // unless the pipeline can run several in one launch.
+    virtual std::uint64_t enqueueSteps(std::uint64_t steps, float dt) {
+        (void)steps;
+        enqueueStep(dt);
+        return 1;
+    }
+    // The id of the disk in each slot of state_; null where slot = id.
+    virtual cl_mem slotIds() const { return nullptr; }
+    // Whether enqueueStep ends in a wait of its own; else advance() waits
+    // every kStepsPerSync steps and at its end.
+    virtual bool waitsEachStep() const { return false; }
+    // Waits for a step enqueueStep left to be confirmed later, if any, and
+    // makes its result the current state; called before anything reads it.
+    virtual void confirmStep() {}
+
+    // The largest v.x^2 + v.y^2 of state_: a reduction on the device.
+    float maxSpeedSquared() override;
+
+    // Lowers workGroupSize_ to what the kernels with one work-item per
+    // particle allow on the device, and reductionGroupSize_ to what those
+    // that reduce in a work-group allow.
+    void fitWorkGroups(std::initializer_list<cl_kernel> perParticle, std::initializer_list<cl_kernel> reducing);
+    void finish();  // waits for the queue; collects the profile
+    // The index under which the kernels of the substep being enqueued record
+    // a disk left non-finite (counted from nonFiniteBase_); counts the substep.
+    cl_uint nextStepIndex() { return static_cast<cl_uint>(substep_++ - nonFiniteBase_); }
+    // Reads firstNonFinite_ without waiting; checkNonFinite() after a wait
+    // that covers the read, with nothing enqueued after it, reports what it
+    // found (recordNonFinite) or moves the base past every substep so far.
+    void enqueueNonFiniteRead();
+    void checkNonFinite();
+
+    // A record of a disk left non-finite before any was (kernels/physics.h, carom_record_non_finite).
+    static constexpr cl_uint kNoneNonFinite[2] = {0xffffffffu, 0xffffffffu};
+
+    std::unique_ptr<opencl::Profiler> profiler_;
+    opencl::DeviceInfo device_;
+    opencl::Context context_;
+    opencl::Queue queue_;
+    opencl::Program program_;
+    std::size_t workGroupSize_ = 64;
+    std::size_t reductionGroupSize_ = 256;  // a power of two
+
+    opencl::Buffer state_;    // the state before the step
+    opencl::Buffer next_;     // written by the step, then swapped in
+    opencl::Buffer tallies_;  // ContactTally by particle id
+    // Where the kernels that write a step's result record a disk it left
+    // non-finite (carom_record_non_finite): the first step, as an index from
+    // nonFiniteBase_, and the lowest id; read at the waits each pipeline has.
+    opencl::Buffer firstNonFinite_;
+    cl_uint firstNonFiniteRead_[2] = {};  // the host's copy of the record last read
+
+private:
+    void load(std::vector<Particle> particles) final;
+    void advance(std::uint64_t substeps, float dt) final;
+    void drainTallies(ContactTotals& totals) final;
+    void awaitSteps() final;
+
+    opencl::Kernel maxSpeedKernel_;
+    opencl::Buffer groupMax_;          // maxSpeedSquared's per-group results
+    opencl::Kernel viewKernel_;        // writeDiskViews
+    opencl::Buffer views_;             // its views, made at the first readView after load
+    opencl::Buffer groupSums_;         // and its per-group sums
+    std::uint64_t substep_ = 0;        // substeps enqueued since load
+    std::uint64_t nonFiniteBase_ = 0;  // the substep that step index 0 means
+};
+
+}  // namespace carom

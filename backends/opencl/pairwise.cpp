@@ -1,0 +1,173 @@
+#include "backends/opencl/pairwise.h"
+
+#include <algorithm>
+#include <cstring>
+#include <limits>
+
+#include "backends/backend.h"
+
+namespace carom::opencl {
+
+namespace {
+
+// Work-items per compute unit for the list kernels: enough to hide memory
+// latency on a GPU; a list longer than all of them is strided over.
+constexpr std::size_t kListItemsPerComputeUnit = 2048;
+
+// A round runs as launches when the step before's pending list for it held
+// at least this many disks, and in resolveRoundsInGroup's one work-group
+// otherwise. Measured on an H200 (bench/results/nvidia-h200-group-rounds.txt,
+// resident pairwise ms a step, two runs each): at 256, 0.117 / 0.162 / 0.328
+// / 2.65 ms at 10^4 / 10^5 / 10^6 / 1.6*10^7 disks; at 1 024, 0.115 / 0.163
+// / 0.350 / 2.71; at 4 096, 0.37 ms at 10^5 (rounds of a few thousand disks
+// are slow on one compute unit); before, every round in launches: 0.138 /
+// 0.190 / 0.357 / 2.67.
+constexpr cl_uint kLaunchedRoundLength = 256;
+// resolveRoundsInGroup's work-group, at most.
+constexpr std::size_t kRoundsGroupSize = 1024;
+
+// counts_: three lengths per round, rounds 0 .. kMaxPairwiseRounds, then
+// the finish kernel's record (kRecordWords), which is not cleared with the
+// lengths and is read back with them.
+constexpr std::size_t kCounts = 3 * (kMaxPairwiseRounds + 1);
+constexpr std::size_t kCountsWithRecord = kCounts + DevicePairwise::kRecordWords;
+
+}  // namespace
+
+static_assert(sizeof(CaromEvent) == 8, "CaromEvent must match its OpenCL layout");
+
+DevicePairwise::DevicePairwise(cl_context context, const DeviceInfo& device, cl_program program,
+                               std::size_t particleCount, cl_command_queue queue, Profiler* profiler)
+    : particleCount_(particleCount), profiler_(profiler), hostCounts_(kCountsWithRecord) {
+    forwardKernel_ = createKernel(program, "findEventsForward");
+    listedKernel_ = createKernel(program, "searchListed");
+    resolveKernel_ = createKernel(program, "resolveEvents");
+    roundsInGroupKernel_ = createKernel(program, "resolveRoundsInGroup");
+    for (cl_kernel k : {forwardKernel_.get(), listedKernel_.get(), resolveKernel_.get()})
+        groupSize_ = std::min(groupSize_, kernelWorkGroupLimit(k, device.id));
+    roundsGroupSize_ = std::min(kRoundsGroupSize, kernelWorkGroupLimit(roundsInGroupKernel_.get(), device.id));
+    listItems_ = std::min((particleCount + groupSize_ - 1) / groupSize_ * groupSize_,
+                          std::max<std::size_t>(1, device.computeUnits) * kListItemsPerComputeUnit);
+
+    const std::size_t n = particleCount;
+    events_ = createBuffer(context, n * sizeof(CaromEvent), "pairwise events");
+    pending_[0] = createBuffer(context, n * sizeof(cl_uint), "pending list");
+    pending_[1] = createBuffer(context, n * sizeof(cl_uint), "next pending list");
+    changed_ = createBuffer(context, n * sizeof(cl_uint), "changed list");
+    dirty_ = createBuffer(context, n * sizeof(cl_uint), "dirty list");
+    pendingMarks_ = createBuffer(context, n * sizeof(cl_uint), "pending marks");
+    changedMarks_ = createBuffer(context, n * sizeof(cl_uint), "changed marks");
+    dirtyMarks_ = createBuffer(context, n * sizeof(cl_uint), "dirty marks");
+    counts_ = createBuffer(context, kCountsWithRecord * sizeof(cl_uint), "list lengths");
+    clearMarks(queue);
+}
+
+void DevicePairwise::clearMarks(cl_command_queue queue) {
+    for (cl_mem marks : {pendingMarks_.get(), changedMarks_.get(), dirtyMarks_.get()})
+        enqueueZero(queue, marks, particleCount_ * sizeof(cl_uint), "pairwise marks");
+}
+
+// Each round's marks carry a new epoch, so no list needs clearing; when the
+// counter wraps, the marks are cleared once.
+unsigned int DevicePairwise::nextEpoch(cl_command_queue queue) {
+    if (++epoch_ == 0) {
+        clearMarks(queue);
+        epoch_ = 1;
+    }
+    return epoch_;
+}
+
+void DevicePairwise::searchListed(cl_command_queue queue, int mode, cl_mem listed, unsigned int round,
+                                  unsigned int listIndex, unsigned int epoch) {
+    const StepBuffers& b = buffers_;
+    setKernelArgs(listedKernel_.get(), b.state, b.slots, b.ids, b.cellOf, b.cells, step_, events_.get(), cl_int{mode},
+                  listed, changed_.get(), changedMarks_.get(), dirty_.get(), dirtyMarks_.get(),
+                  pending_[round % 2].get(), pendingMarks_.get(), counts_.get(), cl_uint{round}, cl_uint{listIndex},
+                  cl_uint{epoch});
+    enqueue1d(queue, listedKernel_.get(), listItems_, groupSize_,
+              mode == CAROM_SEARCH_CHANGED ? "searchListed (changed)" : "searchListed (dirty)", profiler_);
+}
+
+void DevicePairwise::enqueueRound(cl_command_queue queue, unsigned int round) {
+    const StepBuffers& b = buffers_;
+    const unsigned int epoch = nextEpoch(queue);
+    setKernelArgs(resolveKernel_.get(), b.state, b.slots, b.ids, events_.get(), step_, b.tallies,
+                  pending_[(round - 1) % 2].get(), pending_[round % 2].get(), pendingMarks_.get(), changed_.get(),
+                  changedMarks_.get(), counts_.get(), cl_uint{round}, cl_uint{epoch});
+    enqueue1d(queue, resolveKernel_.get(), listItems_, groupSize_, "resolveEvents", profiler_);
+    searchListed(queue, CAROM_SEARCH_CHANGED, changed_.get(), round, 3 * round + 1, epoch);
+    searchListed(queue, CAROM_SEARCH_ALL, dirty_.get(), round, 3 * round + 2, epoch);
+}
+
+void DevicePairwise::enqueueRoundsInGroup(cl_command_queue queue, unsigned int firstRound) {
+    const StepBuffers& b = buffers_;
+    const cl_uint firstEpoch = reserveEpochs(queue, kMaxPairwiseRounds - firstRound + 1);
+    setKernelArgs(roundsInGroupKernel_.get(), b.state, b.slots, b.ids, b.cellOf, b.cells, step_, b.tallies,
+                  events_.get(), pending_[0].get(), pending_[1].get(), changed_.get(), dirty_.get(),
+                  pendingMarks_.get(), changedMarks_.get(), dirtyMarks_.get(), counts_.get(), cl_uint{firstRound},
+                  cl_uint{kMaxPairwiseRounds}, firstEpoch);
+    enqueue1d(queue, roundsInGroupKernel_.get(), roundsGroupSize_, roundsGroupSize_, "resolveRoundsInGroup", profiler_);
+}
+
+void DevicePairwise::enqueueStep(cl_command_queue queue, const StepBuffers& buffers, const CaromStepParams& step) {
+    buffers_ = buffers;
+    step_ = step;
+    enqueueZero(queue, counts_.get(), kCounts * sizeof(cl_uint), "list lengths");
+    const unsigned int epoch = nextEpoch(queue);
+    setKernelArgs(forwardKernel_.get(), buffers.state, buffers.slots, buffers.ids, buffers.cellOf, buffers.cells, step,
+                  events_.get(), pending_[0].get(), pendingMarks_.get(), dirty_.get(), dirtyMarks_.get(), counts_.get(),
+                  cl_uint{epoch});
+    enqueue1d(queue, forwardKernel_.get(), particleCount_, groupSize_, "findEventsForward", profiler_);
+    searchListed(queue, CAROM_SEARCH_ALL, dirty_.get(), 0, 2, epoch);
+    for (unsigned int round = 1; round <= launchedRounds_; ++round) enqueueRound(queue, round);
+    if (launchedRounds_ < kMaxPairwiseRounds) enqueueRoundsInGroup(queue, launchedRounds_ + 1);
+}
+
+cl_uint DevicePairwise::nonFiniteIndex() { return kCounts; }
+
+cl_uint DevicePairwise::speedIndex() { return kCounts + kNonFiniteWords; }
+
+cl_uint DevicePairwise::lengthCount() { return kCounts; }
+
+DevicePairwise::Lists DevicePairwise::lists() const {
+    return {events_.get(),       pending_[0].get(),   pending_[1].get(), changed_.get(), dirty_.get(),
+            pendingMarks_.get(), changedMarks_.get(), dirtyMarks_.get(), counts_.get()};
+}
+
+cl_uint DevicePairwise::reserveEpochs(cl_command_queue queue, unsigned int count) {
+    if (epoch_ > std::numeric_limits<unsigned int>::max() - count) {
+        clearMarks(queue);
+        epoch_ = 0;
+    }
+    const cl_uint first = epoch_ + 1;
+    epoch_ += count;
+    return first;
+}
+
+const cl_uint* DevicePairwise::nonFiniteRecord() const { return hostCounts_.data() + kCounts; }
+
+float DevicePairwise::speedSquaredRecord(unsigned int parity) const {
+    float largest;
+    std::memcpy(&largest, &hostCounts_[speedIndex() + parity], sizeof(largest));
+    return largest;
+}
+
+void DevicePairwise::readLengths(cl_command_queue queue) {
+    check(clEnqueueReadBuffer(queue, counts_.get(), CL_TRUE, 0, kCountsWithRecord * sizeof(cl_uint), hostCounts_.data(),
+                              0, nullptr, eventSlot(profiler_, "read list lengths")),
+          "clEnqueueReadBuffer(list lengths)");
+}
+
+unsigned int DevicePairwise::complete(cl_command_queue queue) {
+    readLengths(queue);
+    unsigned int rounds = 0;
+    for (unsigned int r = 1; r <= kMaxPairwiseRounds; ++r)
+        if (hostCounts_[3 * r + 1] > 0) rounds = r;
+    // The next step's lists are likely about as long as this one's.
+    launchedRounds_ = 0;
+    while (launchedRounds_ < kMaxPairwiseRounds && hostCounts_[3 * launchedRounds_] >= kLaunchedRoundLength)
+        ++launchedRounds_;
+    return rounds;
+}
+
+}  // namespace carom::opencl

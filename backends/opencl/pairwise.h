@@ -1,0 +1,96 @@
+// The rounds of the pairwise scheme on an OpenCL device (kernels/pairwise.cl),
+// for both pipelines: the same passes as the CPU backend's, so the same
+// events in the same rounds, bit for bit.
+//
+// A step enqueues the first search, the first rounds as launches of their
+// three passes, and the rest in one launch of resolveRoundsInGroup, without
+// waiting: one work-group runs them with barriers until no event is left, so
+// every step's rounds are done when its last kernel is. Long lists need the
+// whole device, short ones not the three launches a round (about 17 us on
+// an H200): a round runs as launches when its pending list was long in the
+// step before (kLaunchedRoundLength). Which kernel runs a round changes no
+// result. complete() later reads the lists' lengths, once.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "backends/opencl/runtime.h"
+#include "kernels/pairwise.h"
+
+namespace carom::opencl {
+
+class DevicePairwise {
+public:
+    DevicePairwise() = default;
+    // Kernels from `program`, buffers for `particleCount` disks; launches are
+    // recorded in `profiler` when given.
+    DevicePairwise(cl_context context, const DeviceInfo& device, cl_program program, std::size_t particleCount,
+                   cl_command_queue queue, Profiler* profiler = nullptr);
+
+    // The grid and state of a step: `state[slots[k]]` is the disk at
+    // sorted position k, `ids[k]` its id, `cellOf[slots[k]]` its cell.
+    struct StepBuffers {
+        cl_mem state, slots, ids, cellOf, cells, tallies;
+    };
+
+    // Enqueues the rounds of one (sub)step: afterwards a finish kernel may follow.
+    void enqueueStep(cl_command_queue queue, const StepBuffers& buffers, const CaromStepParams& step);
+    // The list lengths, where a finish kernel also records (nonFiniteIndex, speedIndex).
+    cl_mem lengths() const { return counts_.get(); }
+
+    // Where a finish kernel records a disk it left non-finite: the two words
+    // of lengths() from nonFiniteIndex() (carom_record_non_finite); and the
+    // largest v.x^2 + v.y^2 of the state it leaves, as a float's bits: word
+    // speedIndex() + parity, the other word zeroed for the step after. The
+    // caller sets them once; complete() reads them back with the lengths,
+    // so the record costs no read of its own.
+    static constexpr std::size_t kNonFiniteWords = 2, kSpeedWords = 2;  // a speed word for each parity
+    static constexpr std::size_t kRecordWords =
+        kNonFiniteWords + kSpeedWords;  // nonFiniteIndex()'s, then speedIndex()'s
+    static cl_uint nonFiniteIndex();
+    static cl_uint speedIndex();
+    const cl_uint* nonFiniteRecord() const;
+    float speedSquaredRecord(unsigned int parity) const;
+
+    // Waits for the step's rounds and returns how many resolved an event.
+    unsigned int complete(cl_command_queue queue);
+
+    // For a kernel that runs a whole step in one work-group instead of
+    // enqueueStep (stepSmallPairwise, kernels/small_system.cl): the lists,
+    // the number of lengths it zeroes, and `count` epochs for its rounds,
+    // from the one returned (the marks are cleared when they would wrap).
+    // complete() then reads its rounds.
+    struct Lists {
+        cl_mem events, pending0, pending1, changed, dirty, pendingMarks, changedMarks, dirtyMarks, lengths;
+    };
+    Lists lists() const;
+    static cl_uint lengthCount();
+    cl_uint reserveEpochs(cl_command_queue queue, unsigned int count);
+
+private:
+    unsigned int nextEpoch(cl_command_queue queue);
+    void readLengths(cl_command_queue queue);  // waits for the queue; reads the lengths and the record
+    void clearMarks(cl_command_queue queue);   // zeroes the three lists' marks
+    void enqueueRound(cl_command_queue queue, unsigned int round);
+    void enqueueRoundsInGroup(cl_command_queue queue, unsigned int firstRound);
+    void searchListed(cl_command_queue queue, int mode, cl_mem listed, unsigned int round, unsigned int listIndex,
+                      unsigned int epoch);
+
+    std::size_t particleCount_ = 0;
+    Profiler* profiler_ = nullptr;
+    std::size_t groupSize_ = 64;
+    std::size_t listItems_ = 64;        // work-items of a list kernel, which stride over its list
+    std::size_t roundsGroupSize_ = 64;  // resolveRoundsInGroup's one work-group
+    Kernel forwardKernel_, listedKernel_, resolveKernel_, roundsInGroupKernel_;
+    Buffer events_, pending_[2], changed_, dirty_, pendingMarks_, changedMarks_, dirtyMarks_, counts_;
+    std::vector<cl_uint> hostCounts_;
+    unsigned int epoch_ = 0;
+    // Rounds 1 .. this run as launches: set from the step before's lengths;
+    // the first step's is a guess.
+    unsigned int launchedRounds_ = 4;
+    StepBuffers buffers_{};  // the current step's
+    CaromStepParams step_{};
+};
+
+}  // namespace carom::opencl

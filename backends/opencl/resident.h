@@ -1,0 +1,73 @@
+// The OpenCL resident pipeline (--pipeline resident): the state stays on the
+// device, stored in the cell order of the step before; the grid is built
+// there (DeviceGrid, kernels/grid.cl) and one fused kernel resolves,
+// integrates and counts the new positions into the next grid
+// (kernels/resident.cl; pairwise: the rounds, then a kernel that finishes
+// the step and counts). A small system's steps run whole in one
+// work-group instead (kernels/small_system.cl): one launch per pairwise
+// step, several simultaneous steps per launch. The host
+// reads the state only when asked (readParticles). Bitwise equal to the
+// seed pipeline.
+#pragma once
+
+#include "backends/opencl/backend.h"
+#include "backends/opencl/grid.h"
+#include "backends/opencl/pairwise.h"
+
+namespace carom {
+
+class OpenClResidentBackend final : public OpenClBackend {
+public:
+    // See OpenClBackend.
+    OpenClResidentBackend(const WorldDef& world, const std::string& device, bool profiling = false);
+
+    void readParticles(std::vector<Particle>& particles) override;
+
+    // The grid of the current state as the device builds it, read back
+    // (tests compare it with the shared builder's).
+    Grid readDeviceGrid();
+
+private:
+    const char* pipelineName() const override { return "resident"; }
+    void releaseState() override;
+    void loadState(std::vector<Particle> particles) override;
+    void enqueueStep(float dt) override;
+    std::uint64_t enqueueSteps(std::uint64_t steps, float dt) override;
+    // A pairwise step ends in a wait of its own (confirmStep).
+    cl_mem slotIds() const override { return ids_.get(); }
+    bool waitsEachStep() const override { return world_.collisions == CollisionScheme::Pairwise; }
+    // Pairwise: waits for the last step (one read brings its list lengths,
+    // non-finite record and largest speed), then makes its result the
+    // current state.
+    void confirmStep() override;
+    float maxSpeedSquared() override;
+    void stepSimultaneous(float dt);
+    // Simultaneous steps of a small system, up to kSmallSystemSteps in one
+    // launch of stepSmallSystem; returns how many.
+    std::uint64_t stepSmallSystem(std::uint64_t steps, float dt);
+    // A small system's pairwise step: one launch of stepSmallPairwise.
+    void enqueueSmallPairwise(const CaromStepParams& step, cl_uint stepIndex);
+    void stepPairwise(float dt);
+    void enqueuePairwiseFinish(const CaromStepParams& step, cl_uint stepIndex);
+
+    opencl::Kernel fusedKernel_;            // resolveIntegrateAndCount
+    opencl::Kernel finishAndCountKernel_;   // pairwise: finishPairwiseAndCount
+    opencl::Kernel smallSystemKernel_;      // stepSmallSystem
+    opencl::Kernel smallPairwiseKernel_;    // stepSmallPairwise
+    std::size_t smallSystemGroupSize_ = 1;  // their one work-group: a power of two
+    std::size_t smallPairwiseGroupSize_ = 1;
+    bool smallSystem_ = false;  // steps run whole in one work-group (kernels/small_system.cl)
+    opencl::DeviceGrid deviceGrid_;
+    opencl::Buffer ids_;               // the particle id in each slot of state_
+    opencl::Buffer sortedIds_;         // sortedIndices, then the ids of next_'s slots
+    opencl::DevicePairwise pairwise_;  // pairwise
+    // Pairwise: the finish records a disk left non-finite and the largest
+    // v^2 after the pairwise lengths, which its step reads anyway
+    // (DevicePairwise::nonFiniteIndex, speedIndex).
+    unsigned int speedParity_ = 0;  // the speed word the last step wrote
+    bool speedKnown_ = false;       // whether that word holds the current state's
+    bool unconfirmed_ = false;      // a pairwise step was enqueued and not yet confirmed
+    std::size_t finishItems_ = 0;   // work-items of finishPairwiseAndCount, which stride over the particles
+};
+
+}  // namespace carom

@@ -1,0 +1,83 @@
+// Checkpoints: everything a run needs to continue bit for bit, in a versioned
+// binary file with a checksum.
+//
+// Layout (version 3), every field little-endian whatever the machine:
+//
+//   offset  bytes  field
+//        0      8  magic "CAROMCKP"
+//        8      4  byte order mark 0x01020304 (reads 0x04030201 if byte-swapped)
+//       12      4  format version, 3
+//       16      8  particle count N, 1..kMaxParticles
+//       24     20  box width, box height, dt, gravity x, gravity y (float32)
+//       44      4  boundary: 0 = reflective walls, 1 = periodic
+//       48      8  step: steps taken since the scene began
+//       56      8  time (float64) = step * dt
+//       64      8  collisions since the scene began
+//       72      4  collision scheme: 0 = simultaneous, 1 = pairwise, 2 = events
+//       76    24N  per particle, in id order: x, y, vx, vy, mass, radius (float32)
+//   76+24N      4  CRC-32 (IEEE, as zlib's crc32) of every byte before it
+//
+// With the events scheme the engine's exact state (engine/event_state.h)
+// comes between the particles and the CRC, so that a resumed run continues
+// bit for bit (the particles above are its float32 projection):
+//
+//   76+24N      8  the engine's time (float64) since its origin
+//   84+24N    64N  per disk, in id order: x, y, vx, vy, time, event time (float64;
+//                  the event time is +infinity for no event), event (int32: a
+//                  partner id >= 0, or -1..-9 as kEvent*), partner collisions,
+//                  collisions, cell (uint32)
+//   84+88N      4  CRC-32 of every byte before it
+//
+// Version 2 is version 3 without the events scheme. Version 1 is the same
+// without the collision scheme (its particles start at offset 72): only the
+// simultaneous scheme wrote it, so it reads as that. A reader refuses
+// anything else with a message saying what is wrong.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/scene.h"
+#include "engine/event_state.h"
+
+namespace carom {
+
+struct Checkpoint {
+    WorldDef world;                   // box, dt, gravity, boundary, collision scheme
+                                      //   (not maxTravel: give it again)
+    std::uint64_t step = 0;           // steps taken since the scene began
+    double time = 0.0;                // simulated time [time], step * dt
+    std::uint64_t collisions = 0;     // pairs that received an impulse since the scene began
+    std::vector<Particle> particles;  // in id order
+    // The event-driven engine's exact state (EventDrivenBackend::saveState),
+    // present exactly when world.collisions is CollisionScheme::Events.
+    std::optional<EventEngineState> events;
+};
+
+constexpr std::uint32_t kCheckpointVersion = 3;  // the version written; versions 1 and 2 are still read
+
+// CRC-32 (IEEE, as zlib's crc32) of `size` bytes: the checkpoint's checksum.
+std::uint32_t crc32(const unsigned char* data, std::size_t size);
+
+// The file's bytes, and back. decodeCheckpoint validates the header, the
+// size, the checksum, the world, every particle and the events state (every
+// value finite, event codes and partners in range; the cells are checked by
+// EventDrivenBackend::restore, which knows the grid); `what` names the
+// source. encodeCheckpoint throws Error when `events` is present without the
+// events scheme or the other way round.
+std::string encodeCheckpoint(const Checkpoint& checkpoint);
+Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& what);
+
+// Writes through a temporary file renamed into place.
+void writeCheckpoint(const std::string& path, const Checkpoint& checkpoint);
+
+// Reads and validates. Before anything sized by the particle count is
+// allocated, checks the header against the file size, the count against
+// `availableBytes` of memory (requireRoomFor; 0 = unknown) and the checksum,
+// streamed over the file: a corrupt or forged count cannot make it allocate.
+Checkpoint readCheckpoint(const std::string& path, std::uint64_t availableBytes = 0);
+
+}  // namespace carom

@@ -1,0 +1,134 @@
+// carom::io (include/carom/io.h): the file readers and writers, on the public types.
+#include <carom/io.h>
+
+#include <utility>
+
+#include "backends/event_driven.h"
+#include "io/checkpoint.h"
+#include "engine/disk_conversion.h"
+#include "engine/diagnostics.h"
+#include "io/state_csv.h"
+#include "io/stats.h"
+#include "io/trajectory.h"
+#include "world/world_impl.h"
+
+namespace carom::io {
+
+SceneFile loadScene(const std::string& path) {
+    const SceneFileDef scene = readSceneFile(path);
+    Scene placed = makeScene(scene);
+    SceneFile loaded;
+    loaded.world = scene.world;
+    loaded.world.width = placed.width;
+    loaded.world.height = placed.height;
+    loaded.disks = std::move(placed.disks);
+    loaded.steps = scene.steps;
+    return loaded;
+}
+
+std::vector<Disk> readState(const std::string& path) { return disksOf(readStateCsv(path, availableMemoryBytes())); }
+
+void writeState(const std::string& path, const std::vector<Disk>& disks) {
+    writeStateCsv(path, particlesOf(disks.data(), disks.size()));
+}
+
+void saveCheckpoint(const std::string& path, const World& world) {
+    auto& impl = WorldAccess::of(world);
+    if (world.diskCount() == 0) throw Error("saveCheckpoint '" + path + "': the world has no disks yet");
+    Checkpoint c;
+    c.world = impl.def;
+    c.step = impl.step;
+    c.time = world.time();
+    c.collisions = world.collisionCount();
+    c.particles = impl.current();
+    if (auto* events = dynamic_cast<const EventDrivenBackend*>(impl.backend.get())) c.events = events->saveState();
+    writeCheckpoint(path, c);
+}
+
+struct CheckpointFile::Impl {
+    std::string path;
+    Checkpoint contents;
+};
+
+CheckpointFile::CheckpointFile(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+CheckpointFile::~CheckpointFile() = default;
+CheckpointFile::CheckpointFile(CheckpointFile&&) noexcept = default;
+CheckpointFile& CheckpointFile::operator=(CheckpointFile&&) noexcept = default;
+const WorldDef& CheckpointFile::world() const { return impl_->contents.world; }
+std::uint64_t CheckpointFile::step() const { return impl_->contents.step; }
+std::size_t CheckpointFile::diskCount() const { return impl_->contents.particles.size(); }
+
+CheckpointFile readCheckpoint(const std::string& path) {
+    return CheckpointFile(std::make_unique<CheckpointFile::Impl>(
+        CheckpointFile::Impl{path, carom::readCheckpoint(path, availableMemoryBytes())}));
+}
+
+World loadCheckpoint(const std::string& path, const WorldDef& def) { return loadCheckpoint(readCheckpoint(path), def); }
+
+World loadCheckpoint(CheckpointFile checkpoint, const WorldDef& def) {
+    if (!checkpoint.impl_) throw Error("loadCheckpoint: this CheckpointFile was loaded already (a moved-from file)");
+    const std::string& path = checkpoint.impl_->path;
+    Checkpoint& c = checkpoint.impl_->contents;
+    WorldDef resumed = c.world;
+    resumed.engine = def.engine;
+    resumed.device = def.device;
+    resumed.maxTravel = def.maxTravel;
+    World world(resumed);
+    auto& impl = WorldAccess::of(world);
+    impl.start(std::move(c.particles), c.step, c.time, c.collisions, path);
+    if (c.events) {
+        try {
+            dynamic_cast<EventDrivenBackend&>(*impl.backend).restore(*c.events);
+        } catch (const Error& e) {
+            throw Error("checkpoint '" + path + "': " + e.what());
+        }
+        impl.stateCurrent = false;  // the float projection of the restored exact state
+    }
+    return world;
+}
+
+// The engine's writers, built in place (they own an open file and do not move).
+template <class Writer>
+struct Owned {
+    template <class... Arguments>
+    explicit Owned(Arguments&&... arguments) : file(std::forward<Arguments>(arguments)...) {}
+    Writer file;
+};
+
+struct TrajectoryWriter::Impl : Owned<carom::TrajectoryWriter> {
+    using Owned::Owned;
+};
+
+TrajectoryWriter::TrajectoryWriter(const std::string& path) : impl_(std::make_unique<Impl>(path)) {}
+TrajectoryWriter::TrajectoryWriter(const std::string& path, const World& resumed)
+    : impl_(std::make_unique<Impl>(path, resumed.stepCount(), resumed.diskCount())) {}
+TrajectoryWriter::~TrajectoryWriter() = default;
+TrajectoryWriter::TrajectoryWriter(TrajectoryWriter&&) noexcept = default;
+TrajectoryWriter& TrajectoryWriter::operator=(TrajectoryWriter&&) noexcept = default;
+
+void TrajectoryWriter::write(const World& world) {
+    auto& state = WorldAccess::of(world);
+    impl_->file.write(state.current(), state.def, world.stepCount(), world.time());
+}
+std::size_t TrajectoryWriter::frames() const { return impl_->file.frames(); }
+void TrajectoryWriter::close() { impl_->file.commit(); }
+
+struct StatisticsWriter::Impl : Owned<StatsWriter> {
+    using Owned::Owned;
+};
+
+StatisticsWriter::StatisticsWriter(const std::string& path) : impl_(std::make_unique<Impl>(path)) {}
+StatisticsWriter::StatisticsWriter(const std::string& path, const World& resumed)
+    : impl_(std::make_unique<Impl>(path, resumed.stepCount())) {}
+StatisticsWriter::~StatisticsWriter() = default;
+StatisticsWriter::StatisticsWriter(StatisticsWriter&&) noexcept = default;
+StatisticsWriter& StatisticsWriter::operator=(StatisticsWriter&&) noexcept = default;
+
+void StatisticsWriter::write(const World& world) {
+    auto& state = WorldAccess::of(world);
+    impl_->file.write(world.stepCount(), world.time(), measure(state.current(), state.def), world.collisionCount());
+}
+std::size_t StatisticsWriter::rows() const { return impl_->file.rows(); }
+void StatisticsWriter::close() { impl_->file.commit(); }
+
+}  // namespace carom::io

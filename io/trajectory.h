@@ -1,0 +1,47 @@
+// Trajectories as extended XYZ, the multi-frame text format that OVITO and
+// ASE read. Each frame is:
+//
+//   N
+//   Lattice="W 0 0 0 H 0 0 0 D" Origin="0 0 -R" pbc="F F F" Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1:id:I:1 step=S time=T
+//   X x y 0 vx vy 0 radius mass id        (one line per particle, in id order)
+//
+// The disks lie in the plane z = 0; the cell's third vector is one largest
+// diameter D = 2R deep, centred on that plane, so 3D tools draw a flat box
+// around the disks. "X" is ASE's placeholder species. Numbers are the
+// shortest text that reads back to the same float, independent of locale.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <carom/files.h>
+#include "engine/scene.h"
+
+namespace carom {
+
+class TrajectoryWriter {
+public:
+    // Opens a temporary file beside `path`; throws Error if it cannot. A run
+    // resumed from a checkpoint at step `resumedAt` with `particles` disks
+    // continues an existing `path` (its frames, then this run's: one long
+    // run's trajectory); Error if its last frame is after that step, since
+    // appending would repeat steps, or has another number of disks.
+    explicit TrajectoryWriter(const std::string& path, std::optional<std::uint64_t> resumedAt = std::nullopt,
+                              std::size_t particles = 0);
+
+    // Appends one frame; throws Error if the write fails (disk full).
+    void write(const std::vector<Particle>& particles, const WorldDef& world, std::uint64_t step, double time);
+    std::size_t frames() const { return frames_; }
+
+    // Renames the complete file into place; without it the target is untouched.
+    void commit() { file_.commit(); }
+
+private:
+    io::AtomicFile file_;
+    std::string frame_;  // reused from frame to frame
+    std::size_t frames_ = 0;
+};
+
+}  // namespace carom
