@@ -32,7 +32,7 @@
 #include <cstdint>
 #include <vector>
 
-#include <carom/world.h>
+#include <carom/types.h>
 
 #include "backends/backend.h"
 #include "backends/event_calendar.h"

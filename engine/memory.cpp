@@ -1,6 +1,6 @@
 // The memory functions of include/carom/world.h: what is available, and the
 // refusal of requests that cannot fit.
-#include <carom/world.h>
+#include <carom/types.h>
 
 #ifdef _WIN32
 #define NOMINMAX

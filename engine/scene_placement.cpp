@@ -7,7 +7,6 @@
 #include <sstream>
 
 #include <carom/random.h>
-#include <carom/world.h>
 
 #include "engine/scene.h"
 #include "engine/constants.h"

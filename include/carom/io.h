@@ -50,7 +50,7 @@ void writeState(const std::string& path, const std::vector<Disk>& disks);
 // and maxTravel from `def` (a checkpoint does not hold them) and everything
 // else from the file; it refuses a file that is damaged, of another format
 // or out of range, naming what is wrong, and one whose disks the memory
-// available now cannot hold (requireRoomFor, carom/world.h); so does readState.
+// available now cannot hold (requireRoomFor, carom/types.h); so does readState.
 void saveCheckpoint(const std::string& path, const World& world);
 World loadCheckpoint(const std::string& path, const WorldDef& def = WorldDef{});
 

@@ -75,6 +75,26 @@ struct ViewSums {
 // 32-bit, and the grid's up to 4 cells per disk must stay countable in an int.
 constexpr std::uint64_t kMaxParticles = 500'000'000;
 
+// Memory: a request that cannot fit is refused before anything is allocated.
+
+// Host memory a world needs per disk, about [bytes]: the disks given, the
+// engine's two state buffers, the read-back copy and the grids.
+constexpr std::uint64_t kHostBytesPerDisk = 256;
+
+// The memory available to a new allocation now [bytes]: Linux's MemAvailable
+// (free memory plus the caches it can drop), else the free physical pages,
+// else (macOS) the physical memory; Windows' available physical memory. Less
+// where the process is limited: its cgroup's memory.max (Linux, cgroup v2:
+// containers, Slurm jobs) and the address-space limit (ulimit -v). 0 where
+// none of these is known.
+std::uint64_t availableMemoryBytes();
+
+// Throws Error naming `what` (a file, a field, an option) when `disks` is
+// more than kMaxParticles or needs more than `availableBytes` of host memory
+// (kHostBytesPerDisk each; 0 bytes: unknown, not checked).
+void requireRoomFor(std::uint64_t disks, const std::string& what,
+                    std::uint64_t availableBytes = availableMemoryBytes());
+
 // What happens at the edges of the box.
 enum class Boundary {
     Walls,     // reflective walls on all four sides (the default)
@@ -292,6 +312,16 @@ struct SceneFileDef {
     std::vector<GroupDef> groups;
     std::vector<DiskDef> disks;  // ids follow the groups' disks, in file order
     OutputDef output;
+};
+
+// CollisionScheme::Events only: how often each kind of event happened since
+// setDisks, an edit, or loadCheckpoint.
+struct EventCounts {
+    std::uint64_t collisions = 0;     // disk-disk collisions
+    std::uint64_t wallBounces = 0;    // bounces off a wall
+    std::uint64_t cellCrossings = 0;  // moves of a disk from one grid cell to the next
+    std::uint64_t stale = 0;          // events found stale (a partner changed) and recomputed
+    std::uint64_t overlapping = 0;    // collisions of pairs found overlapping by rounding
 };
 
 }  // namespace carom

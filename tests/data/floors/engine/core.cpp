@@ -1,0 +1,2 @@
+// A file of the core that includes World: the floors test must refuse it.
+#include "world/world.h"

@@ -1,0 +1,2 @@
+// World, two floors above the core.
+#pragma once
