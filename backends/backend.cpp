@@ -167,6 +167,12 @@ void Backend::resetContacts() {
 
 float Backend::maxSpeed() { return std::sqrt(maxSpeedSquared()); }
 
+void Backend::restoreState(const EventEngineState& state) {
+    throw Error("an events state of " + std::to_string(state.disks.size()) + " disks; this engine (" + device() +
+                ", the " + collisionSchemeName(world_.collisions) +
+                " scheme) keeps no exact state: only CollisionScheme::Events does");
+}
+
 void Backend::setMotion(float dt, float2 gravity) {
     WorldDef changed = world_;
     changed.dt = dt;

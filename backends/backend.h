@@ -9,6 +9,7 @@
 // summing the per-particle contact tallies into ContactTotals.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -85,6 +86,24 @@ public:
     // The current state where the host holds it between steps, in id order,
     // for World::diskMemory; null where it lives elsewhere (a device, doubles).
     virtual std::shared_ptr<const std::vector<Particle>> sharedState() { return nullptr; }
+
+    // What a backend that keeps an exact state beside its float particles
+    // (the event-driven one, in double) adds to them; the defaults are those
+    // of the backends whose particles are their whole state.
+    // The total energy (kinetic minus sum m g.x) of the exact state; empty
+    // here, for World to measure the particles.
+    virtual std::optional<double> exactTotalEnergy() const { return std::nullopt; }
+    // How often each kind of event happened since setParticles or restoreState; zeros here.
+    virtual EventCounts eventCounts() const { return EventCounts{}; }
+    // The centres of the exact state, in id order [length]; empty here.
+    virtual std::vector<std::array<double, 2>> exactPositions() const { return {}; }
+    // The exact state, for a snapshot; empty here.
+    virtual std::optional<EventEngineState> saveState() const { return std::nullopt; }
+    // Continues exactly where `state`, saved by saveState() of a backend of
+    // the same world and particles, left off (call setParticles with those
+    // particles first). Throws Error naming the value that does not fit,
+    // and changes nothing then; here always: no exact state to restore.
+    virtual void restoreState(const EventEngineState& state);
     // Collisions, virial and wall impulses since setParticles or the last
     // resetContacts().
     const ContactTotals& contacts();

@@ -1,6 +1,7 @@
 #include "backends/event_driven.h"
 
 #include "engine/diagnostics.h"
+#include "engine/event_state.h"
 
 #include <algorithm>
 #include <cmath>
@@ -198,7 +199,7 @@ void EventDrivenBackend::sortByCell() {
     eventsSinceSort_ = 0;
 }
 
-EventEngineState EventDrivenBackend::saveState() const {
+std::optional<EventEngineState> EventDrivenBackend::saveState() const {
     EventEngineState state{now_, std::vector<EventDiskState>(disks_.size())};
     for (std::size_t i = 0; i < disks_.size(); ++i) {
         const Disk& d = disks_[i];
@@ -217,7 +218,7 @@ EventEngineState EventDrivenBackend::saveState() const {
     return state;
 }
 
-void EventDrivenBackend::restore(const EventEngineState& state) {
+void EventDrivenBackend::restoreState(const EventEngineState& state) {
     if (state.disks.size() != disks_.size())
         throw Error("the event-driven state holds " + std::to_string(state.disks.size()) + " disks, the particles " +
                     std::to_string(disks_.size()));
@@ -571,9 +572,16 @@ ViewSums EventDrivenBackend::exactSums(const std::vector<ExactDisk>& exact) cons
 
 double EventDrivenBackend::kineticEnergy() const { return exactSums(exactState()).kineticEnergy; }
 
-double EventDrivenBackend::totalEnergy() const {
+std::optional<double> EventDrivenBackend::exactTotalEnergy() const {
     const ViewSums sums = exactSums(exactState());
     return sums.kineticEnergy + sums.potentialEnergy;
+}
+
+std::vector<std::array<double, 2>> EventDrivenBackend::exactPositions() const {
+    std::vector<std::array<double, 2>> positions;
+    positions.reserve(disks_.size());
+    for (const ExactDisk& d : exactState()) positions.push_back({d.x, d.y});
+    return positions;
 }
 
 std::optional<ViewSums> EventDrivenBackend::readView(ViewValue value, DiskView* out) {

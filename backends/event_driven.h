@@ -29,14 +29,15 @@
 // is: sampling never changes the dynamics.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <carom/types.h>
 
 #include "backends/backend.h"
 #include "backends/event_calendar.h"
-#include "engine/event_state.h"
 
 namespace carom {
 
@@ -63,20 +64,20 @@ public:
     // Kinetic energy, and kinetic minus sum m g.x (the conserved total with
     // gravity), at the current time, in double.
     double kineticEnergy() const;
-    double totalEnergy() const;
+    std::optional<double> exactTotalEnergy() const override;
     // The current time since setParticles (or the origin of the restored state).
     double time() const { return now_; }
-    const EventCounts& eventCounts() const { return counts_; }
+    EventCounts eventCounts() const override { return counts_; }
+    std::vector<std::array<double, 2>> exactPositions() const override;
     // Cells per row and column of the cell lists (EventDiskState::cell).
     std::uint32_t columns() const { return columns_; }
     std::uint32_t rows() const { return rows_; }
 
-    // What a checkpoint keeps, and back: restore() takes a state saved by
-    // a backend of the same world and particles (call setParticles with
-    // the particles first) and continues exactly where it left off; it
-    // throws Error naming the value that does not fit.
-    EventEngineState saveState() const;
-    void restore(const EventEngineState& state);
+    // What a snapshot keeps, and back (Backend::restoreState): the state
+    // is checked whole (eventStateProblem, then the cells) before anything
+    // changes.
+    std::optional<EventEngineState> saveState() const override;
+    void restoreState(const EventEngineState& state) override;
 
 private:
     // `exact` (exactState()) rounded to float, as readParticles gives it.

@@ -62,4 +62,13 @@ std::string eventStateProblem(const EventEngineState& state, Boundary boundary) 
     return {};
 }
 
+std::string eventStatePlaceProblem(const Snapshot& s) {
+    const bool events = s.world.collisions == CollisionScheme::Events;
+    if (events == s.events.has_value() && (!events || s.events->disks.size() == s.disks.size())) return {};
+    return std::string("a snapshot holds the engine's state exactly with the events scheme (here ") +
+           collisionSchemeName(s.world.collisions) + ", " +
+           (s.events ? std::to_string(s.events->disks.size()) + " disks in the state" : "no state") + ", " +
+           std::to_string(s.disks.size()) + " particles)";
+}
+
 }  // namespace carom

@@ -10,8 +10,10 @@
 #include <utility>
 
 #include <carom/files.h>
-#include <carom/world.h>
 
+#include "engine/disk_conversion.h"
+#include "engine/event_state.h"
+#include "engine/scene.h"
 #include "io/output_paths.h"
 
 namespace carom {
@@ -194,34 +196,30 @@ std::uint32_t crc32(const unsigned char* data, std::size_t size) {
     return crc ^ 0xFFFFFFFFu;
 }
 
-std::string encodeCheckpoint(const Checkpoint& c) {
+std::string encodeCheckpoint(const Snapshot& c) {
     Encoder out;
-    const bool events = c.world.collisions == CollisionScheme::Events;
-    if (events != c.events.has_value() || (events && c.events->disks.size() != c.particles.size()))
-        throw Error(std::string("a checkpoint holds the engine's state exactly with the events scheme (here ") +
-                    collisionSchemeName(c.world.collisions) + ", " +
-                    (c.events ? std::to_string(c.events->disks.size()) + " disks in the state" : "no state") + ", " +
-                    std::to_string(c.particles.size()) + " particles)");
-    out.bytes().reserve(expectedSize(c.particles.size(), kCheckpointVersion, events));
+    if (const std::string problem = eventStatePlaceProblem(c); !problem.empty()) throw Error(problem);
+    const bool events = c.events.has_value();
+    out.bytes().reserve(expectedSize(c.disks.size(), kCheckpointVersion, events));
     out.bytes().append(kMagic, sizeof kMagic);
     out.u32(kByteOrderMark);
     out.u32(kCheckpointVersion);
-    out.u64(c.particles.size());
+    out.u64(c.disks.size());
     for (float v : {c.world.width, c.world.height, c.world.dt, c.world.gravity.x, c.world.gravity.y}) out.f32(v);
     out.u32(c.world.boundary == Boundary::Periodic ? kPeriodic : kReflectiveWalls);
     out.u64(c.step);
     out.f64(c.time);
     out.u64(c.collisions);
     out.u32(events ? kEvents : c.world.collisions == CollisionScheme::Pairwise ? kPairwise : kSimultaneous);
-    for (const Particle& p : c.particles)
-        for (float v : {p.position.x, p.position.y, p.velocity.x, p.velocity.y, p.mass, p.radius}) out.f32(v);
+    for (const Disk& d : c.disks)
+        for (float v : {d.position.x, d.position.y, d.velocity.x, d.velocity.y, d.mass, d.radius}) out.f32(v);
     if (events) encodeEvents(out, *c.events);
     const std::string& bytes = out.bytes();
     out.u32(crc32(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size()));
     return std::move(out.bytes());
 }
 
-Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& what) {
+Snapshot decodeCheckpoint(const std::string& bytes, const std::string& what) {
     const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
     const Header header = checkHeader(data, bytes.size(), bytes.size(), what);
     const std::size_t checked = bytes.size() - kChecksumBytes;
@@ -230,7 +228,7 @@ Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& what) {
 
     Decoder in(data);
     in.skip(24);  // magic, byte order mark, version, count
-    Checkpoint c;
+    Snapshot c;
     c.world.width = in.f32();
     c.world.height = in.f32();
     c.world.dt = in.f32();
@@ -241,15 +239,14 @@ Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& what) {
     c.time = in.f64();
     c.collisions = in.u64();
     const std::uint32_t scheme = header.version == 1 ? kSimultaneous : in.u32();
-    c.particles.resize(header.count);
-    for (Particle& p : c.particles) {
-        p = Particle{};
-        p.position.x = in.f32();
-        p.position.y = in.f32();
-        p.velocity.x = in.f32();
-        p.velocity.y = in.f32();
-        p.mass = in.f32();
-        p.radius = in.f32();
+    c.disks.resize(header.count);
+    for (Disk& d : c.disks) {
+        d.position.x = in.f32();
+        d.position.y = in.f32();
+        d.velocity.x = in.f32();
+        d.velocity.y = in.f32();
+        d.mass = in.f32();
+        d.radius = in.f32();
     }
     if (header.events) c.events = decodeEvents(in, header.count);
 
@@ -267,7 +264,7 @@ Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& what) {
                                                : CollisionScheme::Simultaneous;
     if (!std::isfinite(c.time) || c.time < 0) fail(what, "time must be a finite number >= 0");
     try {
-        validateParticles(c.particles, c.world, "particles");
+        validateParticles(particlesOf(c.disks.data(), c.disks.size()), c.world, "particles");
     } catch (const Error& e) {
         fail(what, e.what());
     }
@@ -277,14 +274,14 @@ Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& what) {
     return c;
 }
 
-void writeCheckpoint(const std::string& path, const Checkpoint& checkpoint) {
-    const std::string bytes = encodeCheckpoint(checkpoint);
+void writeCheckpoint(const std::string& path, const Snapshot& snapshot) {
+    const std::string bytes = encodeCheckpoint(snapshot);
     io::AtomicFile file(path);
     file.append(bytes);
     file.commit();
 }
 
-Checkpoint readCheckpoint(const std::string& path, std::uint64_t availableBytes) {
+Snapshot readCheckpoint(const std::string& path, std::uint64_t availableBytes) {
     std::streamoff size = 0;
     std::ifstream in = openRegularFile(path, "checkpoint", size);
     unsigned char header[kHeaderBytes];

@@ -17,7 +17,7 @@
 //       76    24N  per particle, in id order: x, y, vx, vy, mass, radius (float32)
 //   76+24N      4  CRC-32 (IEEE, as zlib's crc32) of every byte before it
 //
-// With the events scheme the engine's exact state (engine/event_state.h)
+// With the events scheme the engine's exact state (carom/types.h EventEngineState)
 // comes between the particles and the CRC, so that a resumed run continues
 // bit for bit (the particles above are its float32 projection):
 //
@@ -36,26 +36,14 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <optional>
 #include <string>
-#include <vector>
 
-#include "engine/scene.h"
-#include "engine/event_state.h"
+#include <carom/types.h>
 
 namespace carom {
 
-struct Checkpoint {
-    WorldDef world;                   // box, dt, gravity, boundary, collision scheme
-                                      //   (not maxTravel: give it again)
-    std::uint64_t step = 0;           // steps taken since the scene began
-    double time = 0.0;                // simulated time [time], step * dt
-    std::uint64_t collisions = 0;     // pairs that received an impulse since the scene began
-    std::vector<Particle> particles;  // in id order
-    // The event-driven engine's exact state (EventDrivenBackend::saveState),
-    // present exactly when world.collisions is CollisionScheme::Events.
-    std::optional<EventEngineState> events;
-};
+// A checkpoint holds a Snapshot (carom/types.h), but for the world's
+// engine, device and maxTravel: it reads back with their defaults.
 
 constexpr std::uint32_t kCheckpointVersion = 3;  // the version written; versions 1 and 2 are still read
 
@@ -63,21 +51,21 @@ constexpr std::uint32_t kCheckpointVersion = 3;  // the version written; version
 std::uint32_t crc32(const unsigned char* data, std::size_t size);
 
 // The file's bytes, and back. decodeCheckpoint validates the header, the
-// size, the checksum, the world, every particle and the events state (every
+// size, the checksum, the world, every disk and the events state (every
 // value finite, event codes and partners in range; the cells are checked by
-// EventDrivenBackend::restore, which knows the grid); `what` names the
-// source. encodeCheckpoint throws Error when `events` is present without the
-// events scheme or the other way round.
-std::string encodeCheckpoint(const Checkpoint& checkpoint);
-Checkpoint decodeCheckpoint(const std::string& bytes, const std::string& what);
+// World::restore, whose engine knows the grid); `what` names the source.
+// encodeCheckpoint throws Error when `events` is present without the events
+// scheme or the other way round.
+std::string encodeCheckpoint(const Snapshot& snapshot);
+Snapshot decodeCheckpoint(const std::string& bytes, const std::string& what);
 
 // Writes through a temporary file renamed into place.
-void writeCheckpoint(const std::string& path, const Checkpoint& checkpoint);
+void writeCheckpoint(const std::string& path, const Snapshot& snapshot);
 
 // Reads and validates. Before anything sized by the particle count is
 // allocated, checks the header against the file size, the count against
 // `availableBytes` of memory (requireRoomFor; 0 = unknown) and the checksum,
 // streamed over the file: a corrupt or forged count cannot make it allocate.
-Checkpoint readCheckpoint(const std::string& path, std::uint64_t availableBytes = 0);
+Snapshot readCheckpoint(const std::string& path, std::uint64_t availableBytes = 0);
 
 }  // namespace carom

@@ -2,15 +2,13 @@
 #include <carom/io.h>
 
 #include <utility>
+#include <vector>
 
-#include "backends/event_driven.h"
-#include "io/checkpoint.h"
-#include "engine/disk_conversion.h"
 #include "engine/diagnostics.h"
+#include "io/checkpoint.h"
 #include "io/state_csv.h"
 #include "io/stats.h"
 #include "io/trajectory.h"
-#include "world/world_impl.h"
 
 namespace carom::io {
 
@@ -26,28 +24,18 @@ SceneFile loadScene(const std::string& path) {
     return loaded;
 }
 
-std::vector<Disk> readState(const std::string& path) { return disksOf(readStateCsv(path, availableMemoryBytes())); }
+std::vector<Disk> readState(const std::string& path) { return readStateCsv(path, availableMemoryBytes()); }
 
-void writeState(const std::string& path, const std::vector<Disk>& disks) {
-    writeStateCsv(path, particlesOf(disks.data(), disks.size()));
-}
+void writeState(const std::string& path, const std::vector<Disk>& disks) { writeStateCsv(path, disks); }
 
 void saveCheckpoint(const std::string& path, const World& world) {
-    auto& impl = WorldAccess::of(world);
     if (world.diskCount() == 0) throw Error("saveCheckpoint '" + path + "': the world has no disks yet");
-    Checkpoint c;
-    c.world = impl.def;
-    c.step = impl.step;
-    c.time = world.time();
-    c.collisions = world.collisionCount();
-    c.particles = impl.current();
-    if (auto* events = dynamic_cast<const EventDrivenBackend*>(impl.backend.get())) c.events = events->saveState();
-    writeCheckpoint(path, c);
+    writeCheckpoint(path, world.snapshot());
 }
 
 struct CheckpointFile::Impl {
     std::string path;
-    Checkpoint contents;
+    Snapshot contents;
 };
 
 CheckpointFile::CheckpointFile(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -56,7 +44,8 @@ CheckpointFile::CheckpointFile(CheckpointFile&&) noexcept = default;
 CheckpointFile& CheckpointFile::operator=(CheckpointFile&&) noexcept = default;
 const WorldDef& CheckpointFile::world() const { return impl_->contents.world; }
 std::uint64_t CheckpointFile::step() const { return impl_->contents.step; }
-std::size_t CheckpointFile::diskCount() const { return impl_->contents.particles.size(); }
+std::size_t CheckpointFile::diskCount() const { return impl_->contents.disks.size(); }
+const Snapshot& CheckpointFile::snapshot() const { return impl_->contents; }
 
 CheckpointFile readCheckpoint(const std::string& path) {
     return CheckpointFile(std::make_unique<CheckpointFile::Impl>(
@@ -67,23 +56,11 @@ World loadCheckpoint(const std::string& path, const WorldDef& def) { return load
 
 World loadCheckpoint(CheckpointFile checkpoint, const WorldDef& def) {
     if (!checkpoint.impl_) throw Error("loadCheckpoint: this CheckpointFile was loaded already (a moved-from file)");
-    const std::string& path = checkpoint.impl_->path;
-    Checkpoint& c = checkpoint.impl_->contents;
-    WorldDef resumed = c.world;
-    resumed.engine = def.engine;
-    resumed.device = def.device;
-    resumed.maxTravel = def.maxTravel;
+    const Snapshot& c = checkpoint.impl_->contents;
+    WorldDef resumed = onEngine(c.world, EngineDef{def.engine, def.device});
+    resumed.maxTravel = def.maxTravel;  // not in a checkpoint
     World world(resumed);
-    auto& impl = WorldAccess::of(world);
-    impl.start(std::move(c.particles), c.step, c.time, c.collisions, path);
-    if (c.events) {
-        try {
-            dynamic_cast<EventDrivenBackend&>(*impl.backend).restore(*c.events);
-        } catch (const Error& e) {
-            throw Error("checkpoint '" + path + "': " + e.what());
-        }
-        impl.stateCurrent = false;  // the float projection of the restored exact state
-    }
+    world.restore(c, "checkpoint '" + checkpoint.impl_->path + "'");
     return world;
 }
 
@@ -97,6 +74,7 @@ struct Owned {
 
 struct TrajectoryWriter::Impl : Owned<carom::TrajectoryWriter> {
     using Owned::Owned;
+    std::vector<Disk> disks;  // the frame's disks, kept from frame to frame
 };
 
 TrajectoryWriter::TrajectoryWriter(const std::string& path) : impl_(std::make_unique<Impl>(path)) {}
@@ -107,8 +85,9 @@ TrajectoryWriter::TrajectoryWriter(TrajectoryWriter&&) noexcept = default;
 TrajectoryWriter& TrajectoryWriter::operator=(TrajectoryWriter&&) noexcept = default;
 
 void TrajectoryWriter::write(const World& world) {
-    auto& state = WorldAccess::of(world);
-    impl_->file.write(state.current(), state.def, world.stepCount(), world.time());
+    impl_->disks.resize(world.diskCount());
+    world.getDisks(impl_->disks.data(), impl_->disks.size());
+    impl_->file.write(impl_->disks, world.def(), world.stepCount(), world.time());
 }
 std::size_t TrajectoryWriter::frames() const { return impl_->file.frames(); }
 void TrajectoryWriter::close() { impl_->file.commit(); }
@@ -125,8 +104,12 @@ StatisticsWriter::StatisticsWriter(StatisticsWriter&&) noexcept = default;
 StatisticsWriter& StatisticsWriter::operator=(StatisticsWriter&&) noexcept = default;
 
 void StatisticsWriter::write(const World& world) {
-    auto& state = WorldAccess::of(world);
-    impl_->file.write(world.stepCount(), world.time(), measure(state.current(), state.def), world.collisionCount());
+    Diagnostics measured;  // the observables the rows hold (StatsWriter), as World measures them
+    measured.kineticEnergy = world.kineticEnergy();
+    measured.momentum = world.momentum();
+    measured.maxOverlap = world.maxOverlap();
+    measured.escaped = world.escapedCount();
+    impl_->file.write(world.stepCount(), world.time(), measured, world.collisionCount());
 }
 std::size_t StatisticsWriter::rows() const { return impl_->file.rows(); }
 void StatisticsWriter::close() { impl_->file.commit(); }

@@ -128,7 +128,7 @@ private:
 // its writer running already.
 constexpr int kFifoWaitSeconds = 10;
 
-std::vector<Particle> readFifo(const std::string& path, std::uint64_t availableBytes) {
+std::vector<Disk> readFifo(const std::string& path, std::uint64_t availableBytes) {
     const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK);
     if (fd < 0) throw Error("cannot read state file '" + path + "': " + std::strerror(errno));
     DescriptorBuffer buffer(fd);
@@ -147,7 +147,7 @@ std::vector<Particle> readFifo(const std::string& path, std::uint64_t availableB
 }  // namespace
 #endif
 
-std::vector<Particle> readStateCsv(const std::string& path, std::uint64_t availableBytes) {
+std::vector<Disk> readStateCsv(const std::string& path, std::uint64_t availableBytes) {
     std::error_code error;
     if (std::filesystem::is_directory(path, error))
         throw Error("cannot read state file '" + path + "': it is a directory");
@@ -160,7 +160,7 @@ std::vector<Particle> readStateCsv(const std::string& path, std::uint64_t availa
     return parseStateCsv(in, path, availableBytes);
 }
 
-std::vector<Particle> parseStateCsv(std::istream& in, const std::string& path, std::uint64_t availableBytes) {
+std::vector<Disk> parseStateCsv(std::istream& in, const std::string& path, std::uint64_t availableBytes) {
     Reader reader(path);
     std::string line;
     std::size_t lineNumber = 1;
@@ -173,7 +173,7 @@ std::vector<Particle> parseStateCsv(std::istream& in, const std::string& path, s
     struct Row {
         std::uint64_t id;
         std::size_t line;
-        Particle particle;
+        Disk disk;
     };
     std::vector<Row> rows;
     const std::string where = path + ": particle rows";
@@ -188,20 +188,20 @@ std::vector<Particle> parseStateCsv(std::istream& in, const std::string& path, s
             reader.fail(lineNumber, "expected " + std::to_string(kColumnCount) + " columns (" + kHeader + "), found " +
                                         std::to_string(fields.size()));
         requireRoomFor(rows.size() + 1, where, availableBytes);  // before the row is stored
-        Row row{reader.id(lineNumber, fields[0]), lineNumber, Particle{}};
-        Particle& p = row.particle;
-        p.position.x = reader.number(lineNumber, 1, fields[1]);
-        p.position.y = reader.number(lineNumber, 2, fields[2]);
-        p.velocity.x = reader.number(lineNumber, 3, fields[3]);
-        p.velocity.y = reader.number(lineNumber, 4, fields[4]);
-        p.mass = reader.number(lineNumber, 5, fields[5]);
-        p.radius = reader.number(lineNumber, 6, fields[6]);
+        Row row{reader.id(lineNumber, fields[0]), lineNumber, Disk{}};
+        Disk& d = row.disk;
+        d.position.x = reader.number(lineNumber, 1, fields[1]);
+        d.position.y = reader.number(lineNumber, 2, fields[2]);
+        d.velocity.x = reader.number(lineNumber, 3, fields[3]);
+        d.velocity.y = reader.number(lineNumber, 4, fields[4]);
+        d.mass = reader.number(lineNumber, 5, fields[5]);
+        d.radius = reader.number(lineNumber, 6, fields[6]);
         rows.push_back(row);
     }
     if (in.bad()) throw Error("reading state file '" + path + "' failed");
     if (rows.empty()) reader.fail(lineNumber, "no particle rows after the header");
 
-    std::vector<Particle> particles(rows.size());
+    std::vector<Disk> disks(rows.size());
     std::vector<std::size_t> seenOnLine(rows.size(), 0);
     for (const Row& row : rows) {
         if (row.id >= rows.size())
@@ -212,20 +212,20 @@ std::vector<Particle> parseStateCsv(std::istream& in, const std::string& path, s
             reader.fail(row.line, "duplicate id " + std::to_string(row.id) + " (first on line " +
                                       std::to_string(seenOnLine[row.id]) + ")");
         seenOnLine[row.id] = row.line;
-        particles[row.id] = row.particle;
+        disks[row.id] = row.disk;
     }
-    return particles;
+    return disks;
 }
 
-void writeStateCsv(const std::string& path, const std::vector<Particle>& particles) {
+void writeStateCsv(const std::string& path, const std::vector<Disk>& disks) {
     io::AtomicFile file(path);
     file.append(std::string(kHeader) + '\n');
     std::string row;
-    for (std::size_t i = 0; i < particles.size(); ++i) {
-        const Particle& p = particles[i];
+    for (std::size_t i = 0; i < disks.size(); ++i) {
+        const Disk& d = disks[i];
         row.clear();
         appendNumber(row, i);
-        for (float value : {p.position.x, p.position.y, p.velocity.x, p.velocity.y, p.mass, p.radius}) {
+        for (float value : {d.position.x, d.position.y, d.velocity.x, d.velocity.y, d.mass, d.radius}) {
             row += ',';
             appendNumber(row, value);
         }

@@ -1,29 +1,30 @@
-// Particle states as CSV: `id,x,y,vx,vy,mass,radius`, one row per particle in
-// id order, each float as the shortest text that reads back bit for bit.
+// Disks as CSV: `id,x,y,vx,vy,mass,radius`, one row per disk in id order,
+// each float as the shortest text that reads back bit for bit.
 #pragma once
 
+#include <cstdint>
 #include <istream>
 #include <string>
 #include <vector>
 
-#include "engine/scene.h"
+#include <carom/types.h>
 
 namespace carom {
 
 // Reads a state file. Rows may come in any order; the ids must be exactly
 // 0..N-1. Throws Error naming the file, line and column of anything wrong.
-// Physical checks (inside the box, positive mass) are validateParticles' job.
+// Physical checks (inside the box, positive mass) are World::setDisks' job.
 // Bounded whatever the file: a line longer than 4096 bytes, more rows than
 // kMaxParticles or than `availableBytes` of memory hold (requireRoomFor;
 // 0 = unknown) are refused as they are read, and a FIFO that nothing writes
 // to within 10 s is refused instead of waited on for ever.
-std::vector<Particle> readStateCsv(const std::string& path, std::uint64_t availableBytes = 0);
+std::vector<Disk> readStateCsv(const std::string& path, std::uint64_t availableBytes = 0);
 
 // The same, from a stream; `path` names it in messages.
-std::vector<Particle> parseStateCsv(std::istream& in, const std::string& path, std::uint64_t availableBytes = 0);
+std::vector<Disk> parseStateCsv(std::istream& in, const std::string& path, std::uint64_t availableBytes = 0);
 
 // Writes the state through a temporary file renamed into place, so `path`
 // holds either its old content or the complete new file.
-void writeStateCsv(const std::string& path, const std::vector<Particle>& particles);
+void writeStateCsv(const std::string& path, const std::vector<Disk>& disks);
 
 }  // namespace carom

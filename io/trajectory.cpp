@@ -38,14 +38,13 @@ TrajectoryWriter::TrajectoryWriter(const std::string& path, std::optional<std::u
                                    std::size_t particles)
     : file_(path, continuation(path, resumedAt, particles)) {}
 
-void TrajectoryWriter::write(const std::vector<Particle>& particles, const WorldDef& world, std::uint64_t step,
-                             double time) {
+void TrajectoryWriter::write(const std::vector<Disk>& disks, const WorldDef& world, std::uint64_t step, double time) {
     float maxRadius = 0.0f;
-    for (const Particle& p : particles) maxRadius = std::max(maxRadius, p.radius);
+    for (const Disk& d : disks) maxRadius = std::max(maxRadius, d.radius);
 
     std::string& out = frame_;
     out.clear();
-    appendNumber(out, particles.size());
+    appendNumber(out, disks.size());
     out += "\nLattice=\"";
     appendNumber(out, world.width);
     out += " 0 0 0 ";
@@ -59,20 +58,20 @@ void TrajectoryWriter::write(const std::vector<Particle>& particles, const World
     out += " time=";
     appendNumber(out, time);
     out += '\n';
-    for (std::size_t i = 0; i < particles.size(); ++i) {
-        const Particle& p = particles[i];
+    for (std::size_t i = 0; i < disks.size(); ++i) {
+        const Disk& d = disks[i];
         out += "X ";
-        appendNumber(out, p.position.x);
+        appendNumber(out, d.position.x);
         out += ' ';
-        appendNumber(out, p.position.y);
+        appendNumber(out, d.position.y);
         out += " 0 ";
-        appendNumber(out, p.velocity.x);
+        appendNumber(out, d.velocity.x);
         out += ' ';
-        appendNumber(out, p.velocity.y);
+        appendNumber(out, d.velocity.y);
         out += " 0 ";
-        appendNumber(out, p.radius);
+        appendNumber(out, d.radius);
         out += ' ';
-        appendNumber(out, p.mass);
+        appendNumber(out, d.mass);
         out += ' ';
         appendNumber(out, i);
         out += '\n';

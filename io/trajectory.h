@@ -17,7 +17,7 @@
 #include <vector>
 
 #include <carom/files.h>
-#include "engine/scene.h"
+#include <carom/types.h>
 
 namespace carom {
 
@@ -31,8 +31,8 @@ public:
     explicit TrajectoryWriter(const std::string& path, std::optional<std::uint64_t> resumedAt = std::nullopt,
                               std::size_t particles = 0);
 
-    // Appends one frame; throws Error if the write fails (disk full).
-    void write(const std::vector<Particle>& particles, const WorldDef& world, std::uint64_t step, double time);
+    // Appends one frame of `disks` (in id order); throws Error if the write fails (disk full).
+    void write(const std::vector<Disk>& disks, const WorldDef& world, std::uint64_t step, double time);
     std::size_t frames() const { return frames_; }
 
     // Renames the complete file into place; without it the target is untouched.

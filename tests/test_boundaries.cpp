@@ -4,6 +4,7 @@
 
 #include "io/checkpoint.h"
 #include "engine/diagnostics.h"
+#include "engine/disk_conversion.h"
 #include "support.h"
 
 using namespace carom;
@@ -90,13 +91,13 @@ TEST_CASE("periodic: positions must lie inside the box, from 0 up to but not on 
 }
 
 TEST_CASE("periodic: checkpoints keep the boundary") {
-    Checkpoint c;
+    Snapshot c;
     c.world = periodicBox(30, 20);
-    c.particles = {disk(0.25f, 19.5f, 1, -1)};
-    const Checkpoint back = decodeCheckpoint(encodeCheckpoint(c), "test");
+    c.disks = disksOf({disk(0.25f, 19.5f, 1, -1)});
+    const Snapshot back = decodeCheckpoint(encodeCheckpoint(c), "test");
     CHECK(back.world.boundary == Boundary::Periodic);
     c.world.boundary = Boundary::Walls;
-    c.particles = {disk(5, 5, 1, -1)};
+    c.disks = disksOf({disk(5, 5, 1, -1)});
     CHECK(decodeCheckpoint(encodeCheckpoint(c), "test").world.boundary == Boundary::Walls);
 }
 

@@ -7,6 +7,7 @@
 #include <iterator>
 
 #include "checkpoint_support.h"
+#include "engine/disk_conversion.h"
 #include "io/checkpoint.h"
 #include "support.h"
 
@@ -22,50 +23,52 @@ Scenario polydisperseScenario() {
     return scenario;
 }
 
-bool sameBits(const std::vector<Particle>& a, const std::vector<Particle>& b) {
-    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Particle)) == 0;
+bool sameBits(const std::vector<Disk>& a, const std::vector<Disk>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Disk)) == 0;
 }
 
 // Runs `steps` steps of `start` on backend `def` and checkpoints the result.
-Checkpoint runAndCheckpoint(const EngineDef& def, const Checkpoint& start, std::uint64_t steps) {
+Snapshot runAndCheckpoint(const EngineDef& def, const Snapshot& start, std::uint64_t steps) {
     auto backend = makeBackend(def, start.world);
-    backend->setParticles(start.particles);
+    backend->setParticles(particlesOf(start.disks.data(), start.disks.size()));
     backend->step(steps);
-    Checkpoint end;
+    Snapshot end;
     end.world = start.world;
     end.step = start.step + steps;
     end.time = double(end.step) * start.world.dt;
     end.collisions = start.collisions + backend->collisions();
-    backend->readParticles(end.particles);
+    std::vector<Particle> particles;
+    backend->readParticles(particles);
+    end.disks = disksOf(particles);
     return end;
 }
 
 std::string small() {
-    Checkpoint c;
+    Snapshot c;
     c.world = box(10, 10);
     c.step = 7;
     c.time = 0.07;
     c.collisions = 3;
-    c.particles = {disk(2, 2, 1, 0), disk(5, 5, 0, -1, 2, 0.5f), disk(8, 8, 0.25f, 0.5f, 3, 1.5f)};
+    c.disks = disksOf({disk(2, 2, 1, 0), disk(5, 5, 0, -1, 2, 0.5f), disk(8, 8, 0.25f, 0.5f, 3, 1.5f)});
     return encodeCheckpoint(c);
 }
 
 // 2N steps in one run equal N steps, a checkpoint and N resumed, on backend `def`.
 void checkResumeBitForBit(const EngineDef& def, const Scenario& scenario, std::uint64_t half) {
-    const Checkpoint start{scenario.world, 0, 0.0, 0, scenario.particles, std::nullopt};
-    const Checkpoint whole = runAndCheckpoint(def, start, 2 * half);
+    const Snapshot start{scenario.world, 0, 0.0, 0, disksOf(scenario.particles), std::nullopt};
+    const Snapshot whole = runAndCheckpoint(def, start, 2 * half);
     // A file of its own per engine and scheme: ctest runs the cases of each backend at once.
     const std::string file = std::string("half-") + computeEngineName(def.engine) + "-" +
                              collisionSchemeName(scenario.world.collisions) + ".ckpt";
     writeCheckpoint(file, runAndCheckpoint(def, start, half));
-    const Checkpoint halfway = readCheckpoint(file);
+    const Snapshot halfway = readCheckpoint(file);
     CHECK(halfway.world.collisions == scenario.world.collisions);
-    const Checkpoint resumed = runAndCheckpoint(def, halfway, half);
+    const Snapshot resumed = runAndCheckpoint(def, halfway, half);
     CHECK(resumed.step == 2 * half);
     CHECK(resumed.time == whole.time);
     CHECK(resumed.collisions == whole.collisions);
     CHECK(whole.collisions > 0);
-    CHECK(sameBits(resumed.particles, whole.particles));
+    CHECK(sameBits(resumed.disks, whole.disks));
     std::remove(file.c_str());
 }
 
@@ -73,15 +76,15 @@ void checkResumeBitForBit(const EngineDef& def, const Scenario& scenario, std::u
 
 TEST_CASE("checkpoint: every field reads back bit for bit") {
     const Scenario scenario = polydisperseScenario();
-    Checkpoint c;
+    Snapshot c;
     c.world = scenario.world;
     c.world.collisions = CollisionScheme::Pairwise;
     c.step = 123456789012ull;
     c.time = 617283.945060;
     c.collisions = 98765;
-    c.particles = scenario.particles;
+    c.disks = disksOf(scenario.particles);
     writeCheckpoint("roundtrip.ckpt", c);
-    const Checkpoint back = readCheckpoint("roundtrip.ckpt");
+    const Snapshot back = readCheckpoint("roundtrip.ckpt");
     CHECK(back.world.width == c.world.width);
     CHECK(back.world.height == c.world.height);
     CHECK(back.world.dt == c.world.dt);
@@ -90,10 +93,10 @@ TEST_CASE("checkpoint: every field reads back bit for bit") {
     CHECK(back.step == c.step);
     CHECK(back.time == c.time);
     CHECK(back.collisions == c.collisions);
-    CHECK(sameBits(back.particles, c.particles));
+    CHECK(sameBits(back.disks, c.disks));
     std::ifstream file("roundtrip.ckpt", std::ios::binary);
     const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-    CHECK(bytes.size() == 76 + 24 * c.particles.size() + 4);
+    CHECK(bytes.size() == 76 + 24 * c.disks.size() + 4);
     CHECK(bytes.substr(0, 8) == "CAROMCKP");
     std::remove("roundtrip.ckpt");
 }
@@ -138,7 +141,7 @@ TEST_CASE("checkpoint: a version-1 file (before the collision schemes) reads as 
     reseal(bytes);
     REQUIRE(bytes.size() == 72 + 2 * 24 + 4);
 
-    Checkpoint expected;
+    Snapshot expected;
     expected.world = box(12, 8, 0.005f);
     expected.world.gravity = float2{0.0f, -2.0f};
     expected.world.boundary = Boundary::Periodic;
@@ -146,8 +149,8 @@ TEST_CASE("checkpoint: a version-1 file (before the collision schemes) reads as 
     expected.step = 40;
     expected.time = 0.2;
     expected.collisions = 9;
-    expected.particles = {disk(3, 4, 0.5f, -0.25f, 2, 1), disk(9, 4, -1, 0, 1, 0.75f)};
-    const Checkpoint c = decodeCheckpoint(bytes, "v1.ckpt");
+    expected.disks = disksOf({disk(3, 4, 0.5f, -0.25f, 2, 1), disk(9, 4, -1, 0, 1, 0.75f)});
+    const Snapshot c = decodeCheckpoint(bytes, "v1.ckpt");
     CHECK(c.world.collisions == CollisionScheme::Simultaneous);
     // Every field, bit for bit; written again, it is a version-3 file.
     const std::string rewritten = encodeCheckpoint(c);
@@ -165,15 +168,15 @@ CAROM_OPENCL_TEST_CASE("checkpoint: a run resumed on another backend continues b
         return;
     }
     const EngineDef cpu = testEngine(ComputeEngine::Cpu);
-    const Checkpoint start{scenario.world, 0, 0.0, 0, scenario.particles, std::nullopt};
-    const Checkpoint whole = runAndCheckpoint(cpu, start, 2000);
+    const Snapshot start{scenario.world, 0, 0.0, 0, disksOf(scenario.particles), std::nullopt};
+    const Snapshot whole = runAndCheckpoint(cpu, start, 2000);
     const std::string file = std::string("cross-") + computeEngineName(def.engine) + ".ckpt";  // one per pipeline
     for (const auto& [first, second] : {std::pair{cpu, def}, std::pair{def, cpu}}) {
         CAPTURE(computeEngineName(first.engine));
         writeCheckpoint(file, runAndCheckpoint(first, start, 1000));
-        const Checkpoint resumed = runAndCheckpoint(second, readCheckpoint(file), 1000);
+        const Snapshot resumed = runAndCheckpoint(second, readCheckpoint(file), 1000);
         CHECK(resumed.collisions == whole.collisions);
-        CHECK(sameBits(resumed.particles, whole.particles));
+        CHECK(sameBits(resumed.disks, whole.disks));
     }
     std::remove(file.c_str());
 }
@@ -231,13 +234,13 @@ TEST_CASE("checkpoint: wrong files are refused with what is wrong") {
 }
 
 TEST_CASE("checkpoint: a valid checksum over invalid values is still refused") {
-    Checkpoint c;
+    Snapshot c;
     c.world = box(10, 10);
-    c.particles = {disk(5, 5, 0, 0)};
-    c.particles[0].position.x = NAN;
+    c.disks = disksOf({disk(5, 5, 0, 0)});
+    c.disks[0].position.x = NAN;
     CHECK(errorOf(encodeCheckpoint(c)).find("particle 0: position (nan, 5) puts the disk outside the box") !=
           std::string::npos);
-    c.particles = {disk(5, 5, 0, 0)};
+    c.disks = disksOf({disk(5, 5, 0, 0)});
     c.world.dt = 0;
     CHECK(errorOf(encodeCheckpoint(c)).find("dt must be a finite number > 0") != std::string::npos);
     c.world.dt = 0.01f;
@@ -252,9 +255,9 @@ TEST_CASE("checkpoint: a valid checksum over invalid values is still refused") {
 }
 
 TEST_CASE("checkpoint: a failed write leaves the previous checkpoint in place") {
-    Checkpoint c;
+    Snapshot c;
     c.world = box(10, 10);
-    c.particles = {disk(5, 5, 0, 0)};
+    c.disks = disksOf({disk(5, 5, 0, 0)});
     CHECK_THROWS_WITH_AS(writeCheckpoint("no-such-dir/c.ckpt", c), doctest::Contains("cannot write"), Error);
     writeCheckpoint("keep.ckpt", c);
     c.step = 5;

@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "backends/event_driven.h"
+#include "engine/event_state.h"
 #include "support.h"
 
 using namespace carom;
@@ -275,7 +276,7 @@ TEST_CASE("events: a disk bouncing on the floor follows the parabola and returns
     const Particle start = disk(5.1f, 1, 0.5f, 4);
     const double x0 = start.position.x;
     auto events = startEvents(eventWorld(10, 10, 0.25f, Boundary::Walls, float2{0, -2}), {start});
-    const double energy = events->totalEnergy();
+    const double energy = *events->exactTotalEnergy();
     CHECK_EXACT(energy, 0.5 * (0.25 + 16) + 2, 10);
     for (int sample = 1; sample <= 160; ++sample) {  // 10 periods
         events->step(1);
@@ -285,7 +286,7 @@ TEST_CASE("events: a disk bouncing on the floor follows the parabola and returns
         const ExactDisk d = events->exactState()[0];
         CHECK_EXACT(d.y, 1 + 4 * s - s * s, 10);
         CHECK_EXACT(d.x, reflected(x0, 0.5, t, 1, 9), 10);
-        CHECK_EXACT(events->totalEnergy(), energy, energy);
+        CHECK_EXACT(*events->exactTotalEnergy(), energy, energy);
         if (s != 0) {  // not at a bounce: the velocity and the count are unambiguous
             CHECK_EXACT(d.vy, 4 - 2 * s, 4);
             CHECK(events->eventCounts().wallBounces == static_cast<std::uint64_t>(t / 4) + bouncesBy(x0, 0.5, t, 1, 9));
@@ -375,7 +376,7 @@ TEST_CASE("events: energy and momentum are conserved to 1e-12 over 10^6 collisio
 TEST_CASE("events: the total energy is conserved to 1e-12 with walls and gravity") {
     const InitialState s = polydisperse(1000, 0.3f);
     auto events = startEvents(eventWorld(s.width, s.height, 0.1f, Boundary::Walls, float2{0.25f, -1}), s.particles);
-    const double energy = events->totalEnergy();
+    const double energy = *events->exactTotalEnergy();
     // Kinetic minus sum m g.x, worked out here from the particles.
     double expected = 0;
     for (const Particle& p : s.particles)
@@ -385,7 +386,7 @@ TEST_CASE("events: the total energy is conserved to 1e-12 with walls and gravity
     events->step(300);  // the gas falls and piles up on the floor
     CHECK(events->eventCounts().collisions > 100'000);
     CHECK(events->eventCounts().wallBounces > 1000);
-    CHECK_EXACT(events->totalEnergy(), energy, std::abs(energy));
+    CHECK_EXACT(*events->exactTotalEnergy(), energy, std::abs(energy));
 }
 
 TEST_CASE("events: a dense packing (eta = 0.72) runs without stalling and keeps energy and contacts") {
@@ -439,10 +440,10 @@ TEST_CASE("events: a resting pile under gravity runs without stalling, inside th
         for (int column = 0; column < 6; ++column) pile.push_back(disk(1 + 2 * column, 1 + 2 * row, 0, 0));
     const WorldDef world = eventWorld(12, 16, 0.01f, Boundary::Walls, float2{0, -1});
     auto events = startEvents(world, pile);
-    const double energy = events->totalEnergy();
+    const double energy = *events->exactTotalEnergy();
     events->step(50);
     CHECK(events->time() == doctest::Approx(0.5).epsilon(1e-6));
-    CHECK_EXACT(events->totalEnergy(), energy, std::abs(energy));
+    CHECK_EXACT(*events->exactTotalEnergy(), energy, std::abs(energy));
     const std::vector<ExactDisk> end = events->exactState();
     // Ten resting depths: the floor of a pile sinks by about one.
     const double tolerance = 1e-11 * world.height;
@@ -512,12 +513,12 @@ TEST_CASE("events: a checkpoint resumes bit for bit") {
 
         auto first = startEvents(world, s.particles);
         first->step(half);
-        const EventEngineState saved = first->saveState();
+        const EventEngineState saved = *first->saveState();
         std::vector<Particle> particles;
         first->readParticles(particles);
         EventDrivenBackend resumed(world);
         resumed.setParticles(particles, half);
-        resumed.restore(saved);
+        resumed.restoreState(saved);
         CHECK(resumed.time() == first->time());
         resumed.step(half);
 
@@ -527,7 +528,7 @@ TEST_CASE("events: a checkpoint resumes bit for bit") {
         CHECK(straight->time() == resumed.time());
         CHECK(straight->eventCounts().collisions == first->eventCounts().collisions + resumed.eventCounts().collisions);
         CHECK(straight->eventCounts().collisions > 1000);
-        const EventEngineState endA = straight->saveState(), endB = resumed.saveState();
+        const EventEngineState endA = *straight->saveState(), endB = *resumed.saveState();
         CHECK(endA.time == endB.time);
         REQUIRE(endA.disks.size() == endB.disks.size());
         CHECK(std::memcmp(endA.disks.data(), endB.disks.data(), endA.disks.size() * sizeof(EventDiskState)) == 0);
@@ -543,7 +544,7 @@ TEST_CASE("events: a state restored at another step than its own continues from 
     first->readParticles(particles);
     EventDrivenBackend restored(world);
     restored.setParticles(particles);  // step 0, while the state is at step 100
-    restored.restore(first->saveState());
+    restored.restoreState(*first->saveState());
     const std::uint64_t collisions = first->eventCounts().collisions;
     restored.step(100);
     first->step(100);
@@ -589,14 +590,14 @@ TEST_CASE("events: disks with nothing ahead (at rest) save and restore") {
     const WorldDef world = eventWorld(20, 20, 0.1f);
     auto events = startEvents(world, {disk(5, 5, 0, 0, 1.0f), disk(15, 15, 0, 0, 1.0f)});
     events->step(3);
-    const EventEngineState saved = events->saveState();
+    const EventEngineState saved = *events->saveState();
     CHECK(saved.disks[0].event == kEventNone);
     CHECK(eventStateProblem(saved, world.boundary).empty());
     std::vector<Particle> particles;
     events->readParticles(particles);
     EventDrivenBackend resumed(world);
     resumed.setParticles(particles, 3);
-    resumed.restore(saved);
+    resumed.restoreState(saved);
     resumed.step(3);
     CHECK(resumed.time() == doctest::Approx(6 * double(0.1f)).epsilon(1e-12));
 }
@@ -606,11 +607,11 @@ TEST_CASE("events: restore refuses a state that does not fit, naming the value")
     for (int i = 0; i < 7; ++i) seven.push_back(disk(3 + 5 * i, 5, i % 2 ? 1.0f : -1.0f, 0.5f));
     auto events = startEvents(eventWorld(40, 10, 0.1f), seven);
     events->step(5);
-    const EventEngineState saved = events->saveState();
+    const EventEngineState saved = *events->saveState();
     REQUIRE(saved.disks.size() == 7);
     const auto refusal = [&](const EventEngineState& state, const std::string& named) {
         CAPTURE(named);
-        CHECK_THROWS_WITH_AS(events->restore(state), doctest::Contains(named.c_str()), Error);
+        CHECK_THROWS_WITH_AS(events->restoreState(state), doctest::Contains(named.c_str()), Error);
     };
 
     EventEngineState fewer = saved;

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include <carom/io.h>
+#include "engine/disk_conversion.h"
 #include "io/checkpoint.h"
 #include <carom/world.h>
 #include "io/state_csv.h"
@@ -112,12 +113,12 @@ TEST_CASE("state CSV: rows past the memory available are refused before they are
 }
 
 TEST_CASE("checkpoint: the particle count is checked against memory and the checksum before allocating") {
-    Checkpoint c;
+    Snapshot c;
     c.world.width = c.world.height = 100.0f;
-    for (int i = 0; i < 10; ++i) c.particles.push_back(disk(5.0f + 9.0f * float(i), 50.0f, 1.0f, 0.0f));
+    for (int i = 0; i < 10; ++i) c.disks.push_back(diskOf(disk(5.0f + 9.0f * float(i), 50.0f, 1.0f, 0.0f)));
     const std::string bytes = encodeCheckpoint(c);
     { std::ofstream("inputs.ckpt", std::ios::binary) << bytes; }
-    CHECK(readCheckpoint("inputs.ckpt", 10 * kHostBytesPerDisk).particles.size() == 10);
+    CHECK(readCheckpoint("inputs.ckpt", 10 * kHostBytesPerDisk).disks.size() == 10);
     CHECK(errorOf([] {
               readCheckpoint("inputs.ckpt", 9 * kHostBytesPerDisk);
           }).find("checkpoint 'inputs.ckpt': 10 particles need about") == 0);

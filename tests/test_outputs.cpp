@@ -13,6 +13,7 @@
 
 #include <carom/files.h>
 #include "engine/diagnostics.h"
+#include "engine/disk_conversion.h"
 #include <carom/world.h>
 #include "io/state_csv.h"
 #include "io/stats.h"
@@ -70,12 +71,12 @@ TEST_CASE("numbers: shortest text that reads back to the same bits") {
 
 TEST_CASE("trajectory: extended XYZ frames with the cell, the step and every particle field") {
     const WorldDef world = box(40, 25.5f);
-    std::vector<Particle> particles = {disk(1.5f, 2.25f, 0.1f, -3, 2, 1.5f), disk(30, 20, 1.0f / 3, 0, 0.5f, 0.25f)};
+    std::vector<Disk> disks = disksOf({disk(1.5f, 2.25f, 0.1f, -3, 2, 1.5f), disk(30, 20, 1.0f / 3, 0, 0.5f, 0.25f)});
     {
         TrajectoryWriter writer("t.xyz");
-        writer.write(particles, world, 0, 0.0);
-        particles[0].position.x = 2.0f;
-        writer.write(particles, world, 10, 0.1);
+        writer.write(disks, world, 0, 0.0);
+        disks[0].position.x = 2.0f;
+        writer.write(disks, world, 10, 0.1);
         CHECK(writer.frames() == 2);
         CHECK_FALSE(exists("t.xyz"));  // not in place before commit
         writer.commit();
@@ -100,7 +101,7 @@ TEST_CASE("trajectory and statistics: numbers ignore the locale") {
     const std::locale previous = std::locale::global(std::locale(std::locale::classic(), new CommaDecimal));
     {
         TrajectoryWriter trajectory("locale.xyz");
-        trajectory.write({disk(1.5f, 2.5f, 0.25f, 0)}, box(10, 10), 3, 0.03);
+        trajectory.write(disksOf({disk(1.5f, 2.5f, 0.25f, 0)}), box(10, 10), 3, 0.03);
         trajectory.commit();
         StatsWriter stats("locale.csv");
         stats.write(3, 0.03, measure({disk(1.5f, 2.5f, 0.25f, 0)}, box(10, 10)), 0);
@@ -182,7 +183,7 @@ TEST_CASE("atomic files: a full disk fails the write and keeps the previous file
 #endif
 
 TEST_CASE("state CSV: shortest numbers, a byte order mark, long and binary values") {
-    writeStateCsv("short.csv", {disk(1.5f, 2, 0.1f, 0)});
+    writeStateCsv("short.csv", disksOf({disk(1.5f, 2, 0.1f, 0)}));
     CHECK(contents("short.csv") == "id,x,y,vx,vy,mass,radius\n0,1.5,2,0.1,0,1,1\n");
     std::remove("short.csv");
 

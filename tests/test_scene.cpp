@@ -6,6 +6,7 @@
 
 #include "engine/constants.h"
 #include "engine/diagnostics.h"
+#include "engine/disk_conversion.h"
 #include "io/state_csv.h"
 #include "support.h"
 
@@ -182,10 +183,11 @@ TEST_CASE("state CSV: written and read back bit for bit") {
     scene.massMin = 0.01f;
     scene.massMax = 100.0f;
     const InitialState s = makeInitialState(scene);
-    writeStateCsv("roundtrip.csv", s.particles);
-    const std::vector<Particle> back = readStateCsv("roundtrip.csv");
-    REQUIRE(back.size() == s.particles.size());
-    CHECK(std::memcmp(back.data(), s.particles.data(), back.size() * sizeof(Particle)) == 0);
+    const std::vector<Disk> disks = disksOf(s.particles);
+    writeStateCsv("roundtrip.csv", disks);
+    const std::vector<Disk> back = readStateCsv("roundtrip.csv");
+    REQUIRE(back.size() == disks.size());
+    CHECK(std::memcmp(back.data(), disks.data(), back.size() * sizeof(Disk)) == 0);
     std::remove("roundtrip.csv");
 }
 

@@ -3,17 +3,23 @@
 #include <carom/version.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
 #include <utility>
+#include <vector>
 
-#include "backends/event_driven.h"
+#include "backends/backend.h"
 #include "engine/diagnostics.h"
-#include "engine/grid.h"
 #include "engine/disk_conversion.h"
+#include "engine/event_state.h"
+#include "engine/grid.h"
 #include "engine/observables.h"
 #include "engine/scene.h"
+#include "engine/text_format.h"
 #include "world/make_backend.h"
-#include "world/world_impl.h"
 #ifdef CAROM_HAVE_OPENCL
 #include "backends/opencl/runtime.h"
 #endif
@@ -82,21 +88,127 @@ const char* computeEngineName(ComputeEngine engine) {
     return "unknown";
 }
 
+struct World::Impl {
+    WorldDef def;
+    std::unique_ptr<Backend> backend;
+    std::uint64_t step = 0;  // the step the state holds
+    // time() = motionTime + (step - motionStep) x dt: dt may change (setMotion).
+    double motionTime = 0.0;
+    std::uint64_t motionStep = 0;
+    std::uint64_t collisionsBefore = 0;     // since the scene began, before the measurements' interval
+    std::vector<std::string> warnings;      // the last start's (validateStart)
+    double intervalStartTemperature = 0.0;  // kT when the measurements' interval began
+    // The state as last read from the backend, and its energies and
+    // momentum, while they are current (one read and one pass per state,
+    // however many observables a caller asks for).
+    std::vector<Particle> state;
+    bool stateCurrent = false;
+    Diagnostics stateMotion;
+    bool motionCurrent = false;
+
+    double time() const { return motionTime + double(step - motionStep) * def.dt; }
+    const std::vector<Particle>& current() {
+        if (!stateCurrent && backend->particleCount() > 0) {
+            backend->readParticles(state);
+            stateCurrent = true;
+            motionCurrent = false;
+        }
+        return state;
+    }
+    const Diagnostics& motion() {
+        current();
+        if (!motionCurrent) {
+            stateMotion = measureMotion(state, def);
+            motionCurrent = true;
+        }
+        return stateMotion;
+    }
+    // The checks of a start on `world` (validateStart) and its warnings, the
+    // grid's cost among them; `source` names the particles in messages.
+    static std::vector<std::string> checkStart(const std::vector<Particle>& particles, const WorldDef& world,
+                                               const std::string& source, DeepOverlaps deepOverlaps);
+    // Takes `particles`, which the backend holds now, as step `step` at
+    // `time` of a scene in which `collisions` pairs collided so far.
+    void start(std::vector<Particle> particles, std::uint64_t step, double time, std::uint64_t collisions,
+               std::vector<std::string> startWarnings);
+    // Replaces the state with an edited one, at the same step and collision count.
+    void edit(std::vector<Particle> particles);
+    // Takes `particles`, which the backend holds now, as the state at
+    // `step`, with `collisions` so far.
+    void loaded(std::vector<Particle> particles, std::uint64_t step, std::uint64_t collisions);
+};
+
+namespace {
+
+// Throws Error, naming `what`, unless a world may hold `count` disks.
+void requireDiskCount(const std::string& what, std::size_t count) {
+    if (count == 0) throw Error(what + ": a world needs at least 1 disk, got 0");
+    if (count > kMaxParticles)
+        throw Error(what + ": " + std::to_string(count) + " disks; allowed: at most " + std::to_string(kMaxParticles) +
+                    " (kMaxParticles)");
+}
+
+// The definition `world` takes from `snapshot`: its dt and gravity. Throws
+// Error, naming `source` and what differs, for a snapshot of a world of
+// another box, boundary or collision scheme, or with dt or gravity out of range.
+WorldDef restoredDef(const WorldDef& world, const Snapshot& snapshot, const std::string& source) {
+    const WorldDef& from = snapshot.world;
+    std::string differs;
+    if (from.width != world.width || from.height != world.height) {
+        const auto box = [](const WorldDef& def) {
+            std::string text;
+            appendNumber(text, def.width);
+            text += " x ";
+            appendNumber(text, def.height);
+            return text;
+        };
+        differs = "box " + box(from) + ", this world's " + box(world);
+    } else if (from.boundary != world.boundary) {
+        differs =
+            std::string("boundary ") + boundaryName(from.boundary) + ", this world's " + boundaryName(world.boundary);
+    } else if (from.collisions != world.collisions) {
+        differs = std::string("collision scheme ") + collisionSchemeName(from.collisions) + ", this world's " +
+                  collisionSchemeName(world.collisions);
+    }
+    if (!differs.empty())
+        throw Error(source + ": a snapshot of another world (" + differs +
+                    "); allowed: one of a world with this one's box, boundary and collision scheme");
+    WorldDef restored = world;
+    restored.dt = from.dt;
+    restored.gravity = from.gravity;
+    try {
+        validate(restored);
+    } catch (const Error& e) {
+        throw Error(source + ": " + e.what());
+    }
+    return restored;
+}
+
+}  // namespace
+
+std::vector<std::string> World::Impl::checkStart(const std::vector<Particle>& particles, const WorldDef& world,
+                                                 const std::string& source, DeepOverlaps deepOverlaps) {
+    std::vector<std::string> found = validateStart(particles, world, source, deepOverlaps);
+    if (std::string slow = gridCostWarning(particles, world); !slow.empty()) found.push_back(std::move(slow));
+    return found;
+}
+
 void World::Impl::start(std::vector<Particle> particles, std::uint64_t startStep, double startTime,
-                        std::uint64_t collisions, const std::string& source, DeepOverlaps deepOverlaps) {
-    warnings = validateStart(particles, def, source, deepOverlaps);
-    if (std::string slow = gridCostWarning(particles, def); !slow.empty()) warnings.push_back(std::move(slow));
-    load(std::move(particles), startStep, collisions);
+                        std::uint64_t collisions, std::vector<std::string> startWarnings) {
+    warnings = std::move(startWarnings);
+    loaded(std::move(particles), startStep, collisions);
     motionStep = startStep;
     motionTime = startTime;
 }
 
 void World::Impl::edit(std::vector<Particle> particles) {
-    load(std::move(particles), step, collisionsBefore + backend->contacts().collisions);
+    // Counted before setParticles resets the backend's.
+    const std::uint64_t collisions = collisionsBefore + backend->contacts().collisions;
+    backend->setParticles(particles, step);
+    loaded(std::move(particles), step, collisions);
 }
 
-void World::Impl::load(std::vector<Particle> particles, std::uint64_t atStep, std::uint64_t collisions) {
-    backend->setParticles(particles, atStep);
+void World::Impl::loaded(std::vector<Particle> particles, std::uint64_t atStep, std::uint64_t collisions) {
     step = atStep;
     collisionsBefore = collisions;
     state = std::move(particles);
@@ -118,11 +230,55 @@ World::World(World&&) noexcept = default;
 World& World::operator=(World&&) noexcept = default;
 
 void World::setDisks(const Disk* disks, std::size_t count, const std::string& source, DeepOverlaps deepOverlaps) {
-    if (count == 0) throw Error("setDisks: a world needs at least 1 disk, got 0");
-    if (count > kMaxParticles)
-        throw Error("setDisks: " + std::to_string(count) + " disks; allowed: at most " + std::to_string(kMaxParticles) +
-                    " (kMaxParticles)");
-    impl_->start(particlesOf(disks, count), 0, 0.0, 0, source, deepOverlaps);
+    requireDiskCount("setDisks", count);
+    std::vector<Particle> particles = particlesOf(disks, count);
+    std::vector<std::string> found = Impl::checkStart(particles, impl_->def, source, deepOverlaps);
+    impl_->backend->setParticles(particles);
+    impl_->start(std::move(particles), 0, 0.0, 0, std::move(found));
+}
+
+Snapshot World::snapshot() const {
+    Snapshot s;
+    s.world = impl_->def;
+    s.step = impl_->step;
+    s.time = time();
+    s.collisions = collisionCount();
+    s.disks = disks();
+    s.events = impl_->backend->saveState();
+    return s;
+}
+
+void World::restore(const Snapshot& snapshot, const std::string& source) {
+    const WorldDef restored = restoredDef(impl_->def, snapshot, source);
+    requireDiskCount(source, snapshot.disks.size());
+    if (!std::isfinite(snapshot.time) || snapshot.time < 0) {
+        std::string time;
+        appendNumber(time, snapshot.time);
+        throw Error(source + ": time " + time + " must be a finite number >= 0");
+    }
+    if (const std::string problem = eventStatePlaceProblem(snapshot); !problem.empty())
+        throw Error(source + ": " + problem);
+    std::vector<Particle> particles = particlesOf(snapshot.disks.data(), snapshot.disks.size());
+    std::vector<std::string> found = Impl::checkStart(particles, restored, source, DeepOverlaps::Warn);
+    if (snapshot.events) {
+        // Only a backend that holds the disks can check the state's cells:
+        // a spare one (the events scheme runs on the CPU), so that a refusal
+        // leaves this world's as it was.
+        std::unique_ptr<Backend> spare = makeBackend(restored);
+        spare->setParticles(particles, snapshot.step);
+        try {
+            spare->restoreState(*snapshot.events);
+        } catch (const Error& e) {
+            throw Error(source + ": " + e.what());
+        }
+        spare->readParticles(particles);  // the float rounding of the exact state, as a step reads it
+        impl_->backend = std::move(spare);
+    } else {
+        impl_->backend->setMotion(restored.dt, restored.gravity);
+        impl_->backend->setParticles(particles, snapshot.step);
+    }
+    impl_->def = restored;
+    impl_->start(std::move(particles), snapshot.step, snapshot.time, snapshot.collisions, std::move(found));
 }
 
 void World::setDisk(std::size_t id, const Disk& disk) {
@@ -238,21 +394,13 @@ double World::maxOverlap() const { return findOverlaps(impl_->current(), impl_->
 std::size_t World::escapedCount() const { return impl_->motion().escaped; }
 
 double World::totalEnergy() const {
-    if (auto* events = dynamic_cast<const EventDrivenBackend*>(impl_->backend.get())) return events->totalEnergy();
+    if (std::optional<double> exact = impl_->backend->exactTotalEnergy()) return *exact;
     return impl_->motion().totalEnergy();
 }
 
-EventCounts World::eventCounts() const {
-    if (auto* events = dynamic_cast<const EventDrivenBackend*>(impl_->backend.get())) return events->eventCounts();
-    return EventCounts{};
-}
+EventCounts World::eventCounts() const { return impl_->backend->eventCounts(); }
 
-std::vector<std::array<double, 2>> World::exactPositions() const {
-    std::vector<std::array<double, 2>> positions;
-    if (auto* events = dynamic_cast<const EventDrivenBackend*>(impl_->backend.get()))
-        for (const ExactDisk& d : events->exactState()) positions.push_back({d.x, d.y});
-    return positions;
-}
+std::vector<std::array<double, 2>> World::exactPositions() const { return impl_->backend->exactPositions(); }
 
 double World::temperature() const { return carom::temperature(impl_->current(), impl_->def.boundary); }
 

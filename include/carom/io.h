@@ -43,14 +43,16 @@ SceneFile loadScene(const std::string& path);
 std::vector<Disk> readState(const std::string& path);
 void writeState(const std::string& path, const std::vector<Disk>& disks);
 
-// Checkpoints: everything a world needs to continue bit for bit (the box,
-// dt, gravity, boundary, scheme, step, collision count, the disks, and with
-// CollisionScheme::Events the engine's exact double state), in a versioned
-// binary file with a checksum. loadCheckpoint takes the engine, the device
-// and maxTravel from `def` (a checkpoint does not hold them) and everything
-// else from the file; it refuses a file that is damaged, of another format
-// or out of range, naming what is wrong, and one whose disks the memory
-// available now cannot hold (requireRoomFor, carom/types.h); so does readState.
+// Checkpoints: everything a world needs to continue bit for bit, its
+// snapshot (World::snapshot: the box, dt, gravity, boundary, scheme, step,
+// time, collision count, the disks, and with CollisionScheme::Events the
+// engine's exact double state), in a versioned binary file with a checksum.
+// loadCheckpoint takes the engine, the device and maxTravel from `def` (a
+// checkpoint does not hold them) and everything else from the file, which
+// it restores (World::restore); it refuses a file that is damaged, of
+// another format or out of range, naming what is wrong, and one whose disks
+// the memory available now cannot hold (requireRoomFor, carom/types.h); so
+// does readState.
 void saveCheckpoint(const std::string& path, const World& world);
 World loadCheckpoint(const std::string& path, const WorldDef& def = WorldDef{});
 
@@ -70,6 +72,9 @@ public:
     const WorldDef& world() const;
     std::uint64_t step() const;  // the step it holds
     std::size_t diskCount() const;
+    // All it holds, for World::restore (world.engine, device and maxTravel
+    // as world() says).
+    const Snapshot& snapshot() const;
 
 private:
     struct Impl;

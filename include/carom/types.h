@@ -315,13 +315,70 @@ struct SceneFileDef {
 };
 
 // CollisionScheme::Events only: how often each kind of event happened since
-// setDisks, an edit, or loadCheckpoint.
+// setDisks, an edit, or World::restore.
 struct EventCounts {
     std::uint64_t collisions = 0;     // disk-disk collisions
     std::uint64_t wallBounces = 0;    // bounces off a wall
     std::uint64_t cellCrossings = 0;  // moves of a disk from one grid cell to the next
     std::uint64_t stale = 0;          // events found stale (a partner changed) and recomputed
     std::uint64_t overlapping = 0;    // collisions of pairs found overlapping by rounding
+};
+
+// CollisionScheme::Events: what the event-driven engine holds between
+// events, in double (Snapshot::events). Each disk keeps its position and
+// velocity at its own time (it moves only when it takes part in an event)
+// and its one scheduled event; the engine rebuilds its calendar and cell
+// lists from these, deterministically.
+
+// The scheduled event of a disk (EventDiskState::event): >= 0 is a
+// collision with the disk of that id; the negative codes are the rest.
+constexpr std::int32_t kEventNone = -1;      // nothing will happen to it
+constexpr std::int32_t kEventWallLeft = -2;  // it bounces off the left, right, bottom or top wall
+constexpr std::int32_t kEventWallRight = -3;
+constexpr std::int32_t kEventWallBottom = -4;
+constexpr std::int32_t kEventWallTop = -5;
+constexpr std::int32_t kEventCrossLeft = -6;   // it leaves its cell to the left, right,
+constexpr std::int32_t kEventCrossRight = -7;  //   below or above
+constexpr std::int32_t kEventCrossDown = -8;
+constexpr std::int32_t kEventCrossUp = -9;
+constexpr std::int32_t kEventLowestCode = kEventCrossUp;
+
+// One disk of the event-driven engine.
+struct EventDiskState {
+    double x = 0.0, y = 0.0;              // centre at `time` [length]; in a periodic box, in its cell's image
+    double vx = 0.0, vy = 0.0;            // velocity at `time` [length/time]
+    double time = 0.0;                    // the time x, y, vx, vy hold [time], in [0, EventEngineState::time]
+    double eventTime = 0.0;               // when its scheduled event happens [time], >= EventEngineState::time;
+                                          //   +infinity exactly for kEventNone
+    std::int32_t event = kEventNone;      // what happens then (the codes above)
+    std::uint32_t partnerCollisions = 0;  // with a collision: the partner's `collisions` when it was
+                                          //   scheduled (the event is stale once that changed)
+    std::uint32_t collisions = 0;         // how often its velocity changed (collisions, walls), mod 2^32
+    std::uint32_t cell = 0;               // its cell in the engine's grid, row x columns + column (the
+                                          //   grid the disks' largest diameter sizes: copy, never compute it)
+};
+
+// The event-driven engine's exact state.
+struct EventEngineState {
+    double time = 0.0;                  // the engine's current time [time], finite and >= 0
+    std::vector<EventDiskState> disks;  // in id order
+};
+
+// Everything a world needs to continue bit for bit (World::snapshot and
+// World::restore, carom/world.h; a checkpoint file holds the same, carom/io.h).
+struct Snapshot {
+    // The world it was taken of: its box, dt, gravity, boundary and scheme
+    // (what restore uses), and its engine, device and maxTravel (which
+    // restore leaves as the restored world has them, and a checkpoint does
+    // not hold: read from one, they are the defaults).
+    WorldDef world;
+    std::uint64_t step = 0;        // steps taken since the scene began (World::stepCount())
+    double time = 0.0;             // simulated time [time], finite and >= 0 (World::time())
+    std::uint64_t collisions = 0;  // pairs that received an impulse since the scene began (World::collisionCount())
+    std::vector<Disk> disks;       // in id order, at least 1; with the events scheme the float rounding of `events`
+    // The event-driven engine's exact state: present exactly when
+    // world.collisions is CollisionScheme::Events, with a state per disk.
+    std::optional<EventEngineState> events;
 };
 
 }  // namespace carom

@@ -136,10 +136,30 @@ public:
                   DeepOverlaps deepOverlaps = DeepOverlaps::Warn) {
         setDisks(disks.data(), disks.size(), source, deepOverlaps);
     }
-    // What the last setDisks found less accurate or slower than usual, though
-    // allowed: a step of few float spacings, disks overlapping deeper than a
-    // step closes, one disk so large that the grid's cells hold far too many.
+    // What the last setDisks or restore found less accurate or slower than
+    // usual, though allowed: a step of few float spacings, disks overlapping
+    // deeper than a step closes, one disk so large that the grid's cells
+    // hold far too many.
     const std::vector<std::string>& warnings() const;
+
+    // Everything the world needs to continue bit for bit (carom/types.h
+    // Snapshot): its definition, step, time, collision count and disks, and
+    // with CollisionScheme::Events the engine's exact double state.
+    Snapshot snapshot() const;
+    // Continues from `snapshot`, taken of this world or of another with the
+    // same box, boundary and collision scheme, on any engine: replaces every
+    // disk, the step, the time, the collision count, dt and gravity, keeps
+    // the engine, the device and maxTravel, and restarts the measurements.
+    // Stepping on then gives bit for bit what stepping the snapshot's world
+    // gave, on the same engine, and across engines where both are
+    // bitwiseReproducible() (maxTravel as that world's). Throws Error,
+    // leaving the world as it was, for a snapshot of another box, boundary
+    // or scheme, dt or gravity out of range, a disk setDisks refuses, a time
+    // that is not finite and >= 0, or an events state that does not fit the
+    // disks (present exactly with the events scheme; every value, event,
+    // partner and cell checked); `source` names the snapshot in messages
+    // (a file it came from).
+    void restore(const Snapshot& snapshot, const std::string& source = "snapshot");
 
     // Edits between steps, for a hand that drags, throws or drops disks:
     // replaces disk `id`, or appends disks (ids diskCount(), ...). The step
@@ -176,7 +196,7 @@ public:
     void step(std::uint64_t steps = 1);
 
     // The step the state holds: steps taken since setDisks, or since the
-    // scene a checkpoint continues (carom/io.h loadCheckpoint).
+    // scene a snapshot continues (restore; carom/io.h loadCheckpoint).
     std::uint64_t stepCount() const;
     double time() const;  // simulated time [time]: the sum of the steps' dt
     const WorldDef& def() const;
@@ -205,7 +225,7 @@ public:
     // box the centre of mass carries no heat, so (E_kin - P^2/2M) / (N - 1).
     double temperature() const;
     // Pairs that received an impulse since the scene began (setDisks, or the
-    // scene a checkpoint continues), each pair once.
+    // scene a snapshot continues), each pair once.
     std::uint64_t collisionCount() const;
     // CollisionScheme::Events only (zeros otherwise).
     EventCounts eventCounts() const;
@@ -226,7 +246,6 @@ public:
 
 private:
     struct Impl;
-    friend struct WorldAccess;  // carom::io's checkpoints reach the engine's state
     std::unique_ptr<Impl> impl_;
 };
 

@@ -193,8 +193,8 @@ class World:
         world._adopt(core, device, seed)
         return world
 
-    # Copies and pickles: a checkpoint in memory, so that a copy continues bit
-    # for bit on the same engine (its measurements' interval restarts).
+    # Copies (a snapshot, World::restore) and pickles (a checkpoint in memory)
+    # continue bit for bit on the same engine; their measurements' interval restarts.
 
     def __getstate__(self) -> dict:
         core = self._core
@@ -224,8 +224,7 @@ class World:
 
     def copy(self) -> "World":
         """An independent world in the same state, on the same engine: both continue bit for bit alike."""
-        duplicate = type(self).__new__(type(self))
-        duplicate.__setstate__(self.__getstate__())
+        duplicate = type(self)._from_core(self._core.copy(), self._device, self.seed)
         if hasattr(self, "scene_steps"):
             duplicate.scene_steps = self.scene_steps
         return duplicate

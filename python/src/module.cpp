@@ -272,6 +272,12 @@ NB_MODULE(_carom, m) {
         .def(
             "save_checkpoint", [](const World& w, const std::string& path) { carom::io::saveCheckpoint(path, w); },
             "path"_a)
+        .def("copy",
+             [](const World& w) {
+                 World copy(w.def());  // the same engine and device selector, dt, gravity and maxTravel
+                 if (w.diskCount() > 0) copy.restore(w.snapshot());
+                 return copy;
+             })
         .def(
             "set_disks",
             [](World& w, const Pairs& positions, const Pairs& velocities, const Values& masses, const Values& radii,

@@ -12,8 +12,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string bytes(reinterpret_cast<const char*>(data), size);
     try {
-        const carom::Checkpoint checkpoint = carom::decodeCheckpoint(bytes, "fuzz.ckpt");
-        const std::string encoded = carom::encodeCheckpoint(checkpoint);
+        const carom::Snapshot snapshot = carom::decodeCheckpoint(bytes, "fuzz.ckpt");
+        const std::string encoded = carom::encodeCheckpoint(snapshot);
         const bool currentVersion = data[12] == carom::kCheckpointVersion;  // decoded: at least 16 bytes
         if (currentVersion ? encoded != bytes
                            : carom::encodeCheckpoint(carom::decodeCheckpoint(encoded, "fuzz.ckpt")) != encoded)
