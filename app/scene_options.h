@@ -19,9 +19,9 @@ struct BackendOptions {
     std::string kind = "cpu";       // "cpu" (OpenMP) or "opencl"
     std::string device;             // OpenCL only: index from `carom devices` or part of the
                                     //   device name; empty = first GPU, else first device
-    std::string pipeline = "auto";  // OpenCL only: "seed" (host grid, state read back each
-                                    //   step), "resident" (grid and state stay on the device),
-                                    //   or "auto": resident on a GPU, seed on other devices
+    std::string pipeline = "auto";  // OpenCL only: "host-grid" (host builds the grid, state read
+                                    //   back each step), "resident" (grid and state stay on the
+                                    //   device), or "auto": resident on a GPU, host-grid elsewhere
 };
 
 struct SceneOptions {
@@ -45,6 +45,10 @@ std::vector<std::string> backendKinds();
 // --mass..., --speed, --seed, --dt, --max-travel, --gravity, --boundary,
 // --input-state and --scene.
 void addSceneOptions(CLI::App& command, SceneOptions& options);
+
+// Adds --pipeline auto|host-grid|resident into `pipeline`; "seed", the former
+// name of host-grid, is read as host-grid with a notice on stderr.
+CLI::Option* addPipelineOption(CLI::App& command, std::string& pipeline, const std::string& description);
 
 // Records `option`'s name in `given` when it appears on the command line.
 CLI::Option* tracked(CLI::Option* option, std::set<std::string>& given);

@@ -142,23 +142,23 @@ void printTable(std::ostream& out, const Report& report) {
     const auto stepped = [](const Row& row) { return !row.timing.events; };
     const bool anyStepped = std::any_of(report.rows.begin(), report.rows.end(), stepped);
     if (anyStepped) {
-        std::snprintf(line, sizeof line, "%-16s %-12s %10s %11s %16s %7s %9s %9s %10s %9s\n", "method", "scheme", "N",
-                      "ms/step", "particle-steps/s", "pw/sim", "vs seed", "vs naive", "floor ms", "of floor");
+        std::snprintf(line, sizeof line, "%-16s %-12s %10s %11s %16s %7s %12s %9s %10s %9s\n", "method", "scheme", "N",
+                      "ms/step", "particle-steps/s", "pw/sim", "vs host-grid", "vs naive", "floor ms", "of floor");
         out << line;
         for (const Row& row : report.rows) {
             if (!stepped(row)) continue;
             const Method& method = row.variant.method;
             const double floorMs = floorSecondsPerStep(report, row) * 1e3;
-            std::snprintf(line, sizeof line, "%-16s %-12s %10u %11.4g %16.3g %7s %9s %9s %10.3g %8.1f%%\n",
+            std::snprintf(line, sizeof line, "%-16s %-12s %10u %11.4g %16.3g %7s %12s %9s %10.3g %8.1f%%\n",
                           method.name.c_str(), collisionSchemeName(row.variant.scheme), row.particles,
                           row.timing.secondsPerStep * 1e3, particleStepsPerSecond(row),
                           optionalRatio(pairwiseOverSimultaneous(report, row)).c_str(),
-                          optionalRatio(speedupOver(report, row, "opencl-seed")).c_str(),
+                          optionalRatio(speedupOver(report, row, "opencl-host-grid")).c_str(),
                           optionalRatio(speedupOver(report, row, naiveCounterpart(method))).c_str(), floorMs,
                           100.0 * fractionOfFloor(report, row));
             out << line;
         }
-        out << "  pw/sim: a pairwise step's time over a simultaneous step's (same method and N); vs seed and vs "
+        out << "  pw/sim: a pairwise step's time over a simultaneous step's (same method and N); vs host-grid and vs "
                "naive compare within a scheme\n";
     }
     printEventRates(out, report, anyStepped);
@@ -210,7 +210,7 @@ void writeJson(std::ostream& out, const Report& report) {
             {"substeps_per_step", row.timing.substepsPerStep},
             {"particle_steps_per_second", particleStepsPerSecond(row)},
             {"pairwise_over_simultaneous", optionalJson(pairwiseOverSimultaneous(report, row))},
-            {"speedup_vs_seed", optionalJson(speedupOver(report, row, "opencl-seed"))},
+            {"speedup_vs_host_grid", optionalJson(speedupOver(report, row, "opencl-host-grid"))},
             {"speedup_vs_naive", optionalJson(speedupOver(report, row, naiveCounterpart(row.variant.method)))},
             {"cells_per_particle", row.cellsPerParticle},
             {"bytes_per_particle_step",
@@ -263,10 +263,10 @@ void writeJson(std::ostream& out, const Report& report) {
           {"note", "copies count bytes read plus bytes written; best of several runs"}}},
         {"traffic_model",
          "bytes per particle-step: state read and written once (2 x 32), sortedIndices written and read once "
-         "(2 x 4), cells written and read once (2 x 8 per cell); neighbour reads hit in cache. Seed: the host "
+         "(2 x 4), cells written and read once (2 x 8 per cell); neighbour reads hit in cache. Host grid: the host "
          "reads its state copy and writes the grid, uploads the grid, downloads the state. All pairs: the state only. "
          "Pairwise adds its forward search: state (32), sorted index and cell (2 x 4) read, event (8) written; the "
-         "seed pipeline also writes and uploads the cells (4); the rounds' lists are small and not counted."},
+         "host-grid pipeline also writes and uploads the cells (4); the rounds' lists are small and not counted."},
         {"results", rows},
         {"dropped", dropped},
     };
@@ -277,7 +277,7 @@ void writeCsv(std::ostream& out, const Report& report) {
     // Later columns come last, so the earlier columns keep their places: the
     // scheme's, then the events method's rates (its step columns are empty,
     // as the rates are the stepped rows').
-    out << "method,particles,ms_per_step,particle_steps_per_second,speedup_vs_seed,speedup_vs_naive,"
+    out << "method,particles,ms_per_step,particle_steps_per_second,speedup_vs_host_grid,speedup_vs_naive,"
            "floor_ms_per_step,fraction_of_floor,samples,steps_per_sample,scheme,pairwise_over_simultaneous,"
            "collisions_per_second,particle_time_per_second,events_per_second\n";
     const auto optional = [](std::optional<double> v) { return v ? format("%.6g", *v) : std::string(); };
@@ -288,7 +288,7 @@ void writeCsv(std::ostream& out, const Report& report) {
             out << ",,,,,,";
         else
             out << format("%.6g", row.timing.secondsPerStep * 1e3) << ',' << format("%.6g", particleStepsPerSecond(row))
-                << ',' << optional(speedupOver(report, row, "opencl-seed")) << ','
+                << ',' << optional(speedupOver(report, row, "opencl-host-grid")) << ','
                 << optional(speedupOver(report, row, naiveCounterpart(row.variant.method))) << ','
                 << format("%.6g", floorSecondsPerStep(report, row) * 1e3) << ','
                 << format("%.6g", fractionOfFloor(report, row)) << ',';
@@ -322,7 +322,7 @@ void writeSvgPlot(std::ostream& out, const Report& report) {
     const std::map<std::string, std::string> colours = {{"naive-cpu", "#9e9e9e"},
                                                         {"naive-opencl", "#616161"},
                                                         {"cpu", "#1f77b4"},
-                                                        {"opencl-seed", "#ff7f0e"},
+                                                        {"opencl-host-grid", "#ff7f0e"},
                                                         {"opencl-resident", "#2ca02c"}};
     // Floors (in particle-steps/s) of the grid methods, at the largest N's cells per particle.
     std::map<std::string, double> floors;
@@ -377,7 +377,7 @@ void writeSvgPlot(std::ostream& out, const Report& report) {
             legendY += 20;
         }
         const auto floor = floors.find(method.name);
-        if (floor == floors.end() || method.name == "opencl-seed") continue;
+        if (floor == floors.end() || method.name == "opencl-host-grid") continue;
         const std::string& colour = colours.at(method.name);
         out << "<line x1=\"" << left << "\" y1=\"" << py(floor->second) << "\" x2=\"" << left + plotW << "\" y2=\""
             << py(floor->second) << "\" stroke=\"" << colour << "\" stroke-dasharray=\"6,4\"/>\n<text x=\""
