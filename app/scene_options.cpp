@@ -228,9 +228,9 @@ WorldDef withEngine(WorldDef world, const SceneOptions& o) {
 
 EngineDef engineOf(const BackendOptions& backend) {
     if (backend.kind == "cpu") return EngineDef{};
-    const bool resident =
-        backend.pipeline == "auto" ? findDevice(backend.device).type == "GPU" : backend.pipeline == "resident";
-    return EngineDef{resident ? ComputeEngine::OpenClResident : ComputeEngine::OpenClHostGrid, backend.device};
+    if (backend.pipeline == "auto") return EngineDef{openClEngineFor(findDevice(backend.device)), backend.device};
+    return EngineDef{backend.pipeline == "resident" ? ComputeEngine::OpenClResident : ComputeEngine::OpenClHostGrid,
+                     backend.device};
 }
 
 void refuseSubstepsWithEvents(const WorldDef& world, const std::string& asked) {

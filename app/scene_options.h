@@ -71,8 +71,8 @@ Setup makeSetup(const SceneOptions& options);
 Setup placeScene(SceneFileDef scene);
 
 // The engine --backend KIND --pipeline PIPELINE --device DEVICE name
-// (the values CLI11 has already checked); --pipeline auto looks up the
-// device's type (carom::findDevice), so it throws Error when none matches.
+// (the values CLI11 has already checked); --pipeline auto is the device's
+// carom::openClEngineFor, so it throws Error when no device matches.
 EngineDef engineOf(const BackendOptions& backend);
 
 // `world` with the compute engine and device the options ask for

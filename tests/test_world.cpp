@@ -535,6 +535,17 @@ TEST_CASE("world: compute engines by name, and which this build has") {
     CHECK(empty.kineticEnergy() == 0.0);
 }
 
+TEST_CASE("world: the OpenCL engine for a device is resident on a GPU, host-grid on the others") {
+    Device device;
+    device.type = "GPU";
+    CHECK(openClEngineFor(device) == ComputeEngine::OpenClResident);
+    for (const char* other : {"CPU", "accelerator", "custom"}) {
+        CAPTURE(other);
+        device.type = other;
+        CHECK(openClEngineFor(device) == ComputeEngine::OpenClHostGrid);
+    }
+}
+
 namespace {
 
 std::string fileText(const std::string& path) {

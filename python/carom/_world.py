@@ -129,7 +129,7 @@ def _engine_name(engine: str, device, pipeline: Optional[str]) -> Tuple[str, str
                       FutureWarning, stacklevel=3)
         pipeline = "host-grid"
     if pipeline is None:  # as the command line's --pipeline auto
-        pipeline = "resident" if _carom.find_device(selector)["type"] == "GPU" else "host-grid"
+        return _carom.opencl_engine_for(selector), selector
     return _PIPELINES[_choice("pipeline", pipeline, ("host-grid", "resident", None))], selector
 
 
