@@ -59,7 +59,7 @@ void applyOverrides(const SceneOptions& o, SceneFileDef& scene) {
 Setup setupFromSceneFile(const SceneOptions& o) {
     SceneFileDef scene = io::readSceneFile(o.sceneFile);
     applyOverrides(o, scene);
-    return placeScene(std::move(scene));
+    return sceneFileSetup(std::move(scene));
 }
 
 struct UniformRange {
@@ -292,17 +292,10 @@ Setup makeSetupOf(const SceneOptions& o) {
 
 }  // namespace
 
-Setup placeScene(SceneFileDef scene) {
-    std::uint64_t particles = scene.disks.size();
-    for (const GroupDef& group : scene.groups) particles += group.count;
-    requireRoomFor(particles, scene.path);
-
-    Scene placed = makeScene(scene);
+Setup sceneFileSetup(SceneFileDef scene) {
+    io::SceneFile placed = io::loadScene(scene);
     Setup setup;
-    setup.world = scene.world;
-    setup.world.width = placed.width;
-    setup.world.height = placed.height;
-    validate(setup.world);
+    setup.world = placed.world;
     setup.disks = std::move(placed.disks);
     setup.sceneFile = std::move(scene);
     return setup;

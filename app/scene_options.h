@@ -66,9 +66,10 @@ struct Setup {
 // values, or built from the options. Throws Error for values out of range
 // and for requests that cannot fit in memory, before allocating them.
 Setup makeSetup(const SceneOptions& options);
-// The world and particles of a scene file's groups and disks (as --scene
-// places them, after the command line's overrides); throws Error as makeSetup.
-Setup placeScene(SceneFileDef scene);
+// The setup of a scene file after the command line's overrides: its world
+// and disks as io::loadScene places them, and the file itself (its steps and
+// outputs); throws Error as makeSetup.
+Setup sceneFileSetup(SceneFileDef scene);
 
 // The engine --backend KIND --pipeline PIPELINE --device DEVICE name
 // (the values CLI11 has already checked); --pipeline auto is the device's

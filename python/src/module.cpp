@@ -258,13 +258,10 @@ NB_MODULE(_carom, m) {
                 file.world.engine = carom::parseComputeEngine(engine);
                 file.world.device = device;
                 if (maxTravel) file.world.maxTravel = *maxTravel;  // else the file's (dt = "auto" sets it)
-                carom::Scene scene = carom::makeScene(file);
-                WorldDef def = file.world;
-                def.width = scene.width;
-                def.height = scene.height;
-                World world(def);
+                const carom::io::SceneFile scene = carom::io::loadScene(file);
+                World world(scene.world);
                 world.setDisks(scene.disks, path);
-                return nb::make_tuple(std::move(world), file.steps);
+                return nb::make_tuple(std::move(world), scene.steps);
             },
             "path"_a, "engine"_a, "device"_a, "max_travel"_a)
         .def_static(
