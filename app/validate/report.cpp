@@ -5,11 +5,16 @@
 #include <cstdio>
 #include <sstream>
 
-#include "app/validate/svg_plot.h"
+#include "app/svg_plot.h"
 
 namespace carom::validation {
 
 namespace {
+
+using app::Plot;
+using app::renderSvg;
+using app::Series;
+using app::SeriesStyle;
 
 const char* const kMeasured = "#d62728";
 const char* const kReference = "black";

@@ -1,17 +1,20 @@
-#include "app/validate/svg_plot.h"
+#include "app/svg_plot.h"
 
 #include <algorithm>
 #include <cstdio>
 #include <sstream>
 
-namespace carom::validation {
+namespace carom::app {
 
 namespace {
 
-constexpr double kWidth = 760, kHeight = 440;
-constexpr double kLeft = 80, kRight = 220, kTop = 44, kBottom = 56;
-constexpr double kPlotWidth = kWidth - kLeft - kRight, kPlotHeight = kHeight - kTop - kBottom;
-constexpr double kLabelGap = 16;  // [px] between tick labels
+constexpr double kPlotWidth = 460, kPlotHeight = 340;
+constexpr double kLeft = 80, kRight = 220, kTop = 44, kBottom = 56;  // the legend widens kRight for long labels
+constexpr double kHeight = kTop + kPlotHeight + kBottom;
+constexpr double kLabelGap = 16;              // [px] between tick labels
+constexpr double kCharacterWidth = 7;         // [px] of a legend label's character, about
+constexpr double kTitleCharacterWidth = 8.5;  // [px] of a title's character (font size 15), about
+constexpr double kLegendSample = 40;          // [px] of the legend's line or marker and the gaps around it
 
 std::string number(double value, const char* format = "%.1f") {
     char text[64];
@@ -98,6 +101,15 @@ std::vector<double> ticksFor(const Scale& scale) {
     return ticks;
 }
 
+// The stroke-dasharray attribute of a line's style.
+const char* dashes(SeriesStyle style) {
+    switch (style) {
+        case SeriesStyle::DashedLine: return " stroke-dasharray=\"6,4\"";
+        case SeriesStyle::DottedLine: return " stroke-dasharray=\"2,3\"";
+        default: return "";
+    }
+}
+
 std::string tickLabel(double value) { return number(value, "%g"); }
 
 // The ticks that get a label: 1, 2 and 5 times a power of ten first, then
@@ -141,9 +153,16 @@ std::string renderSvg(const Plot& plot) {
     const auto px = [&](double v) { return kLeft + sx.fraction(v) * kPlotWidth; };
     const auto py = [&](double v) { return kTop + (1.0 - sy.fraction(v)) * kPlotHeight; };
 
+    std::size_t longestLabel = 0;
+    for (const Series& s : plot.series) longestLabel = std::max(longestLabel, s.label.size());
+    // Wide enough for the legend and the title.
+    const double width =
+        std::max(kLeft + kPlotWidth + std::max(kRight, kLegendSample + kCharacterWidth * double(longestLabel)),
+                 kLeft + kTitleCharacterWidth * double(plot.title.size()));
+
     std::ostringstream svg;
-    svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << kWidth << "\" height=\"" << kHeight
-        << "\" viewBox=\"0 0 " << kWidth << ' ' << kHeight << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
+    svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << kHeight
+        << "\" viewBox=\"0 0 " << width << ' ' << kHeight << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
         << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
         << "<text x=\"" << kLeft << "\" y=\"26\" font-size=\"15\">" << escaped(plot.title) << "</text>\n";
     for (double t : ticksFor(sx)) {
@@ -176,7 +195,7 @@ std::string renderSvg(const Plot& plot) {
     svg << "<clipPath id=\"area\"><rect x=\"" << kLeft << "\" y=\"" << kTop << "\" width=\"" << kPlotWidth
         << "\" height=\"" << kPlotHeight << "\"/></clipPath>\n<g clip-path=\"url(#area)\">\n";
     for (const Series& s : plot.series) {
-        if (s.style == SeriesStyle::Line || s.style == SeriesStyle::DashedLine || s.style == SeriesStyle::Steps) {
+        if (s.style != SeriesStyle::Points) {
             std::string points;
             const auto add = [&](double x, double y) {
                 if (sx.shows(x) && sy.shows(y)) points += number(px(x)) + ',' + number(py(y)) + ' ';
@@ -189,9 +208,8 @@ std::string renderSvg(const Plot& plot) {
                     add(s.x[i + 1], s.y[i]);
                 }
             }
-            svg << "<polyline fill=\"none\" stroke=\"" << s.colour << "\" stroke-width=\"1.8\""
-                << (s.style == SeriesStyle::DashedLine ? " stroke-dasharray=\"6,4\"" : "") << " points=\"" << points
-                << "\"/>\n";
+            svg << "<polyline fill=\"none\" stroke=\"" << s.colour << "\" stroke-width=\"1.8\"" << dashes(s.style)
+                << " points=\"" << points << "\"/>\n";
             continue;
         }
         for (std::size_t i = 0; i < s.y.size() && i < s.x.size(); ++i) {
@@ -221,8 +239,7 @@ std::string renderSvg(const Plot& plot) {
                 << "\"/>\n";
         else
             svg << "<line x1=\"" << x << "\" y1=\"" << legendY - 4 << "\" x2=\"" << x + 20 << "\" y2=\"" << legendY - 4
-                << "\" stroke=\"" << s.colour << "\" stroke-width=\"1.8\""
-                << (s.style == SeriesStyle::DashedLine ? " stroke-dasharray=\"6,4\"" : "") << "/>\n";
+                << "\" stroke=\"" << s.colour << "\" stroke-width=\"1.8\"" << dashes(s.style) << "/>\n";
         svg << "<text x=\"" << x + 26 << "\" y=\"" << legendY << "\">" << escaped(s.label) << "</text>\n";
         legendY += 18;
     }
@@ -230,4 +247,4 @@ std::string renderSvg(const Plot& plot) {
     return svg.str();
 }
 
-}  // namespace carom::validation
+}  // namespace carom::app
