@@ -1,8 +1,9 @@
 #include "app/svg_plot.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <sstream>
+
+#include "app/format.h"
 
 namespace carom::app {
 
@@ -16,11 +17,8 @@ constexpr double kCharacterWidth = 7;         // [px] of a legend label's charac
 constexpr double kTitleCharacterWidth = 8.5;  // [px] of a title's character (font size 15), about
 constexpr double kLegendSample = 40;          // [px] of the legend's line or marker and the gaps around it
 
-std::string number(double value, const char* format = "%.1f") {
-    char text[64];
-    std::snprintf(text, sizeof text, format, value);
-    return text;
-}
+// A coordinate [px] as the SVG holds it.
+std::string pixels(double value) { return format("%.1f", value); }
 
 std::string escaped(const std::string& text) {
     std::string out;
@@ -110,7 +108,7 @@ const char* dashes(SeriesStyle style) {
     }
 }
 
-std::string tickLabel(double value) { return number(value, "%g"); }
+std::string tickLabel(double value) { return format("%g", value); }
 
 // The ticks that get a label: 1, 2 and 5 times a power of ten first, then
 // the others, each only where it keeps `kLabelGap` plus `pixelsPerCharacter`
@@ -166,23 +164,23 @@ std::string renderSvg(const Plot& plot) {
         << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
         << "<text x=\"" << kLeft << "\" y=\"26\" font-size=\"15\">" << escaped(plot.title) << "</text>\n";
     for (double t : ticksFor(sx)) {
-        const std::string x = number(px(t));
+        const std::string x = pixels(px(t));
         svg << "<line x1=\"" << x << "\" y1=\"" << kTop << "\" x2=\"" << x << "\" y2=\"" << kTop + kPlotHeight
             << "\" stroke=\"#e6e6e6\"/><line x1=\"" << x << "\" y1=\"" << kTop + kPlotHeight << "\" x2=\"" << x
             << "\" y2=\"" << kTop + kPlotHeight + 5 << "\" stroke=\"black\"/>\n";
     }
     for (double t : labelledTicks(ticksFor(sx), px, 7.0)) {
-        svg << "<text x=\"" << number(px(t)) << "\" y=\"" << kTop + kPlotHeight + 18 << "\" text-anchor=\"middle\">"
+        svg << "<text x=\"" << pixels(px(t)) << "\" y=\"" << kTop + kPlotHeight + 18 << "\" text-anchor=\"middle\">"
             << tickLabel(t) << "</text>\n";
     }
     for (double t : ticksFor(sy)) {
-        const std::string y = number(py(t));
+        const std::string y = pixels(py(t));
         svg << "<line x1=\"" << kLeft << "\" y1=\"" << y << "\" x2=\"" << kLeft + kPlotWidth << "\" y2=\"" << y
             << "\" stroke=\"#e6e6e6\"/><line x1=\"" << kLeft - 5 << "\" y1=\"" << y << "\" x2=\"" << kLeft << "\" y2=\""
             << y << "\" stroke=\"black\"/>\n";
     }
     for (double t : labelledTicks(ticksFor(sy), py, 0.0))
-        svg << "<text x=\"" << kLeft - 8 << "\" y=\"" << number(py(t) + 4) << "\" text-anchor=\"end\">" << tickLabel(t)
+        svg << "<text x=\"" << kLeft - 8 << "\" y=\"" << pixels(py(t) + 4) << "\" text-anchor=\"end\">" << tickLabel(t)
             << "</text>\n";
     svg << "<rect x=\"" << kLeft << "\" y=\"" << kTop << "\" width=\"" << kPlotWidth << "\" height=\"" << kPlotHeight
         << "\" fill=\"none\" stroke=\"black\"/>\n"
@@ -198,7 +196,7 @@ std::string renderSvg(const Plot& plot) {
         if (s.style != SeriesStyle::Points) {
             std::string points;
             const auto add = [&](double x, double y) {
-                if (sx.shows(x) && sy.shows(y)) points += number(px(x)) + ',' + number(py(y)) + ' ';
+                if (sx.shows(x) && sy.shows(y)) points += pixels(px(x)) + ',' + pixels(py(y)) + ' ';
             };
             for (std::size_t i = 0; i < s.y.size() && i < s.x.size(); ++i) {
                 if (s.style != SeriesStyle::Steps) {
@@ -214,17 +212,17 @@ std::string renderSvg(const Plot& plot) {
         }
         for (std::size_t i = 0; i < s.y.size() && i < s.x.size(); ++i) {
             if (!sx.shows(s.x[i]) || !sy.shows(s.y[i])) continue;
-            const std::string x = number(px(s.x[i]));
+            const std::string x = pixels(px(s.x[i]));
             if (i < s.error.size() && s.error[i] > 0) {
                 const double low = s.y[i] - s.error[i], high = s.y[i] + s.error[i];
-                const std::string y0 = number(sy.shows(low) ? py(low) : kTop + kPlotHeight), y1 = number(py(high));
+                const std::string y0 = pixels(sy.shows(low) ? py(low) : kTop + kPlotHeight), y1 = pixels(py(high));
                 svg << "<line x1=\"" << x << "\" y1=\"" << y0 << "\" x2=\"" << x << "\" y2=\"" << y1 << "\" stroke=\""
-                    << s.colour << "\"/><line x1=\"" << number(px(s.x[i]) - 4) << "\" y1=\"" << y0 << "\" x2=\""
-                    << number(px(s.x[i]) + 4) << "\" y2=\"" << y0 << "\" stroke=\"" << s.colour << "\"/><line x1=\""
-                    << number(px(s.x[i]) - 4) << "\" y1=\"" << y1 << "\" x2=\"" << number(px(s.x[i]) + 4) << "\" y2=\""
+                    << s.colour << "\"/><line x1=\"" << pixels(px(s.x[i]) - 4) << "\" y1=\"" << y0 << "\" x2=\""
+                    << pixels(px(s.x[i]) + 4) << "\" y2=\"" << y0 << "\" stroke=\"" << s.colour << "\"/><line x1=\""
+                    << pixels(px(s.x[i]) - 4) << "\" y1=\"" << y1 << "\" x2=\"" << pixels(px(s.x[i]) + 4) << "\" y2=\""
                     << y1 << "\" stroke=\"" << s.colour << "\"/>\n";
             }
-            svg << "<circle cx=\"" << x << "\" cy=\"" << number(py(s.y[i])) << "\" r=\"3.5\" fill=\"" << s.colour
+            svg << "<circle cx=\"" << x << "\" cy=\"" << pixels(py(s.y[i])) << "\" r=\"3.5\" fill=\"" << s.colour
                 << "\"/>\n";
         }
     }
