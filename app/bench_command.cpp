@@ -14,6 +14,7 @@
 #include "app/commands.h"
 #include "app/host_info.h"
 #include "app/number_options.h"
+#include "app/renamed_value.h"
 #include "app/bench/report.h"
 
 namespace carom::app {
@@ -200,7 +201,8 @@ int listMethods() {
 
 void addBenchOptions(CLI::App& command, BenchOptions& o) {
     command.add_option("--methods", o.methods, "Methods to compare, comma-separated (see --list; default: all)")
-        ->delimiter(',');
+        ->delimiter(',')
+        ->transform(renamedValue("--methods", "opencl-seed", "opencl-host-grid"));
     command
         .add_option("--collisions", o.collisions,
                     "Collision schemes to measure each method under, comma-separated: simultaneous, pairwise, "

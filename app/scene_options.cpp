@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "app/number_options.h"
+#include "app/renamed_value.h"
 #include <carom/world.h>
 
 namespace carom::app {
@@ -58,7 +59,7 @@ void applyOverrides(const SceneOptions& o, SceneFileDef& scene) {
 Setup setupFromSceneFile(const SceneOptions& o) {
     SceneFileDef scene = io::readSceneFile(o.sceneFile);
     applyOverrides(o, scene);
-    return placeScene(std::move(scene));
+    return sceneFileSetup(std::move(scene));
 }
 
 struct UniformRange {
@@ -92,6 +93,13 @@ CLI::Option* tracked(CLI::Option* option, std::set<std::string>& given) {
     return option->each([&given, name](const std::string&) { given.insert(name); });
 }
 
+CLI::Option* addPipelineOption(CLI::App& command, std::string& pipeline, const std::string& description) {
+    return command.add_option("--pipeline", pipeline, description)
+        ->transform(renamedValue("--pipeline", "seed", "host-grid"))
+        ->check(CLI::IsMember({"auto", "host-grid", "resident"}))
+        ->capture_default_str();
+}
+
 std::vector<std::string> backendKinds() {
     std::vector<std::string> kinds = {"cpu"};
     if (engineAvailable(ComputeEngine::OpenClHostGrid)) kinds.push_back("opencl");
@@ -122,14 +130,11 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
                     "OpenCL device: index from `carom devices` or part of its name (default: first GPU, "
                     "else first device)")
         ->check(forOpenCL("no devices to choose from"));
-    command
-        .add_option("--pipeline", o.backend.pipeline,
-                    "OpenCL pipeline: seed (host builds the grid, state read back each step), resident "
-                    "(grid and state stay on the device: the fast one on GPUs), or auto: resident on a GPU, "
-                    "seed on other devices (on CPUs, e.g. PoCL, seed is faster)")
-        ->check(CLI::IsMember({"auto", "seed", "resident"}))
-        ->check(forOpenCL("one pipeline"))
-        ->capture_default_str();
+    addPipelineOption(command, o.backend.pipeline,
+                      "OpenCL pipeline: host-grid (the host builds the grid, state read back each step), resident "
+                      "(grid and state stay on the device: the fast one on GPUs), or auto: resident on a GPU, "
+                      "host-grid on other devices (on CPUs, e.g. PoCL, host-grid is faster)")
+        ->check(forOpenCL("one pipeline"));
 
     auto* particles = command.add_option("--particles", o.scene.particles, "Number of disks")
                           ->transform(wholeNumber(1, kMaxParticles))
@@ -223,9 +228,9 @@ WorldDef withEngine(WorldDef world, const SceneOptions& o) {
 
 EngineDef engineOf(const BackendOptions& backend) {
     if (backend.kind == "cpu") return EngineDef{};
-    const bool resident = backend.pipeline == "auto" ? findDevice(backend.device).type == "GPU"
-                                                     : backend.pipeline == "resident";
-    return EngineDef{resident ? ComputeEngine::OpenClResident : ComputeEngine::OpenClHostGrid, backend.device};
+    if (backend.pipeline == "auto") return EngineDef{openClEngineFor(findDevice(backend.device)), backend.device};
+    return EngineDef{backend.pipeline == "resident" ? ComputeEngine::OpenClResident : ComputeEngine::OpenClHostGrid,
+                     backend.device};
 }
 
 void refuseSubstepsWithEvents(const WorldDef& world, const std::string& asked) {
@@ -287,17 +292,10 @@ Setup makeSetupOf(const SceneOptions& o) {
 
 }  // namespace
 
-Setup placeScene(SceneFileDef scene) {
-    std::uint64_t particles = scene.disks.size();
-    for (const GroupDef& group : scene.groups) particles += group.count;
-    requireRoomFor(particles, scene.path);
-
-    Scene placed = makeScene(scene);
+Setup sceneFileSetup(SceneFileDef scene) {
+    io::SceneFile placed = io::loadScene(scene);
     Setup setup;
-    setup.world = scene.world;
-    setup.world.width = placed.width;
-    setup.world.height = placed.height;
-    validate(setup.world);
+    setup.world = placed.world;
     setup.disks = std::move(placed.disks);
     setup.sceneFile = std::move(scene);
     return setup;

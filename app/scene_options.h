@@ -19,9 +19,9 @@ struct BackendOptions {
     std::string kind = "cpu";       // "cpu" (OpenMP) or "opencl"
     std::string device;             // OpenCL only: index from `carom devices` or part of the
                                     //   device name; empty = first GPU, else first device
-    std::string pipeline = "auto";  // OpenCL only: "seed" (host grid, state read back each
-                                    //   step), "resident" (grid and state stay on the device),
-                                    //   or "auto": resident on a GPU, seed on other devices
+    std::string pipeline = "auto";  // OpenCL only: "host-grid" (host builds the grid, state read
+                                    //   back each step), "resident" (grid and state stay on the
+                                    //   device), or "auto": resident on a GPU, host-grid elsewhere
 };
 
 struct SceneOptions {
@@ -46,6 +46,10 @@ std::vector<std::string> backendKinds();
 // --input-state and --scene.
 void addSceneOptions(CLI::App& command, SceneOptions& options);
 
+// Adds --pipeline auto|host-grid|resident into `pipeline`; "seed", the former
+// name of host-grid, is read as host-grid with a notice on stderr.
+CLI::Option* addPipelineOption(CLI::App& command, std::string& pipeline, const std::string& description);
+
 // Records `option`'s name in `given` when it appears on the command line.
 CLI::Option* tracked(CLI::Option* option, std::set<std::string>& given);
 
@@ -62,13 +66,14 @@ struct Setup {
 // values, or built from the options. Throws Error for values out of range
 // and for requests that cannot fit in memory, before allocating them.
 Setup makeSetup(const SceneOptions& options);
-// The world and particles of a scene file's groups and disks (as --scene
-// places them, after the command line's overrides); throws Error as makeSetup.
-Setup placeScene(SceneFileDef scene);
+// The setup of a scene file after the command line's overrides: its world
+// and disks as io::loadScene places them, and the file itself (its steps and
+// outputs); throws Error as makeSetup.
+Setup sceneFileSetup(SceneFileDef scene);
 
 // The engine --backend KIND --pipeline PIPELINE --device DEVICE name
-// (the values CLI11 has already checked); --pipeline auto looks up the
-// device's type (carom::findDevice), so it throws Error when none matches.
+// (the values CLI11 has already checked); --pipeline auto is the device's
+// carom::openClEngineFor, so it throws Error when no device matches.
 EngineDef engineOf(const BackendOptions& backend);
 
 // `world` with the compute engine and device the options ask for

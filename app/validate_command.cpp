@@ -56,12 +56,9 @@ void addValidateOptions(CLI::App& command, ValidateOptions& o) {
     command.add_option("--device", o.device,
                        "OpenCL device: index from `carom devices` or part of its name (default: first GPU, else "
                        "first device); also used by the OpenCL conservation runs");
-    command
-        .add_option("--pipeline", o.pipeline,
-                    "OpenCL pipeline of the heavy runs: seed, resident, or auto (resident on a GPU, seed on "
-                    "other devices); the conservation checks run both")
-        ->check(CLI::IsMember({"auto", "seed", "resident"}))
-        ->capture_default_str();
+    addPipelineOption(command, o.pipeline,
+                      "OpenCL pipeline of the heavy runs: host-grid, resident, or auto (resident on a GPU, "
+                      "host-grid on other devices); the conservation checks run both");
     command.add_option("--seed", o.seed, "Random seed of the initial positions and velocities")
         ->transform(wholeNumber(0))
         ->capture_default_str();

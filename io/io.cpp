@@ -12,13 +12,19 @@
 
 namespace carom::io {
 
-SceneFile loadScene(const std::string& path) {
-    const SceneFileDef scene = readSceneFile(path);
+SceneFile loadScene(const std::string& path) { return loadScene(readSceneFile(path)); }
+
+SceneFile loadScene(const SceneFileDef& scene) {
+    std::uint64_t particles = scene.disks.size();
+    for (const GroupDef& group : scene.groups) particles += group.count;
+    requireRoomFor(particles, scene.path);
+
     Scene placed = makeScene(scene);
     SceneFile loaded;
     loaded.world = scene.world;
     loaded.world.width = placed.width;
     loaded.world.height = placed.height;
+    validate(loaded.world);
     loaded.disks = std::move(placed.disks);
     loaded.steps = scene.steps;
     return loaded;

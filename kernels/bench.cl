@@ -6,7 +6,7 @@
 #include "view.cl"
 
 /* resolveCollisions against every other particle, O(N^2); integrate follows
- * as in the seed pipeline. */
+ * as in the host-grid pipeline. */
 __kernel void resolveAllPairs(__global const Particle* in,
                               CaromStepParams step,
                               __global Particle* out,

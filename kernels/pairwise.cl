@@ -2,7 +2,7 @@
  * both OpenCL pipelines; backends/opencl/pairwise.cpp enqueues them.
  *
  * A disk is its position k in sortedIndices (`ids`); `state[slots[k]]` is
- * its particle and `cellOf[slots[k]]` its cell: the seed pipeline stores the
+ * its particle and `cellOf[slots[k]]` its cell: the host-grid pipeline stores the
  * particles by id (slots = ids), the resident one in the cell order of the
  * step before (slots = cellOrder).
  *
@@ -104,7 +104,7 @@ __kernel void resolveEvents(__global Particle* state,
         carom_resolve_event(pending[e], state, slots, ids, events, step, tallies, changedList, nextList, epoch);
 }
 
-/* The end of the step, particles stored by id (seed pipeline): in place.
+/* The end of the step, particles stored by id (host-grid pipeline): in place.
  * A disk left non-finite is recorded under `stepIndex` (carom_record_non_finite). */
 __kernel void finishStepById(__global Particle* state,
                              CaromStepParams step,
@@ -161,10 +161,11 @@ static inline void carom_rounds_in_group(uint firstRound,
         __global const uint* resolving = round % 2 == 1 ? pending0 : pending1;
         const CaromList changedList = carom_list(changed, lengths, 3 * round + 1, changedMarks);
         const CaromList dirtyList = carom_list(dirty, lengths, 3 * round + 2, dirtyMarks);
-        const CaromList pendingList = carom_list(round % 2 == 1 ? pending1 : pending0, lengths, 3 * round, pendingMarks);
-        CAROM_FOR_LISTED(resolving, lengths, 3 * (round - 1), k,
-                         carom_resolve_event(k, state, slots, ids, events, step, tallies, changedList, pendingList,
-                                             epoch));
+        const CaromList pendingList =
+            carom_list(round % 2 == 1 ? pending1 : pending0, lengths, 3 * round, pendingMarks);
+        CAROM_FOR_LISTED(
+            resolving, lengths, 3 * (round - 1), k,
+            carom_resolve_event(k, state, slots, ids, events, step, tallies, changedList, pendingList, epoch));
         CAROM_FOR_LISTED(changed, lengths, 3 * round + 1, k,
                          carom_find_event(k, state, slots, ids, cellOf, cells, step, events, CAROM_SEARCH_CHANGED,
                                           changedList, dirtyList, pendingList, epoch));

@@ -1,4 +1,4 @@
-/* The kernels of the seed pipeline's step, one work-item per particle, and
+/* The kernels of the host-grid pipeline's step, one work-item per particle, and
  * the max-speed reduction that sizes substeps. The physics itself lives in
  * physics.h, which the CPU backend compiles too. */
 #include "physics.h"

@@ -50,10 +50,17 @@ carom_bench_profile_test(cpu_pairwise cpu 500 "buildGrid (host, 1 thread)")
 if(OpenCL_FOUND)
     carom_cli_test(run_resident pass "\"backend\": \"opencl\""
                    "run|--backend|opencl|--pipeline|resident|--particles|100|--steps|10|--json")
-    carom_cli_test(pipeline_unknown fail "--pipeline: fast not in \\{auto,seed,resident\\}" "${run}|--pipeline|fast")
+    carom_cli_test(pipeline_unknown fail "--pipeline: fast not in \\{auto,host-grid,resident\\}" "${run}|--pipeline|fast")
     carom_cli_test(pipeline_resident_on_cpu fail "--pipeline: 'resident' needs --backend opencl"
                    "${run}|--pipeline|resident")
-    carom_bench_profile_test(seed_pairwise opencl-seed 500
+    # seed, host-grid's former name (--pipeline) and opencl-host-grid's (--methods): still read, with a notice.
+    carom_cli_test(pipeline_seed_renamed pass
+                   "backend +opencl on .*, host-grid pipeline.*carom: --pipeline seed is now called host-grid; the old name still works"
+                   "run|--backend|opencl|--pipeline|seed|--particles|100|--steps|10")
+    carom_cli_test(bench_opencl_seed_renamed pass
+                   "opencl-host-grid +simultaneous +100 .*carom: --methods opencl-seed is now called opencl-host-grid; the old name still works"
+                   "bench|--methods|opencl-seed|--collisions|simultaneous|--sizes|100|--samples|1")
+    carom_bench_profile_test(host_grid_pairwise opencl-host-grid 500
         "buildGrid (host)|upload grid|findEventsForward|resolveRoundsInGroup|finishStepById|read list lengths|download state")
     # Above and below the resident pipeline's small-system limit (2 048 disks).
     carom_bench_profile_test(resident_pairwise opencl-resident 3000

@@ -40,8 +40,8 @@ carom_input_test(dt_auto_max_travel_zero
                  "${base}|--steps|1|--dt|auto|--max-travel|0")
 # The CPU backend has no devices or pipelines: naming one is a mistake.
 carom_input_test(cpu_with_device "--device: '5' needs --backend opencl; the cpu backend has no devices to choose from" "${base}|--steps|1|--device|5")
-carom_input_test(cpu_with_pipeline "--pipeline: 'seed' needs --backend opencl; the cpu backend has one pipeline"
-                 "${base}|--steps|1|--pipeline|seed")
+carom_input_test(cpu_with_pipeline "--pipeline: 'host-grid' needs --backend opencl; the cpu backend has one pipeline"
+                 "${base}|--steps|1|--pipeline|host-grid")
 
 # Counts checked against carom's limit before anything is allocated.
 carom_input_test(bench_size_past_limit

@@ -33,7 +33,7 @@ struct TestPipeline {
     const char* label;
 };
 inline constexpr TestPipeline kTestPipelines[] = {{ComputeEngine::Cpu, "cpu"},
-                                                  {ComputeEngine::OpenClHostGrid, "opencl seed"},
+                                                  {ComputeEngine::OpenClHostGrid, "opencl host-grid"},
                                                   {ComputeEngine::OpenClResident, "opencl resident"}};
 
 // Which of kTestPipelines a test case is registered for.
@@ -74,7 +74,7 @@ int registerCases(Registered which, const char* name, const char* file, unsigned
 }  // namespace carom::test
 
 // A test case registered once per backend and pipeline ("name [cpu]", "name
-// [opencl seed]", "name [opencl resident]"), so a failure names the one that
+// [opencl host-grid]", "name [opencl resident]"), so a failure names the one that
 // failed; the body gets the pipeline's EngineDef as `def`:
 //     CAROM_BACKEND_TEST_CASE("periodic: ...") { const Run r = run(def, world, particles, 100); ... }
 #define CAROM_BACKEND_TEST_CASE(name) CAROM_REGISTERED_TEST_CASE_(EveryPipeline, name, DOCTEST_ANONYMOUS(CAROM_CASE_))

@@ -1,4 +1,4 @@
-// CPU vs OpenCL, a test case for each OpenCL pipeline (seed, resident) and
+// CPU vs OpenCL, a test case for each OpenCL pipeline (host-grid, resident) and
 // scene, for both collision schemes: bitwise identical trajectories and
 // contact totals (collisions, virial, wall impulses, substeps, late contacts,
 // rounds) where the OpenCL device divides and takes square roots correctly

@@ -373,6 +373,30 @@ TEST_CASE("io: a scene file loads as the command line places it") {
     CHECK_THROWS_AS(io::loadScene(std::string(CAROM_SCENES_DIR) + "/no_such_scene.toml"), Error);
 }
 
+TEST_CASE("io: a scene file changed by its reader loads with the changes, and refuses what cannot fit") {
+    const std::string path = std::string(CAROM_SCENES_DIR) + "/mixture.toml";
+    carom::SceneFileDef scene = io::readSceneFile(path);
+    scene.seed += 1;
+    scene.world.collisions = CollisionScheme::Simultaneous;
+    scene.world.maxTravel = 0.25f;
+    const io::SceneFile loaded = io::loadScene(scene);
+    const InitialState placed = makeInitialState(scene);
+    CHECK(loaded.world.collisions == CollisionScheme::Simultaneous);
+    CHECK(loaded.world.maxTravel == 0.25f);
+    REQUIRE(loaded.disks.size() == placed.particles.size());
+    for (std::size_t i = 0; i < placed.particles.size(); ++i) REQUIRE(sameBits(loaded.disks[i], placed.particles[i]));
+    CHECK_FALSE(sameBits(loaded.disks[0], makeInitialState(io::readSceneFile(path)).particles[0]));
+
+    // Counted before any disk is placed: more disks than kMaxParticles.
+    scene.groups.resize(2);
+    scene.groups[0].count = scene.groups[1].count = kMaxParticles / 2 + 1;
+    CHECK_THROWS_WITH_AS(
+        io::loadScene(scene),
+        (path + ": " + std::to_string(kMaxParticles + 2) + " particles; allowed: 1 to " + std::to_string(kMaxParticles))
+            .c_str(),
+        Error);
+}
+
 TEST_CASE("io: a state written and read back is bit for bit the same") {
     const Scene scene = gas(200, 0.3f);
     const std::string path = (std::filesystem::temp_directory_path() / "carom_world_state.csv").string();
@@ -533,6 +557,17 @@ TEST_CASE("world: compute engines by name, and which this build has") {
     World empty(def);
     CHECK(empty.disks().empty());
     CHECK(empty.kineticEnergy() == 0.0);
+}
+
+TEST_CASE("world: the OpenCL engine for a device is resident on a GPU, host-grid on the others") {
+    Device device;
+    device.type = "GPU";
+    CHECK(openClEngineFor(device) == ComputeEngine::OpenClResident);
+    for (const char* other : {"CPU", "accelerator", "custom"}) {
+        CAPTURE(other);
+        device.type = other;
+        CHECK(openClEngineFor(device) == ComputeEngine::OpenClHostGrid);
+    }
 }
 
 namespace {

@@ -13,10 +13,13 @@ carom_cli_test(validate_zero_particles fail "--particles: '0' is out of range; a
                "${validate}|--particles|0")
 carom_cli_test(validate_negative_particles fail "--particles" "${validate}|--particles|-5")
 carom_cli_test(validate_unknown_backend fail "--backend: cuda not in \\{cpu" "${validate}|--backend|cuda")
-carom_cli_test(validate_unknown_pipeline fail "--pipeline: fast not in \\{auto,seed,resident\\}"
+carom_cli_test(validate_unknown_pipeline fail "--pipeline: fast not in \\{auto,host-grid,resident\\}"
                "${validate}|--pipeline|fast")
 carom_cli_test(validate_resident_on_cpu fail "--pipeline resident needs --backend opencl"
                "${validate}|--backend|cpu|--pipeline|resident")
+carom_cli_test(validate_seed_renamed fail
+               "--pipeline seed is now called host-grid; the old name still works.*--pipeline host-grid needs --backend opencl"
+               "${validate}|--backend|cpu|--pipeline|seed")
 carom_cli_test(validate_seed_not_a_number fail "--seed.*many" "${validate}|--seed|many")
 carom_cli_test(validate_unwritable_json fail "cannot write '/nonexistent-dir/validate.json'"
                "validate|--quick|--report|${refused}|--json|/nonexistent-dir/validate.json")

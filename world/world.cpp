@@ -55,8 +55,8 @@ bool engineAvailable(ComputeEngine engine) {
 #ifdef CAROM_HAVE_OPENCL
 namespace {
 Device deviceOf(const opencl::DeviceInfo& d) {
-    return Device{d.index,   d.name, d.platformName, d.type, d.version, d.globalMemoryBytes,
-                  d.correctlyRoundedDivideSqrt};
+    return Device{
+        d.index, d.name, d.platformName, d.type, d.version, d.globalMemoryBytes, d.correctlyRoundedDivideSqrt};
 }
 }  // namespace
 #endif
@@ -77,6 +77,10 @@ Device findDevice(const std::string& selector) {
 #else
     throw Error("findDevice: this carom was built without OpenCL; allowed: ComputeEngine::Cpu");
 #endif
+}
+
+ComputeEngine openClEngineFor(const Device& device) {
+    return device.type == "GPU" ? ComputeEngine::OpenClResident : ComputeEngine::OpenClHostGrid;
 }
 
 const char* computeEngineName(ComputeEngine engine) {

@@ -1,6 +1,6 @@
 // The naive baseline of `carom bench` on the OpenCL device: every particle
 // checks every other one, O(N^2) per step (resolveAllPairs, kernels/bench.cl),
-// then integrate as in the seed pipeline; the state stays on the device,
+// then integrate as in the host-grid pipeline; the state stays on the device,
 // stored by id. It finds the same pairs as the grid search but sums them in
 // id order, so it is not bitwise equal to it. Simultaneous scheme only.
 #pragma once

@@ -33,7 +33,7 @@ constexpr double kCellOfBytes = sizeof(std::uint32_t);
 // The engine of a production method.
 ComputeEngine engineOf(const Method& method) {
     if (!method.opencl) return ComputeEngine::Cpu;
-    return method.name == "opencl-seed" ? ComputeEngine::OpenClHostGrid : ComputeEngine::OpenClResident;
+    return method.name == "opencl-host-grid" ? ComputeEngine::OpenClHostGrid : ComputeEngine::OpenClResident;
 }
 
 // A production method: a World, as a library user makes one.
@@ -127,7 +127,8 @@ const std::vector<Method>& allMethods() {
         {"naive-cpu", "all pairs O(N^2) on the CPU, OpenMP; simultaneous scheme only", false, true},
         {"naive-opencl", "all pairs O(N^2) on the OpenCL device; simultaneous scheme only", true, true},
         {"cpu", "CPU backend: shared grid builder, OpenMP step", false, false},
-        {"opencl-seed", "OpenCL seed pipeline: host grid, state read back each step", true, false},
+        {"opencl-host-grid", "OpenCL host-grid pipeline: the host builds the grid, state read back each step", true,
+         false},
         {"opencl-resident", "OpenCL resident pipeline: grid and state stay on the device", true, false},
         {"events", "event-driven exact dynamics on one CPU thread (periodic box); events scheme only", false, false,
          true},
@@ -201,7 +202,7 @@ Traffic trafficPerParticleStep(const Variant& variant, double cellsPerParticle) 
         t.host = kStateBytes + grid + search;
     } else if (method.name == "opencl-resident") {
         t.device = kStateBytes + grid + search;
-    } else {  // seed: the host reads its copy and writes the grid; the device reads the grid once
+    } else {  // host-grid: the host reads its copy and writes the grid; the device reads the grid once
         const double cellOf = pairwise ? kCellOfBytes : 0.0;
         t.host = kStateBytes / 2 + grid / 2 + cellOf;
         t.upload = grid / 2 + cellOf;

@@ -88,11 +88,11 @@ constexpr std::size_t kDiskStateBytes = 32;
 // Bytes a method must move per particle-step, by the memory they cross: the
 // state read and written once (2 x 32 B), the grid written and read once
 // (sortedIndices 2 x 4 B, cells 2 x 8 B per cell); neighbour reads are assumed
-// to hit in cache. The seed pipeline also builds the grid on the host from
+// to hit in cache. The host-grid pipeline also builds the grid on the host from
 // its copy of the state and moves the grid up and the state down each step.
 // The pairwise scheme adds a pass, its forward search, which reads each
 // disk's state (32 B), sorted index and cell (2 x 4 B) and writes its event
-// (8 B); the seed pipeline also builds and uploads the cells (4 B). The
+// (8 B); the host-grid pipeline also builds and uploads the cells (4 B). The
 // rounds touch only the few disks on their lists and are not counted. The
 // events method has no such model (its cost is per event, not per step):
 // no bytes.

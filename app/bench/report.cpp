@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/format.h"
+#include "app/svg_plot.h"
 
 namespace carom::bench {
 namespace {
@@ -142,23 +143,23 @@ void printTable(std::ostream& out, const Report& report) {
     const auto stepped = [](const Row& row) { return !row.timing.events; };
     const bool anyStepped = std::any_of(report.rows.begin(), report.rows.end(), stepped);
     if (anyStepped) {
-        std::snprintf(line, sizeof line, "%-16s %-12s %10s %11s %16s %7s %9s %9s %10s %9s\n", "method", "scheme", "N",
-                      "ms/step", "particle-steps/s", "pw/sim", "vs seed", "vs naive", "floor ms", "of floor");
+        std::snprintf(line, sizeof line, "%-16s %-12s %10s %11s %16s %7s %12s %9s %10s %9s\n", "method", "scheme", "N",
+                      "ms/step", "particle-steps/s", "pw/sim", "vs host-grid", "vs naive", "floor ms", "of floor");
         out << line;
         for (const Row& row : report.rows) {
             if (!stepped(row)) continue;
             const Method& method = row.variant.method;
             const double floorMs = floorSecondsPerStep(report, row) * 1e3;
-            std::snprintf(line, sizeof line, "%-16s %-12s %10u %11.4g %16.3g %7s %9s %9s %10.3g %8.1f%%\n",
+            std::snprintf(line, sizeof line, "%-16s %-12s %10u %11.4g %16.3g %7s %12s %9s %10.3g %8.1f%%\n",
                           method.name.c_str(), collisionSchemeName(row.variant.scheme), row.particles,
                           row.timing.secondsPerStep * 1e3, particleStepsPerSecond(row),
                           optionalRatio(pairwiseOverSimultaneous(report, row)).c_str(),
-                          optionalRatio(speedupOver(report, row, "opencl-seed")).c_str(),
+                          optionalRatio(speedupOver(report, row, "opencl-host-grid")).c_str(),
                           optionalRatio(speedupOver(report, row, naiveCounterpart(method))).c_str(), floorMs,
                           100.0 * fractionOfFloor(report, row));
             out << line;
         }
-        out << "  pw/sim: a pairwise step's time over a simultaneous step's (same method and N); vs seed and vs "
+        out << "  pw/sim: a pairwise step's time over a simultaneous step's (same method and N); vs host-grid and vs "
                "naive compare within a scheme\n";
     }
     printEventRates(out, report, anyStepped);
@@ -210,7 +211,7 @@ void writeJson(std::ostream& out, const Report& report) {
             {"substeps_per_step", row.timing.substepsPerStep},
             {"particle_steps_per_second", particleStepsPerSecond(row)},
             {"pairwise_over_simultaneous", optionalJson(pairwiseOverSimultaneous(report, row))},
-            {"speedup_vs_seed", optionalJson(speedupOver(report, row, "opencl-seed"))},
+            {"speedup_vs_host_grid", optionalJson(speedupOver(report, row, "opencl-host-grid"))},
             {"speedup_vs_naive", optionalJson(speedupOver(report, row, naiveCounterpart(row.variant.method)))},
             {"cells_per_particle", row.cellsPerParticle},
             {"bytes_per_particle_step",
@@ -263,10 +264,10 @@ void writeJson(std::ostream& out, const Report& report) {
           {"note", "copies count bytes read plus bytes written; best of several runs"}}},
         {"traffic_model",
          "bytes per particle-step: state read and written once (2 x 32), sortedIndices written and read once "
-         "(2 x 4), cells written and read once (2 x 8 per cell); neighbour reads hit in cache. Seed: the host "
+         "(2 x 4), cells written and read once (2 x 8 per cell); neighbour reads hit in cache. Host grid: the host "
          "reads its state copy and writes the grid, uploads the grid, downloads the state. All pairs: the state only. "
          "Pairwise adds its forward search: state (32), sorted index and cell (2 x 4) read, event (8) written; the "
-         "seed pipeline also writes and uploads the cells (4); the rounds' lists are small and not counted."},
+         "host-grid pipeline also writes and uploads the cells (4); the rounds' lists are small and not counted."},
         {"results", rows},
         {"dropped", dropped},
     };
@@ -277,7 +278,7 @@ void writeCsv(std::ostream& out, const Report& report) {
     // Later columns come last, so the earlier columns keep their places: the
     // scheme's, then the events method's rates (its step columns are empty,
     // as the rates are the stepped rows').
-    out << "method,particles,ms_per_step,particle_steps_per_second,speedup_vs_seed,speedup_vs_naive,"
+    out << "method,particles,ms_per_step,particle_steps_per_second,speedup_vs_host_grid,speedup_vs_naive,"
            "floor_ms_per_step,fraction_of_floor,samples,steps_per_sample,scheme,pairwise_over_simultaneous,"
            "collisions_per_second,particle_time_per_second,events_per_second\n";
     const auto optional = [](std::optional<double> v) { return v ? format("%.6g", *v) : std::string(); };
@@ -288,7 +289,7 @@ void writeCsv(std::ostream& out, const Report& report) {
             out << ",,,,,,";
         else
             out << format("%.6g", row.timing.secondsPerStep * 1e3) << ',' << format("%.6g", particleStepsPerSecond(row))
-                << ',' << optional(speedupOver(report, row, "opencl-seed")) << ','
+                << ',' << optional(speedupOver(report, row, "opencl-host-grid")) << ','
                 << optional(speedupOver(report, row, naiveCounterpart(row.variant.method))) << ','
                 << format("%.6g", floorSecondsPerStep(report, row) * 1e3) << ','
                 << format("%.6g", fractionOfFloor(report, row)) << ',';
@@ -309,20 +310,23 @@ void writeCsv(std::ostream& out, const Report& report) {
 // pairwise floors). The events method's rows are left out: it has no step
 // time (the table, JSON and CSV have its rates).
 void writeSvgPlot(std::ostream& out, const Report& report) {
-    const double width = 860, height = 540, left = 90, right = 230, top = 50, bottom = 60;
-    const double plotW = width - left - right, plotH = height - top - bottom;
+    app::Plot plot;
+    plot.title = "carom bench: throughput against N, packing " + format("%g", report.scene.packing) +
+                 (report.device ? ", " + report.device->name : std::string());
+    plot.x = {"N (disks)", true};
+    plot.y = {"particle-steps per second", true};
     std::vector<Row> rows;  // the stepped ones: the events method has no step time to plot
     std::copy_if(report.rows.begin(), report.rows.end(), std::back_inserter(rows),
                  [](const Row& row) { return !row.timing.events; });
     if (rows.empty()) {
-        out << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height
-            << "\"><text x=\"20\" y=\"40\">no results</text></svg>\n";
+        plot.title = "carom bench: no stepped method measured, no throughput to plot";
+        out << app::renderSvg(plot);
         return;
     }
     const std::map<std::string, std::string> colours = {{"naive-cpu", "#9e9e9e"},
                                                         {"naive-opencl", "#616161"},
                                                         {"cpu", "#1f77b4"},
-                                                        {"opencl-seed", "#ff7f0e"},
+                                                        {"opencl-host-grid", "#ff7f0e"},
                                                         {"opencl-resident", "#2ca02c"}};
     // Floors (in particle-steps/s) of the grid methods, at the largest N's cells per particle.
     std::map<std::string, double> floors;
@@ -331,6 +335,7 @@ void writeSvgPlot(std::ostream& out, const Report& report) {
         if (!row.variant.method.allPairs && row.variant.scheme == CollisionScheme::Simultaneous && seconds > 0)
             floors[row.variant.method.name] = row.particles / seconds;
     }
+    // Whole decades on both axes.
     double minN = INFINITY, maxN = 0, minY = INFINITY, maxY = 0;
     for (const Row& row : rows) {
         minN = std::min(minN, double(row.particles));
@@ -339,53 +344,38 @@ void writeSvgPlot(std::ostream& out, const Report& report) {
         maxY = std::max(maxY, particleStepsPerSecond(row));
     }
     for (const auto& [name, rate] : floors) maxY = std::max(maxY, rate);
-    const double x0 = std::floor(std::log10(minN)), x1 = std::max(x0 + 1, std::ceil(std::log10(maxN)));
-    const double y0 = std::floor(std::log10(minY)), y1 = std::max(y0 + 1, std::ceil(std::log10(maxY)));
-    const auto px = [&](double n) { return left + (std::log10(n) - x0) / (x1 - x0) * plotW; };
-    const auto py = [&](double rate) { return top + (y1 - std::log10(rate)) / (y1 - y0) * plotH; };
+    const auto decades = [](app::Axis& axis, double min, double max) {
+        const double low = std::floor(std::log10(min));
+        axis.min = std::pow(10.0, low);
+        axis.max = std::pow(10.0, std::max(low + 1, std::ceil(std::log10(max))));
+    };
+    decades(plot.x, minN, maxN);
+    decades(plot.y, minY, maxY);
 
-    out << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height
-        << "\" font-family=\"sans-serif\" font-size=\"13\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-    out << "<text x=\"" << left << "\" y=\"28\" font-size=\"16\">carom bench: throughput against N, packing "
-        << report.scene.packing << (report.device ? ", " + report.device->name : std::string()) << "</text>\n";
-    for (double e = x0; e <= x1; ++e)
-        out << "<line x1=\"" << px(std::pow(10, e)) << "\" y1=\"" << top << "\" x2=\"" << px(std::pow(10, e))
-            << "\" y2=\"" << top + plotH << "\" stroke=\"#e0e0e0\"/>\n<text x=\"" << px(std::pow(10, e)) << "\" y=\""
-            << top + plotH + 20 << "\" text-anchor=\"middle\">1e" << e << "</text>\n";
-    for (double e = y0; e <= y1; ++e)
-        out << "<line x1=\"" << left << "\" y1=\"" << py(std::pow(10, e)) << "\" x2=\"" << left + plotW << "\" y2=\""
-            << py(std::pow(10, e)) << "\" stroke=\"#e0e0e0\"/>\n<text x=\"" << left - 8 << "\" y=\""
-            << py(std::pow(10, e)) + 4 << "\" text-anchor=\"end\">1e" << e << "</text>\n";
-    out << "<rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << plotW << "\" height=\"" << plotH
-        << "\" fill=\"none\" stroke=\"black\"/>\n<text x=\"" << left + plotW / 2 << "\" y=\"" << height - 15
-        << "\" text-anchor=\"middle\">N (disks)</text>\n<text transform=\"translate(22," << top + plotH / 2
-        << ") rotate(-90)\" text-anchor=\"middle\">particle-steps per second</text>\n";
-
-    double legendY = top + 10;
     for (const Method& method : allMethods()) {
         for (const CollisionScheme scheme : {CollisionScheme::Simultaneous, CollisionScheme::Pairwise}) {
-            std::string points;
+            app::Series line;
+            line.style = scheme == CollisionScheme::Pairwise ? app::SeriesStyle::DottedLine : app::SeriesStyle::Line;
             for (const Row& row : rows)
-                if (row.variant.method.name == method.name && row.variant.scheme == scheme)
-                    points += format("%.1f,", px(row.particles)) + format("%.1f ", py(particleStepsPerSecond(row)));
-            if (points.empty()) continue;
-            const std::string& colour = colours.at(method.name);
-            out << "<polyline fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"2\""
-                << (scheme == CollisionScheme::Pairwise ? " stroke-dasharray=\"2,3\"" : "") << " points=\"" << points
-                << "\"/>\n<text x=\"" << left + plotW + 12 << "\" y=\"" << legendY << "\" fill=\"" << colour << "\">"
-                << variantLabel({method, scheme}) << "</text>\n";
-            legendY += 20;
+                if (row.variant.method.name == method.name && row.variant.scheme == scheme) {
+                    line.x.push_back(row.particles);
+                    line.y.push_back(particleStepsPerSecond(row));
+                }
+            if (line.x.empty()) continue;
+            line.label = variantLabel({method, scheme});
+            line.colour = colours.at(method.name);
+            plot.series.push_back(std::move(line));
         }
         const auto floor = floors.find(method.name);
-        if (floor == floors.end() || method.name == "opencl-seed") continue;
-        const std::string& colour = colours.at(method.name);
-        out << "<line x1=\"" << left << "\" y1=\"" << py(floor->second) << "\" x2=\"" << left + plotW << "\" y2=\""
-            << py(floor->second) << "\" stroke=\"" << colour << "\" stroke-dasharray=\"6,4\"/>\n<text x=\""
-            << left + plotW + 12 << "\" y=\"" << legendY << "\" fill=\"" << colour << "\">" << method.name
-            << " floor (model)</text>\n";
-        legendY += 20;
+        if (floor == floors.end() || method.name == "opencl-host-grid") continue;
+        plot.series.push_back({method.name + " floor (model)",
+                               colours.at(method.name),
+                               app::SeriesStyle::DashedLine,
+                               {plot.x.min, plot.x.max},
+                               {floor->second, floor->second},
+                               {}});
     }
-    out << "</svg>\n";
+    out << app::renderSvg(plot);
 }
 
 }  // namespace carom::bench

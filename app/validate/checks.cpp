@@ -592,18 +592,22 @@ std::string describeBackend(const EngineDef& def) {
     box.width = box.height = 10.0f;
     box.collisions = CollisionScheme::Pairwise;  // refuses a backend that cannot run the suite
     const World world(onEngine(box, def));
-    const std::string pipeline = def.engine == ComputeEngine::OpenClResident ? "resident" : "seed";
-    return (def.engine == ComputeEngine::Cpu ? std::string("cpu") : "opencl (" + pipeline + " pipeline)") + ": " +
-           world.deviceName();
+    return (def.engine == ComputeEngine::Cpu ? std::string("cpu")
+                                             : "opencl (" + pipelineName(def.engine) + " pipeline)") +
+           ": " + world.deviceName();
+}
+
+std::string pipelineName(ComputeEngine engine) {
+    switch (engine) {
+        case ComputeEngine::Cpu: return "";
+        case ComputeEngine::OpenClHostGrid: return "host-grid";
+        case ComputeEngine::OpenClResident: return "resident";
+    }
+    return "unknown";
 }
 
 std::string engineLabel(ComputeEngine engine) {
-    switch (engine) {
-        case ComputeEngine::Cpu: return "cpu";
-        case ComputeEngine::OpenClHostGrid: return "opencl seed";
-        case ComputeEngine::OpenClResident: return "opencl resident";
-    }
-    return "unknown";
+    return engine == ComputeEngine::Cpu ? "cpu" : "opencl " + pipelineName(engine);
 }
 
 namespace {

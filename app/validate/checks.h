@@ -147,7 +147,7 @@ struct RelaxationResult {
 // --- 5. Conservation per backend ------------------------------------------
 
 struct ConservationRun {
-    std::string backend;  // "cpu", "opencl seed", "opencl resident"
+    std::string backend;  // "cpu", "opencl host-grid", "opencl resident"
     std::string device;
     std::uint32_t particles = 0;
     double packing = 0.0;
@@ -330,7 +330,9 @@ struct SuiteResult {
 // kind, device or pipeline, so a run can refuse them before any work.
 std::string describeBackend(const EngineDef& def);
 
-// "cpu", "opencl seed" or "opencl resident": the command line's names of an engine.
+// "host-grid" or "resident": the --pipeline name of an OpenCL engine; empty for the CPU.
+std::string pipelineName(ComputeEngine engine);
+// "cpu", "opencl host-grid" or "opencl resident": the command line's names of an engine.
 std::string engineLabel(ComputeEngine engine);
 
 // Runs the whole suite, printing one progress line per run to `progress`.

@@ -2,31 +2,23 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <sstream>
 
-#include "app/validate/svg_plot.h"
+#include "app/format.h"
+#include "app/svg_plot.h"
 
 namespace carom::validation {
 
 namespace {
 
+using app::format;
+using app::Plot;
+using app::renderSvg;
+using app::Series;
+using app::SeriesStyle;
+
 const char* const kMeasured = "#d62728";
 const char* const kReference = "black";
-
-std::string fixed(double value, int decimals) {
-    if (!std::isfinite(value)) return "—";
-    char text[64];
-    std::snprintf(text, sizeof text, "%.*f", decimals, value);
-    return text;
-}
-
-std::string general(double value, int digits = 4) {
-    if (!std::isfinite(value)) return "—";
-    char text[64];
-    std::snprintf(text, sizeof text, "%.*g", digits, value);
-    return text;
-}
 
 // Markdown table cells must not contain a bare '|'.
 std::string cell(const std::string& text) {
@@ -52,9 +44,9 @@ void checkTable(std::ostream& md, const SuiteResult& r, const std::string& secti
     md << "| check | measured | expected | criterion | deviation | result |\n|---|---|---|---|---|---|\n";
     for (const Check& c : r.checks)
         if (section.empty() || c.section == section)
-            md << "| " << cell((section.empty() ? c.section + ": " : "") + c.name) << " | " << general(c.measured, 6)
-               << " | " << general(c.expected, 6) << " | " << cell(c.criterion) << " | " << general(c.deviation, 3)
-               << " | " << verdict(c.passed) << " |\n";
+            md << "| " << cell((section.empty() ? c.section + ": " : "") + c.name) << " | "
+               << format("%.6g", c.measured) << " | " << format("%.6g", c.expected) << " | " << cell(c.criterion)
+               << " | " << format("%.3g", c.deviation) << " | " << verdict(c.passed) << " |\n";
     md << '\n';
 }
 
@@ -104,7 +96,7 @@ std::string eosPlot(const EosResult& eos, const EventsResult& events) {
     plot.series.push_back(curve("Henderson 1975", "#1f77b4", SeriesStyle::DashedLine, hendersonZ, false));
     plot.series.push_back(curve("Luding 2001", "#2ca02c", SeriesStyle::DashedLine, ludingZ, false));
     plot.series.push_back(curve("Santos et al. 1995", "#9467bd", SeriesStyle::DashedLine, santosZ, false));
-    Series measured = line("carom, pairwise, dt " + general(eos.dt), kMeasured, SeriesStyle::Points, {}, {});
+    Series measured = line("carom, pairwise, dt " + format("%.4g", eos.dt), kMeasured, SeriesStyle::Points, {}, {});
     for (const EosPoint& p : eos.points) {
         measured.x.push_back(p.packing);
         measured.y.push_back(p.measured.z.mean);
@@ -143,7 +135,7 @@ std::string eosDeviationPlot(const EosResult& eos, const EventsResult& events) {
 
 std::string convergenceZPlot(const ConvergenceResult& c) {
     Plot plot;
-    plot.title = "Convergence: Z against dt at eta = " + fixed(c.packing, 2) + " (pairwise)";
+    plot.title = "Convergence: Z against dt at eta = " + format("%.2f", c.packing) + " (pairwise)";
     plot.x = {"dt", true, NAN, NAN};
     plot.y = {"Z", false, NAN, NAN};
     if (c.points.empty()) return renderSvg(plot);
@@ -197,7 +189,8 @@ std::string energyDensityPlot(const EosResult& e, const SimultaneousResult& s) {
         simultaneous.x.push_back(run.packing);
         simultaneous.y.push_back(std::abs(run.driftRate));
     }
-    Series pairwise = line("pairwise (section 1, dt " + general(e.dt) + ")", "#1f77b4", SeriesStyle::Points, {}, {});
+    Series pairwise =
+        line("pairwise (section 1, dt " + format("%.4g", e.dt) + ")", "#1f77b4", SeriesStyle::Points, {}, {});
     for (const EosPoint& p : e.points) {
         pairwise.x.push_back(p.packing);
         pairwise.y.push_back(driftPerTime(p.measured));
@@ -264,7 +257,7 @@ std::string speedPlot(const RelaxationResult& r) {
     if (!relaxationRan(r)) return noData(plot.title);
     plot.x = {"speed |v|", false, 0.0, r.speedBinEdges.back()};
     plot.y = {"probability density", false, 0.0, NAN};
-    plot.series.push_back(line("carom, t = " + general(r.samples.back().time), kMeasured, SeriesStyle::Steps,
+    plot.series.push_back(line("carom, t = " + format("%.4g", r.samples.back().time), kMeasured, SeriesStyle::Steps,
                                r.speedBinEdges, r.speedDensity));
     std::vector<double> x, y;
     for (int k = 0; k <= 200; ++k) {
@@ -296,20 +289,20 @@ void markdownHeader(std::ostream& md, const SuiteResult& r, const RunContext& c)
        << "| command | `" << c.command << "` |\n"
        << "| date | " << c.date << " |\n"
        << "| backend | " << r.device << " |\n"
-       << "| host | " << c.host << ", " << c.hostThreads << " OpenMP threads, load " << general(c.hostLoad, 3)
+       << "| host | " << c.host << ", " << c.hostThreads << " OpenMP threads, load " << format("%.3g", c.hostLoad)
        << " at the start |\n"
        << "| collisions | pairwise (sections 1–7), simultaneous (section 8), events (section 9; " << r.events.device
        << ") |\n"
-       << "| dt | " << general(r.options.dt)
+       << "| dt | " << format("%.4g", r.options.dt)
        << " (equation of state, relaxation, conservation, dense gas, gravity); convergence: ";
     for (std::size_t k = 0; k < r.convergence.points.size(); ++k)
-        md << (k ? ", " : "") << general(r.convergence.points[k].dt);
+        md << (k ? ", " : "") << format("%.4g", r.convergence.points[k].dt);
     md << "; simultaneous scheme: ";
     for (std::size_t k = 0; k < r.simultaneous.dtSweep.size(); ++k)
-        md << (k ? ", " : "") << general(r.simultaneous.dtSweep[k].dt);
+        md << (k ? ", " : "") << format("%.4g", r.simultaneous.dtSweep[k].dt);
     md << "; two-body cases 0.01, wall bounce 1e-3 |\n"
        << "| seed | " << r.options.seed << " |\n"
-       << "| wall time | " << fixed(r.wallSeconds, 1) << " s |\n\n"
+       << "| wall time | " << format("%.1f", r.wallSeconds) << " s |\n\n"
        << "Units: disks of radius 1 (σ = 2) and mass 1 at kT = 1; a disk's mean speed is then √(π/2) ≈ 1.25 "
           "radii per unit time.\n\n## All checks\n\n";
     checkTable(md, r, "");
@@ -317,7 +310,7 @@ void markdownHeader(std::ostream& md, const SuiteResult& r, const RunContext& c)
 
 // "0.3 %", or "0.45 % (3 s.e.)" where the run cannot resolve the target.
 std::string toleranceCell(double tolerance, double target) {
-    return general(100 * tolerance, 2) + " %" + (tolerance > target ? " (3 s.e.)" : "");
+    return format("%.2g", 100 * tolerance) + " %" + (tolerance > target ? " (3 s.e.)" : "");
 }
 
 void markdownEos(std::ostream& md, const EosResult& e, const SuiteResult& r) {
@@ -325,7 +318,8 @@ void markdownEos(std::ostream& md, const EosResult& e, const SuiteResult& r) {
     md << "## 1. Equation of state and collision frequency\n\n"
        << "N disks in a periodic box at packing fraction η, started from `makeInitialState`'s hexagonal lattice "
           "with Gaussian velocities (zero total momentum, kT = 1), pairwise scheme at dt = "
-       << general(e.dt) << ". The lattice melts (at least 20 collisions per disk), then Z is measured over " << blocks
+       << format("%.4g", e.dt) << ". The lattice melts (at least 20 collisions per disk), then Z is measured over "
+       << blocks
        << " blocks (at least 2 collisions per disk each). Nothing rescales the velocities: the scheme "
           "conserves energy, and the table shows by how much it changed. Within a block, from the contacts the "
           "backend counts (`Backend::contacts()`, `thermodynamics()`):\n\n"
@@ -358,15 +352,16 @@ void markdownEos(std::ostream& md, const EosResult& e, const SuiteResult& r) {
     for (const EosPoint& p : e.points) {
         const BlockStatistics& m = p.measured;
         const double omega = 2.0 * m.collisionRate;
-        md << "| " << fixed(p.packing, 2) << " | " << p.particles << " | " << general(p.equilibrationTime, 3) << " | "
-           << m.blocks << " × " << general(m.blockTime, 3) << " | " << fixed(m.z.mean, 4) << " ± "
-           << fixed(m.z.error, 4) << " | " << general(p.zReference, 6)
-           << (p.zReferenceError > 0 ? " ± " + general(p.zReferenceError) : std::string()) << " | "
-           << fixed(100.0 * (m.z.mean / p.zReference - 1.0), 3) << " % | " << toleranceCell(p.zTolerance, kZTarget)
-           << " | " << fixed(omega, 4) << " | " << fixed(m.rateRatio.mean, 4) << " ± " << fixed(m.rateRatio.error, 4)
-           << " | " << toleranceCell(p.rateTolerance, kRateTarget) << " | "
-           << fixed(omega / collisionFrequency(p.zReference, m.kT, 2.0, 1.0), 4) << " | " << fixed(m.kT, 4) << " | "
-           << general(m.energyChange, 2) << " | " << m.lateContacts << " | " << m.maxRounds << " |\n";
+        md << "| " << format("%.2f", p.packing) << " | " << p.particles << " | " << format("%.3g", p.equilibrationTime)
+           << " | " << m.blocks << " × " << format("%.3g", m.blockTime) << " | " << format("%.4f", m.z.mean) << " ± "
+           << format("%.4f", m.z.error) << " | " << format("%.6g", p.zReference)
+           << (p.zReferenceError > 0 ? " ± " + format("%.4g", p.zReferenceError) : std::string()) << " | "
+           << format("%.3f", 100.0 * (m.z.mean / p.zReference - 1.0)) << " % | "
+           << toleranceCell(p.zTolerance, kZTarget) << " | " << format("%.4f", omega) << " | "
+           << format("%.4f", m.rateRatio.mean) << " ± " << format("%.4f", m.rateRatio.error) << " | "
+           << toleranceCell(p.rateTolerance, kRateTarget) << " | "
+           << format("%.4f", omega / collisionFrequency(p.zReference, m.kT, 2.0, 1.0)) << " | " << format("%.4f", m.kT)
+           << " | " << format("%.2g", m.energyChange) << " | " << m.lateContacts << " | " << m.maxRounds << " |\n";
     }
     md << "\n![Z against packing fraction](eos.svg)\n\n![Deviation from the reference](eos-deviation.svg)\n\n";
 }
@@ -376,31 +371,33 @@ void markdownConvergence(std::ostream& md, const ConvergenceResult& c, const Sui
     const double blockTime = c.points.empty() ? 0.0 : c.points.front().measured.blockTime;
     const double finest = c.points.empty() ? NAN : c.points.back().dt;
     md << "## 2. Dependence on dt\n\n"
-       << "One state at η = " << fixed(c.packing, 2) << " (N = " << c.particles << ", periodic, pairwise), melted "
-       << "for " << general(c.equilibrationTime) << " time units at dt = " << general(kDefaultDt)
-       << ", continued at each dt: one block to settle, then " << blocks << " blocks of " << general(blockTime)
+       << "One state at η = " << format("%.2f", c.packing) << " (N = " << c.particles
+       << ", periodic, pairwise), melted "
+       << "for " << format("%.4g", c.equilibrationTime) << " time units at dt = " << format("%.4g", kDefaultDt)
+       << ", continued at each dt: one block to settle, then " << blocks << " blocks of " << format("%.4g", blockTime)
        << " time units, measured as in section 1 (no rescaling). The pairwise scheme applies every impulse at "
           "the exact contact time and normal, so Z should not depend on dt; where a step's fastest disks would "
           "outrun the grid's allowance the step is split into substeps (at the largest dts). Each Z is held "
           "against Z at dt = "
-       << general(finest)
+       << format("%.4g", finest)
        << " within three standard errors of the difference (the runs share their start, so this is "
           "conservative). Late contacts are pairs found overlapping beyond rounding (the rounds could not "
           "order them in time); they are what could make Z depend on dt.\n\n"
-       << "| dt | Z | Z − Z(dt = " << general(finest)
+       << "| dt | Z | Z − Z(dt = " << format("%.4g", finest)
        << ") | (Z − Z_ref) / Z_ref | ΔE/E over the blocks | "
           "late contacts | max rounds |\n|---|---|---|---|---|---|---|\n";
     for (const ConvergencePoint& p : c.points)
-        md << "| " << general(p.dt) << " | " << fixed(p.measured.z.mean, 4) << " ± " << fixed(p.measured.z.error, 4)
-           << " | " << fixed(p.zDifference, 4) << " ± " << fixed(p.differenceError, 4) << " | "
-           << fixed(100.0 * (p.measured.z.mean / c.zReference - 1.0), 3) << " % | "
-           << general(p.measured.energyChange, 2) << " | " << p.measured.lateContacts << " | " << p.measured.maxRounds
-           << " |\n";
+        md << "| " << format("%.4g", p.dt) << " | " << format("%.4f", p.measured.z.mean) << " ± "
+           << format("%.4f", p.measured.z.error) << " | " << format("%.4f", p.zDifference) << " ± "
+           << format("%.4f", p.differenceError) << " | "
+           << format("%.3f", 100.0 * (p.measured.z.mean / c.zReference - 1.0)) << " % | "
+           << format("%.2g", p.measured.energyChange) << " | " << p.measured.lateContacts << " | "
+           << p.measured.maxRounds << " |\n";
     double resolution = 0.0;  // the largest tolerance of the comparisons
     for (const ConvergencePoint& p : c.points)
         resolution = std::max(resolution, statisticalTolerance(0.0, p.differenceError));
-    md << "\nZ_ref = " << general(c.zReference, 6) << ". At this size the comparisons resolve differences of "
-       << fixed(resolution, 3) << " (" << fixed(100.0 * resolution / c.zReference, 2) << " % of Z).\n\n";
+    md << "\nZ_ref = " << format("%.6g", c.zReference) << ". At this size the comparisons resolve differences of "
+       << format("%.3f", resolution) << " (" << format("%.2f", 100.0 * resolution / c.zReference) << " % of Z).\n\n";
     checkTable(md, s, "convergence");
     md << "![Z against dt](convergence-z.svg)\n\n"
        << "The energy plots show, per unit time, the pairwise runs' |ΔE/E| over their blocks and the "
@@ -415,25 +412,25 @@ void markdownRelaxation(std::ostream& md, const RelaxationResult& r, const Suite
         checkTable(md, s, "relaxation");
         return;
     }
-    md << r.particles << " disks at η = " << fixed(r.packing, 2)
-       << " in a periodic box, pairwise scheme at dt = " << general(r.dt)
+    md << r.particles << " disks at η = " << format("%.2f", r.packing)
+       << " in a periodic box, pairwise scheme at dt = " << format("%.4g", r.dt)
        << ", start with velocities uniform on the square [−a, a]², a = √3 (kT = a²/3 = 1), minus their mean. "
           "Every "
-       << general(r.samples[1].time - r.samples[0].time) << " time units: H = ∫ f ln f d²v from a "
+       << format("%.4g", r.samples[1].time - r.samples[0].time) << " time units: H = ∫ f ln f d²v from a "
        << r.histogram.binsPerAxis << " × " << r.histogram.binsPerAxis << " histogram over [−3a, 3a]² (bins of "
        << "a/4, so ±a are bin edges), and the Kolmogorov–Smirnov statistic D of the speeds against the "
           "Rayleigh distribution at the state's kT.\n\n"
        << "- H falls by H_eq(kT_end) − H_uniform = ln(6/π) − 1 − ln(kT_end/kT_start) (= −0.3529 with exact "
           "energy conservation, which the pairwise scheme has but for rounding). Measured: H_end − H_start = "
-       << fixed(r.hFinal - r.hInitial, 4) << ", with H_end the mean of the last " << r.finalSnapshots
-       << " samples. Tolerance " << fixed(r.hTolerance, 4)
-       << ": the plug-in bias (occupied bins − 1)/(2n) = " << fixed(r.hPluginBias, 4)
-       << " (upwards), plus the binning bias of a Gaussian, w²/(12 kT/m) = " << fixed(r.hBinningBias, 4)
+       << format("%.4f", r.hFinal - r.hInitial) << ", with H_end the mean of the last " << r.finalSnapshots
+       << " samples. Tolerance " << format("%.4f", r.hTolerance)
+       << ": the plug-in bias (occupied bins − 1)/(2n) = " << format("%.4f", r.hPluginBias)
+       << " (upwards), plus the binning bias of a Gaussian, w²/(12 kT/m) = " << format("%.4f", r.hBinningBias)
        << " (downwards, bins of width w), plus three standard errors of one "
           "snapshot, 3/√n = "
-       << fixed(3 / std::sqrt(double(r.particles)), 4) << ".\n- Final D = " << fixed(r.samples.back().ks, 4)
-       << " against the 5 % critical value 1.358/√n = " << fixed(r.ksCritical, 4)
-       << " (at the start D = " << fixed(r.samples.front().ks, 3) << ").\n\n";
+       << format("%.4f", 3 / std::sqrt(double(r.particles))) << ".\n- Final D = " << format("%.4f", r.samples.back().ks)
+       << " against the 5 % critical value 1.358/√n = " << format("%.4f", r.ksCritical)
+       << " (at the start D = " << format("%.3f", r.samples.front().ks) << ").\n\n";
     checkTable(md, s, "relaxation");
     md << "![H against time](relaxation-h.svg)\n\n![KS statistic against time](relaxation-ks.svg)\n\n"
        << "![Final speed histogram](relaxation-speeds.svg)\n\n";
@@ -467,9 +464,10 @@ void markdownConservation(std::ostream& md, const SuiteResult& s) {
        << "|---|---|---|---|---|---|---|---|---|---|\n";
     for (const ConservationRun& run : s.conservation) {
         md << "| " << run.backend << " | ";
-        md << cell(run.device) << " | " << run.particles << " | " << fixed(run.packing, 2) << " | " << general(run.dt)
-           << " | " << run.steps << " | " << fixed(run.collisionsPerDisk, 1) << " | " << general(run.momentumError, 3)
-           << " | " << general(run.energyChange, 3) << " | " << run.lateContacts << " |\n";
+        md << cell(run.device) << " | " << run.particles << " | " << format("%.2f", run.packing) << " | "
+           << format("%.4g", run.dt) << " | " << run.steps << " | " << format("%.1f", run.collisionsPerDisk) << " | "
+           << format("%.3g", run.momentumError) << " | " << format("%.3g", run.energyChange) << " | "
+           << run.lateContacts << " |\n";
     }
     md << '\n';
     checkTable(md, s, "conservation");
@@ -479,11 +477,11 @@ void markdownDense(std::ostream& md, const SuiteResult& s) {
     const DenseResult& d = s.dense;
     const BlockStatistics& m = d.measured;
     md << "## 6. Dense gas\n\n"
-       << d.particles << " disks at η = " << fixed(d.packing, 2)
+       << d.particles << " disks at η = " << format("%.2f", d.packing)
        << " in a periodic box (near the liquid–hexatic transition, where the reference's closed forms are "
           "1–4 % too high, so Z is shown, not checked), pairwise scheme at dt = "
-       << general(d.dt) << ", from the hexagonal lattice: " << general(d.equilibrationTime)
-       << " time units to melt, then " << m.blocks << " blocks of " << general(m.blockTime)
+       << format("%.4g", d.dt) << ", from the hexagonal lattice: " << format("%.4g", d.equilibrationTime)
+       << " time units to melt, then " << m.blocks << " blocks of " << format("%.4g", m.blockTime)
        << " time units, measured as in section 1. Held: the energy over the whole run within 1e-4; no blow-up "
           "(every disk "
           "finite and in the box, and no overlap beyond 1e-3 σ at the end: exact contacts leave none, and a "
@@ -492,28 +490,29 @@ void markdownDense(std::ostream& md, const SuiteResult& s) {
        << "| ΔE/E | \\|ΔP\\| / Σm\\|v\\| | Z | ω / ω(Z, kT) | kT | largest overlap | late contacts | "
           "max rounds |\n"
        << "|---|---|---|---|---|---|---|---|\n"
-       << "| " << general(d.energyChange, 3) << " | " << general(d.momentumError, 3) << " | " << fixed(m.z.mean, 4)
-       << " ± " << fixed(m.z.error, 4) << " | " << fixed(m.rateRatio.mean, 4) << " ± " << fixed(m.rateRatio.error, 4)
-       << " | " << fixed(m.kT, 4) << " | " << general(d.maxOverlap, 3) << " | " << m.lateContacts << " | "
-       << m.maxRounds << " |\n\n";
+       << "| " << format("%.3g", d.energyChange) << " | " << format("%.3g", d.momentumError) << " | "
+       << format("%.4f", m.z.mean) << " ± " << format("%.4f", m.z.error) << " | " << format("%.4f", m.rateRatio.mean)
+       << " ± " << format("%.4f", m.rateRatio.error) << " | " << format("%.4f", m.kT) << " | "
+       << format("%.3g", d.maxOverlap) << " | " << m.lateContacts << " | " << m.maxRounds << " |\n\n";
     checkTable(md, s, "dense gas");
 }
 
 void markdownGravity(std::ostream& md, const SuiteResult& s) {
     const GravityResult& g = s.gravity;
     md << "## 7. Gravity\n\n"
-       << "`scenes/gravity_settle.toml` at dt = " << general(g.dt) << " with the pairwise scheme: " << g.particles
-       << " disks (radius 0.5–1, mass 0.5–2) released in the upper part of a walled " << general(g.width) << " × "
-       << general(g.height) << " box fall under g = " << general(g.gravity) << " and pile up on the floor; "
-       << general(g.duration)
+       << "`scenes/gravity_settle.toml` at dt = " << format("%.4g", g.dt)
+       << " with the pairwise scheme: " << g.particles
+       << " disks (radius 0.5–1, mass 0.5–2) released in the upper part of a walled " << format("%.4g", g.width)
+       << " × " << format("%.4g", g.height) << " box fall under g = " << format("%.4g", g.gravity)
+       << " and pile up on the floor; " << format("%.4g", g.duration)
        << " time units. Between events every disk flies on its exact parabola, and disks falling alike keep "
           "their relative motion linear, so K + U is conserved but for rounding. U = Σ m g y is measured from "
           "the floor, so K + U is the energy the disks can turn into motion. Held within 1e-3.\n\n"
        << "| K start | K end | U start | U end | Δ(K+U)/(K+U) | late contacts | max rounds |\n"
        << "|---|---|---|---|---|---|---|\n"
-       << "| " << general(g.kineticStart, 6) << " | " << general(g.kineticEnd, 6) << " | "
-       << general(g.potentialStart, 6) << " | " << general(g.potentialEnd, 6) << " | " << general(g.energyChange, 3)
-       << " | " << g.lateContacts << " | " << g.maxRounds << " |\n\n";
+       << "| " << format("%.6g", g.kineticStart) << " | " << format("%.6g", g.kineticEnd) << " | "
+       << format("%.6g", g.potentialStart) << " | " << format("%.6g", g.potentialEnd) << " | "
+       << format("%.3g", g.energyChange) << " | " << g.lateContacts << " | " << g.maxRounds << " |\n\n";
     checkTable(md, s, "gravity");
 }
 
@@ -521,9 +520,10 @@ void simultaneousTable(std::ostream& md, const std::vector<SimultaneousRun>& run
     md << "| η | dt | ΔE/E over the run | drift per unit time | wander | Z, second half | Z_ref |\n"
           "|---|---|---|---|---|---|---|\n";
     for (const SimultaneousRun& run : runs)
-        md << "| " << fixed(run.packing, 2) << " | " << general(run.dt) << " | " << general(run.energyChange, 3)
-           << " | " << general(run.driftRate, 3) << " | " << general(run.wander, 2) << " | " << fixed(run.z, 4) << " | "
-           << general(referenceZ(run.packing), 6) << " |\n";
+        md << "| " << format("%.2f", run.packing) << " | " << format("%.4g", run.dt) << " | "
+           << format("%.3g", run.energyChange) << " | " << format("%.3g", run.driftRate) << " | "
+           << format("%.2g", run.wander) << " | " << format("%.4f", run.z) << " | "
+           << format("%.6g", referenceZ(run.packing)) << " |\n";
     md << '\n';
 }
 
@@ -534,8 +534,8 @@ void markdownSimultaneous(std::ostream& md, const SuiteResult& s) {
           "with a positional correction. Each pair's impulse is elastic, but a disk in two contacts takes two "
           "impulses computed from the same velocities, and their cross terms change the energy: systematically "
           "upwards in dense gases (`shared/physics/hard-disks.md`). Measured here, not checked: "
-       << r.particles << " disks in a periodic box from the hexagonal lattice at kT = 1, " << general(r.duration)
-       << " time units without rescaling. The energy E(t)/E(0) is sampled every " << general(r.sampleInterval)
+       << r.particles << " disks in a periodic box from the hexagonal lattice at kT = 1, " << format("%.4g", r.duration)
+       << " time units without rescaling. The energy E(t)/E(0) is sampled every " << format("%.4g", r.sampleInterval)
        << " time unit; the table gives its change over the run, the slope of its least-squares line (the "
           "drift) and the rms about that line (the wander: the energy also goes up and down within a run, so a "
           "single run resolves the drift only roughly where the wander is comparable). Z is the collision "
@@ -588,7 +588,7 @@ std::string schemesPlot(const std::vector<SchemeComparison>& schemes) {
     std::size_t k = 0;
     for (const SchemeComparison& c : schemes) {
         const std::string colour = colours[k++ % 4];
-        const std::string at = "eta " + fixed(c.packing, 1);
+        const std::string at = "eta " + format("%.1f", c.packing);
         Series pairwise = line("pairwise, " + at, colour, SeriesStyle::Points, {}, {});
         Series simultaneous = line("simultaneous, " + at, colour, SeriesStyle::Line, {}, {});
         for (const SchemeZ& run : c.runs) {
@@ -618,8 +618,8 @@ void markdownEventsEos(std::ostream& md, const SuiteResult& s) {
     const EventsRun& first = points.front().run;
     md << first.particles << " disks in a periodic box at each η, from the same hexagonal lattice and Gaussian "
        << "velocities (kT = 1, seed " << s.options.seed << ") as section 1: a warm-up of "
-       << general(first.warmupCollisions) << " collisions per disk, then " << first.measured.blocks << " blocks of "
-       << general(first.measured.blockTime / (first.warmupTime / first.warmupCollisions))
+       << format("%.4g", first.warmupCollisions) << " collisions per disk, then " << first.measured.blocks
+       << " blocks of " << format("%.4g", first.measured.blockTime / (first.warmupTime / first.warmupCollisions))
        << " collisions per disk (times from the reference Z), measured as in section 1 from the contacts the "
           "backend counts. The collision virial uses r_ij = σ exactly (`ContactTotals::virial` sums σ_ij J_ij); "
           "kT = (E_kin − P²/2M)/(N − 1). Held: Z within 0.1 % of the reference plus two standard errors "
@@ -632,13 +632,14 @@ void markdownEventsEos(std::ostream& md, const SuiteResult& s) {
     for (const EventsEosPoint& p : points) {
         const EventsRun& run = p.run;
         const BlockStatistics& m = run.measured;
-        md << "| " << fixed(run.packing, 2) << " | " << run.particles << " | " << fixed(m.z.mean, 4) << " ± "
-           << fixed(m.z.error, 4) << " | " << general(p.zReference, 6)
-           << (p.zReferenceError > 0 ? " ± " + general(p.zReferenceError) : std::string()) << " | "
-           << fixed(m.z.mean - p.zReference, 4) << " | " << fixed(100.0 * (m.z.mean / p.zReference - 1.0), 3) << " % | "
-           << fixed(p.zTolerance, 4) << " | " << fixed(m.rateRatio.mean, 4) << " ± " << fixed(m.rateRatio.error, 4)
-           << " | " << general(run.energyChange, 2) << " | " << run.collisions << " | " << run.overlapping << " | "
-           << fixed(run.seconds, 1) << " s | " << general(double(run.collisions) / run.seconds, 3) << " |\n";
+        md << "| " << format("%.2f", run.packing) << " | " << run.particles << " | " << format("%.4f", m.z.mean)
+           << " ± " << format("%.4f", m.z.error) << " | " << format("%.6g", p.zReference)
+           << (p.zReferenceError > 0 ? " ± " + format("%.4g", p.zReferenceError) : std::string()) << " | "
+           << format("%.4f", m.z.mean - p.zReference) << " | "
+           << format("%.3f", 100.0 * (m.z.mean / p.zReference - 1.0)) << " % | " << format("%.4f", p.zTolerance)
+           << " | " << format("%.4f", m.rateRatio.mean) << " ± " << format("%.4f", m.rateRatio.error) << " | "
+           << format("%.2g", run.energyChange) << " | " << run.collisions << " | " << run.overlapping << " | "
+           << format("%.1f", run.seconds) << " s | " << format("%.3g", double(run.collisions) / run.seconds) << " |\n";
     }
     md << "\nThe event-driven points are in the equation-of-state plots of section 1. Wall time and "
           "collisions per second are of this run on this host, for scale (they include the warm-up).\n\n";
@@ -655,7 +656,7 @@ void markdownEventsDense(std::ostream& md, const SuiteResult& s) {
         return;
     }
     const BlockStatistics& m = run.measured;
-    md << run.particles << " disks, periodic, from the lattice: a warm-up of " << general(run.warmupCollisions)
+    md << run.particles << " disks, periodic, from the lattice: a warm-up of " << format("%.4g", run.warmupCollisions)
        << " collisions per disk, then " << m.blocks
        << " blocks as in 9.1. Here the fluid meets the "
           "first-order liquid–hexatic transition (coexistence from η ≈ 0.700 to 0.716 for large N) and the "
@@ -665,14 +666,15 @@ void markdownEventsDense(std::ostream& md, const SuiteResult& s) {
           "collected in github.com/jellyfysh/HistoricDisks (`DigitizedData`), periodic boxes.\n\n"
        << "| source | method | N | βPσ² | Z |\n|---|---|---|---|---|\n"
        << "| carom, this run | event-driven MD | " << run.particles << " | "
-       << fixed(4.0 * run.packing * m.z.mean / kPi, 4) << " ± " << fixed(4.0 * run.packing * m.z.error / kPi, 4)
-       << " | " << fixed(m.z.mean, 4) << " ± " << fixed(m.z.error, 4) << " |\n";
+       << format("%.4f", 4.0 * run.packing * m.z.mean / kPi) << " ± "
+       << format("%.4f", 4.0 * run.packing * m.z.error / kPi) << " | " << format("%.4f", m.z.mean) << " ± "
+       << format("%.4f", m.z.error) << " |\n";
     for (const PublishedPressure& p : d.published)
-        md << "| " << p.source << " | " << p.method << " | " << p.particles << " | " << general(p.betaPSigma2, 6)
-           << " ± " << general(p.error, 2) << " | " << fixed(compressibility(p, run.packing), 4) << " |\n";
-    md << "\nω / ω(Z_c, kT) = " << fixed(m.rateRatio.mean, 4) << " ± " << fixed(m.rateRatio.error, 4)
-       << ", ΔE/E = " << general(run.energyChange, 2) << ", " << run.collisions << " collisions in "
-       << fixed(run.seconds, 1) << " s.\n\n";
+        md << "| " << p.source << " | " << p.method << " | " << p.particles << " | " << format("%.6g", p.betaPSigma2)
+           << " ± " << format("%.2g", p.error) << " | " << format("%.4f", compressibility(p, run.packing)) << " |\n";
+    md << "\nω / ω(Z_c, kT) = " << format("%.4f", m.rateRatio.mean) << " ± " << format("%.4f", m.rateRatio.error)
+       << ", ΔE/E = " << format("%.2g", run.energyChange) << ", " << run.collisions << " collisions in "
+       << format("%.1f", run.seconds) << " s.\n\n";
     checkTable(md, s, "events: dense");
 }
 
@@ -685,10 +687,10 @@ void markdownTrajectories(std::ostream& md, const SuiteResult& s) {
         return;
     }
     md << t.starts << " independent starts of " << t.particles << " disks of radius 1 (one per cell of a 4 × 4 grid, "
-       << "jittered; thermal velocities; seeds from " << s.options.seed << ") between walls in a " << general(t.width)
-       << " × " << general(t.height) << " box, each run for " << general(t.duration)
-       << " time units from the same start by `events` (" << t.eventCollisions << " collisions and "
-       << t.eventWallBounces
+       << "jittered; thermal velocities; seeds from " << s.options.seed << ") between walls in a "
+       << format("%.4g", t.width) << " × " << format("%.4g", t.height) << " box, each run for "
+       << format("%.4g", t.duration) << " time units from the same start by `events` (" << t.eventCollisions
+       << " collisions and " << t.eventWallBounces
        << " wall bounces in all: short enough that the stepped runs collide in the same "
           "sequence, before chaos separates the trajectories) and by the stepped schemes at halving dt, on the CPU. "
           "The distance is between each stepped scheme's final positions (float32) and the event-driven ones "
@@ -708,11 +710,12 @@ void markdownTrajectories(std::ostream& md, const SuiteResult& s) {
     for (std::size_t k = 0; k < t.points.size(); ++k) {
         const TrajectoryPoint& p = t.points[k];
         const bool first = k == 0;
-        md << "| " << general(p.dt) << " | " << general(p.pairwiseRms, 3) << " | "
-           << (first ? "" : fixed(observedOrder(t.points[k - 1].pairwiseRms, p.pairwiseRms), 2)) << " | "
-           << general(p.pairwiseMax, 3) << " | " << p.pairwiseCollisions << " | " << general(p.simultaneousRms, 3)
-           << " | " << (first ? "" : fixed(observedOrder(t.points[k - 1].simultaneousRms, p.simultaneousRms), 2))
-           << " | " << general(p.simultaneousMax, 3) << " | " << p.simultaneousCollisions << " |\n";
+        md << "| " << format("%.4g", p.dt) << " | " << format("%.3g", p.pairwiseRms) << " | "
+           << (first ? "" : format("%.2f", observedOrder(t.points[k - 1].pairwiseRms, p.pairwiseRms))) << " | "
+           << format("%.3g", p.pairwiseMax) << " | " << p.pairwiseCollisions << " | "
+           << format("%.3g", p.simultaneousRms) << " | "
+           << (first ? "" : format("%.2f", observedOrder(t.points[k - 1].simultaneousRms, p.simultaneousRms))) << " | "
+           << format("%.3g", p.simultaneousMax) << " | " << p.simultaneousCollisions << " |\n";
     }
     md << "\n![Distance to events against dt](trajectories.svg)\n\n";
     checkTable(md, s, "events: trajectories");
@@ -730,8 +733,8 @@ void markdownSchemes(std::ostream& md, const SuiteResult& s) {
     const BlockStatistics& m = first.runs.front().pairwise;
     md << "The pairwise and simultaneous schemes on the suite's backend (" << s.device << ") from the same "
        << "lattice, N = " << first.particles
-       << " and seed as the event-driven runs of 9.1, at each dt: " << general(first.warmupTime)
-       << " time units of warm-up, then " << m.blocks << " blocks of " << general(m.blockTime)
+       << " and seed as the event-driven runs of 9.1, at each dt: " << format("%.4g", first.warmupTime)
+       << " time units of warm-up, then " << m.blocks << " blocks of " << format("%.4g", m.blockTime)
        << " time units, measured as in section 1 (kT per block from the state, no "
           "rescaling). Z_events is 9.1's. The pairwise scheme applies impulses at exact contact times, so its "
           "difference should vanish within the errors at every dt; the simultaneous scheme resolves overlaps "
@@ -747,17 +750,17 @@ void markdownSchemes(std::ostream& md, const SuiteResult& s) {
             failures.push_back(what + ": " + failure);
             return "did not complete (" + std::to_string(failures.size()) + ") | —";
         }
-        return fixed(z.mean, 4) + " ± " + fixed(z.error, 4) + " | " + fixed(z.mean - events.mean, 4) + " ± " +
-               fixed(std::hypot(z.error, events.error), 4);
+        return format("%.4f", z.mean) + " ± " + format("%.4f", z.error) + " | " + format("%.4f", z.mean - events.mean) +
+               " ± " + format("%.4f", std::hypot(z.error, events.error));
     };
     for (const SchemeComparison& c : schemes)
         for (const SchemeZ& run : c.runs) {
-            const std::string where = "η = " + fixed(c.packing, 2) + ", dt = " + general(run.dt);
-            md << "| " << fixed(c.packing, 2) << " | " << general(run.dt) << " | " << fixed(c.events.mean, 4) << " ± "
-               << fixed(c.events.error, 4) << " | "
+            const std::string where = "η = " + format("%.2f", c.packing) + ", dt = " + format("%.4g", run.dt);
+            md << "| " << format("%.2f", c.packing) << " | " << format("%.4g", run.dt) << " | "
+               << format("%.4f", c.events.mean) << " ± " << format("%.4f", c.events.error) << " | "
                << schemeCells(run.pairwise.z, c.events, run.pairwiseFailure, where + ", pairwise") << " | "
                << schemeCells(run.simultaneous.z, c.events, run.simultaneousFailure, where + ", simultaneous") << " | "
-               << (run.simultaneousFailure.empty() ? general(run.simultaneous.energyChange, 3) : "—") << " |\n";
+               << (run.simultaneousFailure.empty() ? format("%.3g", run.simultaneous.energyChange) : "—") << " |\n";
         }
     md << '\n';
     for (std::size_t k = 0; k < failures.size(); ++k) md << "(" << k + 1 << ") " << cell(failures[k]) << "\n\n";
@@ -971,84 +974,86 @@ nlohmann::ordered_json toJson(const SuiteResult& r, const RunContext& c) {
     const DenseResult& d = r.dense;
     const GravityResult& g = r.gravity;
     const SimultaneousResult& sim = r.simultaneous;
-    return {{"suite", r.options.quick ? "quick" : "full"},
-            {"passed", r.passed()},
-            {"checks_failed", failures(r)},
-            {"command", c.command},
-            {"date", c.date},
-            {"host", {{"cpu", c.host}, {"threads", c.hostThreads}, {"load", c.hostLoad}}},
-            {"backend",
-             {{"kind", r.options.backend.engine == ComputeEngine::Cpu ? "cpu" : "opencl"},
-              {"pipeline", r.options.backend.engine == ComputeEngine::OpenClResident ? "resident" : "seed"},
-              {"device", r.device}}},
-            {"collisions", {{"sections_1_to_7", "pairwise"}, {"section_8", "simultaneous"}, {"section_9", "events"}}},
-            {"dt", r.options.dt},
-            {"seed", r.options.seed},
-            {"wall_seconds", r.wallSeconds},
-            {"checks", checks},
-            {"equation_of_state", {{"dt", r.eos.dt}, {"points", eos}}},
-            {"convergence",
-             {{"packing", r.convergence.packing},
-              {"particles", r.convergence.particles},
-              {"z_reference", r.convergence.zReference},
-              {"equilibration_time", r.convergence.equilibrationTime},
-              {"points", convergence}}},
-            {"relaxation",
-             {{"packing", rx.packing},
-              {"particles", rx.particles},
-              {"dt", rx.dt},
-              {"half_width", rx.halfWidth},
-              {"histogram", {{"range", rx.histogram.range}, {"bins_per_axis", rx.histogram.binsPerAxis}}},
-              {"h_initial", rx.hInitial},
-              {"h_final", rx.hFinal},
-              {"h_plugin_bias", rx.hPluginBias},
-              {"h_binning_bias", rx.hBinningBias},
-              {"h_tolerance", rx.hTolerance},
-              {"ks_critical", rx.ksCritical},
-              {"kT_final", rx.kTFinal},
-              {"samples", samples},
-              {"speed_histogram", {{"edges", rx.speedBinEdges}, {"density", rx.speedDensity}}}}},
-            {"conservation", conservation},
-            {"dense_gas",
-             {{"packing", d.packing},
-              {"particles", d.particles},
-              {"dt", d.dt},
-              {"equilibration_time", d.equilibrationTime},
-              {"measured", blockStatistics(d.measured)},
-              {"energy_change", d.energyChange},
-              {"momentum_error", d.momentumError},
-              {"max_overlap", d.maxOverlap},
-              {"escaped", d.escaped},
-              {"frequency_tolerance", d.rateTolerance}}},
-            {"gravity",
-             {{"particles", g.particles},
-              {"box", {g.width, g.height}},
-              {"gravity", g.gravity},
-              {"dt", g.dt},
-              {"duration", g.duration},
-              {"kinetic", {{"start", g.kineticStart}, {"end", g.kineticEnd}}},
-              {"potential", {{"start", g.potentialStart}, {"end", g.potentialEnd}}},
-              {"energy_change", g.energyChange},
-              {"late_contacts", g.lateContacts},
-              {"max_rounds", g.maxRounds},
-              {"escaped", g.escaped}}},
-            {"simultaneous_scheme",
-             {{"particles", sim.particles},
-              {"duration", sim.duration},
-              {"sample_interval", sim.sampleInterval},
-              {"dt_sweep", simultaneousRuns(sim.dtSweep)},
-              {"packing_sweep", simultaneousRuns(sim.packingSweep)}}},
-            {"events", eventsJson(r.events)}};
+    return {
+        {"suite", r.options.quick ? "quick" : "full"},
+        {"passed", r.passed()},
+        {"checks_failed", failures(r)},
+        {"command", c.command},
+        {"date", c.date},
+        {"host", {{"cpu", c.host}, {"threads", c.hostThreads}, {"load", c.hostLoad}}},
+        {"backend",
+         {{"kind", r.options.backend.engine == ComputeEngine::Cpu ? "cpu" : "opencl"},
+          {"pipeline", r.options.backend.engine == ComputeEngine::Cpu ? json(nullptr)
+                                                                      : json(pipelineName(r.options.backend.engine))},
+          {"device", r.device}}},
+        {"collisions", {{"sections_1_to_7", "pairwise"}, {"section_8", "simultaneous"}, {"section_9", "events"}}},
+        {"dt", r.options.dt},
+        {"seed", r.options.seed},
+        {"wall_seconds", r.wallSeconds},
+        {"checks", checks},
+        {"equation_of_state", {{"dt", r.eos.dt}, {"points", eos}}},
+        {"convergence",
+         {{"packing", r.convergence.packing},
+          {"particles", r.convergence.particles},
+          {"z_reference", r.convergence.zReference},
+          {"equilibration_time", r.convergence.equilibrationTime},
+          {"points", convergence}}},
+        {"relaxation",
+         {{"packing", rx.packing},
+          {"particles", rx.particles},
+          {"dt", rx.dt},
+          {"half_width", rx.halfWidth},
+          {"histogram", {{"range", rx.histogram.range}, {"bins_per_axis", rx.histogram.binsPerAxis}}},
+          {"h_initial", rx.hInitial},
+          {"h_final", rx.hFinal},
+          {"h_plugin_bias", rx.hPluginBias},
+          {"h_binning_bias", rx.hBinningBias},
+          {"h_tolerance", rx.hTolerance},
+          {"ks_critical", rx.ksCritical},
+          {"kT_final", rx.kTFinal},
+          {"samples", samples},
+          {"speed_histogram", {{"edges", rx.speedBinEdges}, {"density", rx.speedDensity}}}}},
+        {"conservation", conservation},
+        {"dense_gas",
+         {{"packing", d.packing},
+          {"particles", d.particles},
+          {"dt", d.dt},
+          {"equilibration_time", d.equilibrationTime},
+          {"measured", blockStatistics(d.measured)},
+          {"energy_change", d.energyChange},
+          {"momentum_error", d.momentumError},
+          {"max_overlap", d.maxOverlap},
+          {"escaped", d.escaped},
+          {"frequency_tolerance", d.rateTolerance}}},
+        {"gravity",
+         {{"particles", g.particles},
+          {"box", {g.width, g.height}},
+          {"gravity", g.gravity},
+          {"dt", g.dt},
+          {"duration", g.duration},
+          {"kinetic", {{"start", g.kineticStart}, {"end", g.kineticEnd}}},
+          {"potential", {{"start", g.potentialStart}, {"end", g.potentialEnd}}},
+          {"energy_change", g.energyChange},
+          {"late_contacts", g.lateContacts},
+          {"max_rounds", g.maxRounds},
+          {"escaped", g.escaped}}},
+        {"simultaneous_scheme",
+         {{"particles", sim.particles},
+          {"duration", sim.duration},
+          {"sample_interval", sim.sampleInterval},
+          {"dt_sweep", simultaneousRuns(sim.dtSweep)},
+          {"packing_sweep", simultaneousRuns(sim.packingSweep)}}},
+        {"events", eventsJson(r.events)}};
 }
 
 void printSummary(std::ostream& out, const SuiteResult& r) {
     for (const Check& c : r.checks)
-        out << (c.passed ? "PASS  " : "FAIL  ") << c.section << ": " << c.name << ": " << general(c.measured, 6) << " ("
-            << c.criterion << ")\n";
+        out << (c.passed ? "PASS  " : "FAIL  ") << c.section << ": " << c.name << ": " << format("%.6g", c.measured)
+            << " (" << c.criterion << ")\n";
     const std::size_t failed = failures(r);
     out << "validate: " << (failed == 0 ? "PASS" : "FAIL") << ", " << r.checks.size() - failed << " of "
         << r.checks.size() << " checks pass";
-    out << " (" << (r.options.quick ? "quick" : "full") << " suite, " << fixed(r.wallSeconds, 1) << " s)\n";
+    out << " (" << (r.options.quick ? "quick" : "full") << " suite, " << format("%.1f", r.wallSeconds) << " s)\n";
 }
 
 }  // namespace carom::validation

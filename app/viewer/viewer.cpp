@@ -430,7 +430,7 @@ void Viewer::applyScene(const SceneDef& scene) {
 }
 
 void Viewer::applySceneFile(const SceneFileDef& scene) {
-    startFrom([&] { return app::placeScene(scene); });
+    startFrom([&] { return app::sceneFileSetup(scene); });
 }
 
 void Viewer::setCollisions(CollisionScheme scheme) {

@@ -2,13 +2,13 @@
 // and what every pipeline shares (the state and contact tallies on the
 // device, the max-speed reduction, the record of a disk left non-finite, the
 // profiler); one class per pipeline runs the steps:
-//  - OpenClHostGridBackend ("seed", backends/opencl/host_grid.h): the
+//  - OpenClHostGridBackend ("host-grid", backends/opencl/host_grid.h): the
 //    host builds the grid, uploads it and reads the new state back each step;
 //  - OpenClResidentBackend ("resident", backends/opencl/resident.h):
 //    state and grid stay on the device;
 //  - bench::AllPairsOpenClBackend (app/bench/all_pairs_opencl.h): the naive
 //    O(N^2) baseline of `carom bench`, with a program of its own.
-// Seed and resident give bitwise identical results (and equal the CPU
+// Host-grid and resident give bitwise identical results (and equal the CPU
 // backend's where exactArithmetic()); all-pairs sums in another order.
 #pragma once
 
@@ -44,7 +44,7 @@ protected:
     // for explaining a step, not timing it.
     OpenClBackend(const WorldDef& world, const std::string& device, const char* programSource, bool profiling);
 
-    // The pipeline's name in device(): "seed", "resident", "all-pairs".
+    // The pipeline's name in device(): "host-grid", "resident", "all-pairs".
     virtual const char* pipelineName() const = 0;
     // Frees the buffers the pipeline keeps for the state loaded before.
     virtual void releaseState() = 0;

@@ -48,7 +48,7 @@ DeviceGrid::DeviceGrid(cl_context context, const DeviceInfo& device, cl_program 
     if (cellCount >= std::numeric_limits<cl_uint>::max())
         throw Error("the resident pipeline supports fewer than 2^32 grid cells, this scene needs " +
                     std::to_string(cellCount) +
-                    "; use the host-grid pipeline (ComputeEngine::OpenClHostGrid, --pipeline seed)");
+                    "; use the host-grid pipeline (ComputeEngine::OpenClHostGrid, --pipeline host-grid)");
 
     // The scan publishes sums of particles in 30 bits (scanCountsIntoCells).
     if (particleCount >= (std::size_t(1) << 30))

@@ -1,4 +1,4 @@
-// The OpenCL seed pipeline (--pipeline seed): each step the host builds the
+// The OpenCL host-grid pipeline (--pipeline host-grid): each step the host builds the
 // grid with the shared builder from its copy of the state, uploads it, runs
 // the collision scheme's kernels (simultaneous: resolveCollisions and
 // integrate, kernels/step.cl; pairwise: the rounds of kernels/pairwise.cl)
@@ -18,7 +18,7 @@ public:
     void readParticles(std::vector<Particle>& particles) override { particles = hostState_; }
 
 private:
-    const char* pipelineName() const override { return "seed"; }
+    const char* pipelineName() const override { return "host-grid"; }
     void releaseState() override;
     void loadState(std::vector<Particle> particles) override;
     void enqueueStep(float dt) override;

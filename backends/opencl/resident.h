@@ -7,7 +7,7 @@
 // work-group instead (kernels/small_system.cl): one launch per pairwise
 // step, several simultaneous steps per launch. The host
 // reads the state only when asked (readParticles). Bitwise equal to the
-// seed pipeline.
+// host-grid pipeline.
 #pragma once
 
 #include "backends/opencl/backend.h"

@@ -29,14 +29,23 @@ namespace carom::io {
 SceneFileDef readSceneFile(const std::string& path);
 SceneFileDef parseSceneFile(std::string_view text, const std::string& path);
 
-// A scene file read, validated and placed: the world it defines and its
-// disks in id order (the groups' disks, then the [[disk]]s).
+// A scene file read, validated and placed, as `carom run --scene` places it:
+// the world it defines and its disks in id order (the groups' disks, then
+// the [[disk]]s).
 struct SceneFile {
-    WorldDef world;  // box, dt, gravity, boundary, collisions (engine: Cpu)
+    WorldDef world;  // the definition's box (sized by its packing if need be), dt, gravity,
+                     //   boundary, collisions, maxTravel, engine and device (a file's: Cpu, "")
     std::vector<Disk> disks;
     std::uint64_t steps = 1000;  // the steps `carom run` would take
 };
+// Throws Error naming the file: for what readSceneFile refuses, for disks
+// more than the memory available now holds (requireRoomFor, carom/types.h,
+// checked before they are placed), for a group or disk that cannot be placed
+// and for a world out of range (validate).
 SceneFile loadScene(const std::string& path);
+// The same for a scene file already read (readSceneFile) and then changed by
+// the caller, as the command line's options override the file's values.
+SceneFile loadScene(const SceneFileDef& scene);
 
 // A state CSV: the disks, in id order. The file's ids must be exactly
 // 0..N-1, in any row order; the box is not checked here (World::setDisks does).

@@ -96,6 +96,12 @@ std::vector<Device> listDevices();
 // else the first device). Throws Error, as World's constructor does, when
 // none matches or this build has no OpenCL.
 Device findDevice(const std::string& selector);
+// The OpenCL engine that runs fastest on `device`, the choice of the command
+// line's --pipeline auto: ComputeEngine::OpenClResident on a GPU,
+// OpenClHostGrid on other devices (on a CPU device such as PoCL the
+// host-grid pipeline's transfers are memory copies, and it is the faster).
+// Both give the same bits.
+ComputeEngine openClEngineFor(const Device& device);
 
 // The disks where the CPU engine keeps them, for reading without a copy
 // (World::diskMemory): `count` records of `stride` floats from `base`, in id

@@ -5,6 +5,7 @@ import operator
 import os
 import secrets
 import tempfile
+import warnings
 from typing import Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -16,7 +17,7 @@ Pair = Tuple[float, float]
 Range = Union[float, Tuple[float, float]]
 
 _FLOAT32_MAX = float(np.finfo(np.float32).max)
-_PIPELINES = {"seed": "opencl-host-grid", "resident": "opencl-resident"}
+_PIPELINES = {"host-grid": "opencl-host-grid", "resident": "opencl-resident"}
 
 
 def _real_array(name: str, value, shape: tuple) -> np.ndarray:
@@ -123,9 +124,13 @@ def _engine_name(engine: str, device, pipeline: Optional[str]) -> Tuple[str, str
         if device is not None or pipeline is not None:
             raise InputError("device and pipeline: OpenCL only; allowed with engine='opencl'")
         return "cpu", ""
+    if pipeline == "seed":  # host-grid's former name
+        warnings.warn("pipeline='seed' is now called pipeline='host-grid'; the old name still works, for now",
+                      FutureWarning, stacklevel=3)
+        pipeline = "host-grid"
     if pipeline is None:  # as the command line's --pipeline auto
-        pipeline = "resident" if _carom.find_device(selector)["type"] == "GPU" else "seed"
-    return _PIPELINES[_choice("pipeline", pipeline, ("seed", "resident", None))], selector
+        return _carom.opencl_engine_for(selector), selector
+    return _PIPELINES[_choice("pipeline", pipeline, ("host-grid", "resident", None))], selector
 
 
 class World:
@@ -144,9 +149,11 @@ class World:
     engine: "cpu" (OpenMP) or "opencl".
     device: OpenCL only, an index of carom.devices() or part of a device name;
         None: the first GPU, else the first device.
-    pipeline: OpenCL only, "seed" (the host builds the grid, best on CPU
+    pipeline: OpenCL only, "host-grid" (the host builds the grid, best on CPU
         devices) or "resident" (state and grid stay on the device, best on
-        GPUs); None: resident on a GPU, seed otherwise. Both give the same bits.
+        GPUs); None: resident on a GPU, host-grid otherwise. Both give the
+        same bits. "seed", host-grid's former name, still works with a
+        FutureWarning.
     max_travel: > 0 splits each step so no disk moves more than this fraction
         of the smallest radius per substep; 0 = off.
     seed: the random seed of place(); None draws one from the OS, kept in
@@ -433,8 +440,8 @@ class World:
 
     @property
     def pipeline(self) -> Optional[str]:
-        """OpenCL's pipeline, "seed" or "resident"; None on the CPU."""
-        return {"opencl-host-grid": "seed", "opencl-resident": "resident"}.get(self._core.engine)
+        """OpenCL's pipeline, "host-grid" or "resident"; None on the CPU."""
+        return {engine: pipeline for pipeline, engine in _PIPELINES.items()}.get(self._core.engine)
 
     @property
     def device_name(self) -> str:

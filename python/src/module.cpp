@@ -175,8 +175,8 @@ NB_MODULE(_carom, m) {
     // ValueError): the library's refusals of bad input (carom::Error).
     // The types live as long as the process (the translator may run until its end).
     static PyObject* error = PyErr_NewException("carom.Error", PyExc_Exception, nullptr);
-    static PyObject* inputError =
-        PyErr_NewException("carom.InputError", nb::make_tuple(nb::handle(error), nb::handle(PyExc_ValueError)).ptr(), nullptr);
+    static PyObject* inputError = PyErr_NewException(
+        "carom.InputError", nb::make_tuple(nb::handle(error), nb::handle(PyExc_ValueError)).ptr(), nullptr);
     m.attr("Error") = nb::handle(error);
     m.attr("InputError") = nb::handle(inputError);
     nb::register_exception_translator([](const std::exception_ptr& p, void*) {
@@ -188,15 +188,24 @@ NB_MODULE(_carom, m) {
     });
 
     m.attr("VERSION") = carom::version();
-    m.def("engine_available", [](const std::string& engine) { return carom::engineAvailable(carom::parseComputeEngine(engine)); },
-          "engine"_a);
+    m.def(
+        "engine_available",
+        [](const std::string& engine) { return carom::engineAvailable(carom::parseComputeEngine(engine)); },
+        "engine"_a);
     m.def("devices", [] {
         nb::list out;
         for (const carom::Device& d : carom::listDevices()) out.append(dictOf(d));
         return out;
     });
-    m.def("find_device", [](const std::string& selector) { return dictOf(carom::findDevice(selector)); },
-          "selector"_a);
+    m.def(
+        "find_device", [](const std::string& selector) { return dictOf(carom::findDevice(selector)); }, "selector"_a);
+    // The engine of pipeline=None (--pipeline auto) on the device `selector` selects.
+    m.def(
+        "opencl_engine_for",
+        [](const std::string& selector) {
+            return carom::computeEngineName(carom::openClEngineFor(carom::findDevice(selector)));
+        },
+        "selector"_a);
 
     m.def(
         "make_scene",
@@ -221,9 +230,8 @@ NB_MODULE(_carom, m) {
     m.def(
         "read_state", [](const std::string& path) { return arraysOf(carom::io::readState(path)); }, "path"_a);
     m.def(
-        "write_state",
-        [](const std::string& path, const World& world) { carom::io::writeState(path, world.disks()); }, "path"_a,
-        "world"_a);
+        "write_state", [](const std::string& path, const World& world) { carom::io::writeState(path, world.disks()); },
+        "path"_a, "world"_a);
     m.def(
         "write_xyz",
         [](const std::string& path, const World& world, bool append) {
@@ -235,9 +243,9 @@ NB_MODULE(_carom, m) {
         "path"_a, "world"_a, "append"_a);
 
     nb::class_<World>(m, "World")
-        .def(nb::new_([](float width, float height, float dt, std::array<float, 2> gravity,
-                         const std::string& boundary, const std::string& collisions, const std::string& engine,
-                         const std::string& device, float maxTravel) {
+        .def(nb::new_([](float width, float height, float dt, std::array<float, 2> gravity, const std::string& boundary,
+                         const std::string& collisions, const std::string& engine, const std::string& device,
+                         float maxTravel) {
                  return World(worldDef(width, height, dt, gravity, boundary, collisions, engine, device, maxTravel));
              }),
              "width"_a, "height"_a, "dt"_a, "gravity"_a, "boundary"_a, "collisions"_a, "engine"_a, "device"_a,
@@ -250,13 +258,10 @@ NB_MODULE(_carom, m) {
                 file.world.engine = carom::parseComputeEngine(engine);
                 file.world.device = device;
                 if (maxTravel) file.world.maxTravel = *maxTravel;  // else the file's (dt = "auto" sets it)
-                carom::Scene scene = carom::makeScene(file);
-                WorldDef def = file.world;
-                def.width = scene.width;
-                def.height = scene.height;
-                World world(def);
+                const carom::io::SceneFile scene = carom::io::loadScene(file);
+                World world(scene.world);
                 world.setDisks(scene.disks, path);
-                return nb::make_tuple(std::move(world), file.steps);
+                return nb::make_tuple(std::move(world), scene.steps);
             },
             "path"_a, "engine"_a, "device"_a, "max_travel"_a)
         .def_static(
@@ -318,13 +323,14 @@ NB_MODULE(_carom, m) {
             "count"_a, "radius"_a, "mass"_a, "speed"_a, "temperature"_a, "seed"_a)
         .def("step", &stepInterruptibly, "steps"_a)
         // bench/python_overhead.py: the same steps through the C++ API alone, timed in C++.
-        .def("_cpp_step_seconds",
-             [](World& w, std::uint64_t steps) {
-                 const auto start = std::chrono::steady_clock::now();
-                 w.step(steps);
-                 return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-             },
-             "steps"_a)
+        .def(
+            "_cpp_step_seconds",
+            [](World& w, std::uint64_t steps) {
+                const auto start = std::chrono::steady_clock::now();
+                w.step(steps);
+                return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            },
+            "steps"_a)
         .def("disk_arrays", &diskArrays)
         .def("exact_positions",
              [](const World& w) {
@@ -335,8 +341,12 @@ NB_MODULE(_carom, m) {
                  const double* data = exact->empty() ? kNone : exact->front().data();
                  return nb::ndarray<nb::numpy, const double, nb::ndim<2>>(data, {exact->size(), 2}, keep);
              })
-        .def("set_motion", [](World& w, float dt, std::array<float, 2> g) { w.setMotion(dt, {g[0], g[1]}); }, "dt"_a,
-             "gravity"_a)
+        .def(
+            "set_motion",
+            [](World& w, float dt, std::array<float, 2> g) {
+                w.setMotion(dt, {g[0], g[1]});
+            },
+            "dt"_a, "gravity"_a)
         .def("measurements", [](const World& w) { return dictOf(w.measurements()); })
         .def("reset_measurements", &World::resetMeasurements)
         .def("event_counts", [](const World& w) { return dictOf(w.eventCounts()); })
@@ -346,7 +356,10 @@ NB_MODULE(_carom, m) {
         .def_prop_ro("width", [](const World& w) { return w.def().width; })
         .def_prop_ro("height", [](const World& w) { return w.def().height; })
         .def_prop_ro("dt", [](const World& w) { return w.def().dt; })
-        .def_prop_ro("gravity", [](const World& w) { return std::array<float, 2>{w.def().gravity.x, w.def().gravity.y}; })
+        .def_prop_ro("gravity",
+                     [](const World& w) {
+                         return std::array<float, 2>{w.def().gravity.x, w.def().gravity.y};
+                     })
         .def_prop_ro("boundary", [](const World& w) { return carom::boundaryName(w.def().boundary); })
         .def_prop_ro("collision_scheme", [](const World& w) { return carom::collisionSchemeName(w.def().collisions); })
         .def_prop_ro("engine", [](const World& w) { return carom::computeEngineName(w.def().engine); })

@@ -13,7 +13,7 @@ REPOSITORY = pathlib.Path(__file__).resolve().parents[2]
 @pytest.fixture(params=carom.engines())
 def engine(request):
     """"cpu", then "opencl" where an OpenCL device exists (its default pipeline:
-    resident on a GPU, seed on a CPU device such as PoCL)."""
+    resident on a GPU, host-grid on a CPU device such as PoCL)."""
     return request.param
 
 

@@ -20,7 +20,7 @@ def run_cli(carom_exe, args, tmp_path):
 
 
 def cli_backend(engine):
-    return ["--backend", "cpu"] if engine == "cpu" else ["--backend", "opencl", "--pipeline", "seed"]
+    return ["--backend", "cpu"] if engine == "cpu" else ["--backend", "opencl", "--pipeline", "host-grid"]
 
 
 def assert_same_as_cli(world, summary, final):
@@ -50,7 +50,7 @@ def assert_same_as_cli(world, summary, final):
 def test_a_scene_file_runs_as_the_command_line_runs_it(engine, carom_exe, scenes, scene, tmp_path):
     summary, final = run_cli(carom_exe, ["--scene", str(scenes / scene), "--steps", "150", *cli_backend(engine)],
                              tmp_path)
-    world = carom.World.from_scene(scenes / scene, engine=engine, pipeline=None if engine == "cpu" else "seed")
+    world = carom.World.from_scene(scenes / scene, engine=engine, pipeline=None if engine == "cpu" else "host-grid")
     assert world.scene_steps > 0
     world.step(150)
     assert_same_as_cli(world, summary, final)
@@ -66,7 +66,7 @@ def test_a_generated_gas_runs_as_the_command_line_runs_it(engine, carom_exe, bou
     scene = carom.make_scene(particles=600, packing=0.45, radius=(0.5, 1), mass=(1, 3), speed=2, seed=5)
     assert scene.box == tuple(summary["box"])
     world = carom.World(box=scene.box, boundary=boundary, collisions=collisions, engine=engine,
-                        pipeline=None if engine == "cpu" else "seed")
+                        pipeline=None if engine == "cpu" else "host-grid")
     world.set_disks(scene.positions, scene.velocities, scene.masses, scene.radii, allow_overlaps=True)
     for chunk in (1, 19, 100):  # chunks change nothing
         world.step(chunk)
@@ -137,20 +137,28 @@ def test_opencl_and_events_arrays_are_fresh_copies(engine):
 def test_the_opencl_pipelines_agree_bit_for_bit(engine):
     if engine == "cpu":
         pytest.skip("OpenCL only")
-    seed = gas(engine=engine, pipeline="seed")
+    host_grid = gas(engine=engine, pipeline="host-grid")
     resident = gas(engine=engine, pipeline="resident")
     cpu = gas()
-    for world in (seed, resident, cpu):
+    for world in (host_grid, resident, cpu):
         world.step(50)
-    assert np.array_equal(seed.positions, resident.positions)
-    if seed.bitwise_reproducible:
-        assert np.array_equal(seed.velocities, cpu.velocities)
+    assert np.array_equal(host_grid.positions, resident.positions)
+    if host_grid.bitwise_reproducible:
+        assert np.array_equal(host_grid.velocities, cpu.velocities)
 
 
-def test_the_default_pipeline_is_resident_on_a_gpu_and_seed_elsewhere():
+def test_the_default_pipeline_is_resident_on_a_gpu_and_host_grid_elsewhere():
     for device in carom.devices():
         world = carom.World(box=(10, 10), engine="opencl", device=device["index"])
-        assert world.pipeline == ("resident" if device["type"] == "GPU" else "seed"), device
+        assert world.pipeline == ("resident" if device["type"] == "GPU" else "host-grid"), device
+
+
+def test_seed_is_the_former_name_of_the_host_grid_pipeline(engine):
+    if engine == "cpu":
+        pytest.skip("OpenCL only")
+    with pytest.warns(FutureWarning, match="pipeline='seed' is now called pipeline='host-grid'"):
+        world = carom.World(box=(10, 10), engine="opencl", pipeline="seed")
+    assert world.pipeline == "host-grid"
 
 
 def test_a_checkpoint_continues_bit_for_bit(engine, tmp_path):

@@ -1,18 +1,19 @@
-// Small self-contained SVG charts for the validation report: linear or
-// logarithmic axes with ticks and labels, lines (reference curves), points
-// with error bars (measurements) and step outlines (histograms), and a legend.
+// Small self-contained SVG charts for the reports of `carom validate` and
+// `carom bench`: linear or logarithmic axes with ticks and labels, lines
+// (reference curves, throughputs), points with error bars (measurements) and
+// step outlines (histograms), and a legend.
 #pragma once
 
 #include <cmath>
 #include <string>
 #include <vector>
 
-namespace carom::validation {
+namespace carom::app {
 
 struct Axis {
     std::string label;
     bool logarithmic = false;
-    // The range shown; NaN = fitted to the data (with a margin on linear axes).
+    // The range shown; NaN = fitted to the data, with a margin.
     double min = NAN;
     double max = NAN;
 };
@@ -20,6 +21,7 @@ struct Axis {
 enum class SeriesStyle {
     Line,        // a polyline through (x, y)
     DashedLine,  // the same, dashed
+    DottedLine,  // the same, dotted
     Points,      // markers, with vertical error bars of +-error[i] when `error` is given
     Steps,       // a histogram outline: y[i] over [x[i], x[i+1]], so x has one more value than y
 };
@@ -42,4 +44,4 @@ struct Plot {
 // (<= 0) and non-finite points are left out.
 std::string renderSvg(const Plot& plot);
 
-}  // namespace carom::validation
+}  // namespace carom::app

@@ -1,23 +1,24 @@
-#include "app/validate/svg_plot.h"
+#include "app/svg_plot.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <sstream>
 
-namespace carom::validation {
+#include "app/format.h"
+
+namespace carom::app {
 
 namespace {
 
-constexpr double kWidth = 760, kHeight = 440;
-constexpr double kLeft = 80, kRight = 220, kTop = 44, kBottom = 56;
-constexpr double kPlotWidth = kWidth - kLeft - kRight, kPlotHeight = kHeight - kTop - kBottom;
-constexpr double kLabelGap = 16;  // [px] between tick labels
+constexpr double kPlotWidth = 460, kPlotHeight = 340;
+constexpr double kLeft = 80, kRight = 220, kTop = 44, kBottom = 56;  // the legend widens kRight for long labels
+constexpr double kHeight = kTop + kPlotHeight + kBottom;
+constexpr double kLabelGap = 16;              // [px] between tick labels
+constexpr double kCharacterWidth = 7;         // [px] of a legend label's character, about
+constexpr double kTitleCharacterWidth = 8.5;  // [px] of a title's character (font size 15), about
+constexpr double kLegendSample = 40;          // [px] of the legend's line or marker and the gaps around it
 
-std::string number(double value, const char* format = "%.1f") {
-    char text[64];
-    std::snprintf(text, sizeof text, format, value);
-    return text;
-}
+// A coordinate [px] as the SVG holds it.
+std::string pixels(double value) { return format("%.1f", value); }
 
 std::string escaped(const std::string& text) {
     std::string out;
@@ -98,7 +99,16 @@ std::vector<double> ticksFor(const Scale& scale) {
     return ticks;
 }
 
-std::string tickLabel(double value) { return number(value, "%g"); }
+// The stroke-dasharray attribute of a line's style.
+const char* dashes(SeriesStyle style) {
+    switch (style) {
+        case SeriesStyle::DashedLine: return " stroke-dasharray=\"6,4\"";
+        case SeriesStyle::DottedLine: return " stroke-dasharray=\"2,3\"";
+        default: return "";
+    }
+}
+
+std::string tickLabel(double value) { return format("%g", value); }
 
 // The ticks that get a label: 1, 2 and 5 times a power of ten first, then
 // the others, each only where it keeps `kLabelGap` plus `pixelsPerCharacter`
@@ -141,29 +151,36 @@ std::string renderSvg(const Plot& plot) {
     const auto px = [&](double v) { return kLeft + sx.fraction(v) * kPlotWidth; };
     const auto py = [&](double v) { return kTop + (1.0 - sy.fraction(v)) * kPlotHeight; };
 
+    std::size_t longestLabel = 0;
+    for (const Series& s : plot.series) longestLabel = std::max(longestLabel, s.label.size());
+    // Wide enough for the legend and the title.
+    const double width =
+        std::max(kLeft + kPlotWidth + std::max(kRight, kLegendSample + kCharacterWidth * double(longestLabel)),
+                 kLeft + kTitleCharacterWidth * double(plot.title.size()));
+
     std::ostringstream svg;
-    svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << kWidth << "\" height=\"" << kHeight
-        << "\" viewBox=\"0 0 " << kWidth << ' ' << kHeight << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
+    svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << kHeight
+        << "\" viewBox=\"0 0 " << width << ' ' << kHeight << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
         << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
         << "<text x=\"" << kLeft << "\" y=\"26\" font-size=\"15\">" << escaped(plot.title) << "</text>\n";
     for (double t : ticksFor(sx)) {
-        const std::string x = number(px(t));
+        const std::string x = pixels(px(t));
         svg << "<line x1=\"" << x << "\" y1=\"" << kTop << "\" x2=\"" << x << "\" y2=\"" << kTop + kPlotHeight
             << "\" stroke=\"#e6e6e6\"/><line x1=\"" << x << "\" y1=\"" << kTop + kPlotHeight << "\" x2=\"" << x
             << "\" y2=\"" << kTop + kPlotHeight + 5 << "\" stroke=\"black\"/>\n";
     }
     for (double t : labelledTicks(ticksFor(sx), px, 7.0)) {
-        svg << "<text x=\"" << number(px(t)) << "\" y=\"" << kTop + kPlotHeight + 18 << "\" text-anchor=\"middle\">"
+        svg << "<text x=\"" << pixels(px(t)) << "\" y=\"" << kTop + kPlotHeight + 18 << "\" text-anchor=\"middle\">"
             << tickLabel(t) << "</text>\n";
     }
     for (double t : ticksFor(sy)) {
-        const std::string y = number(py(t));
+        const std::string y = pixels(py(t));
         svg << "<line x1=\"" << kLeft << "\" y1=\"" << y << "\" x2=\"" << kLeft + kPlotWidth << "\" y2=\"" << y
             << "\" stroke=\"#e6e6e6\"/><line x1=\"" << kLeft - 5 << "\" y1=\"" << y << "\" x2=\"" << kLeft << "\" y2=\""
             << y << "\" stroke=\"black\"/>\n";
     }
     for (double t : labelledTicks(ticksFor(sy), py, 0.0))
-        svg << "<text x=\"" << kLeft - 8 << "\" y=\"" << number(py(t) + 4) << "\" text-anchor=\"end\">" << tickLabel(t)
+        svg << "<text x=\"" << kLeft - 8 << "\" y=\"" << pixels(py(t) + 4) << "\" text-anchor=\"end\">" << tickLabel(t)
             << "</text>\n";
     svg << "<rect x=\"" << kLeft << "\" y=\"" << kTop << "\" width=\"" << kPlotWidth << "\" height=\"" << kPlotHeight
         << "\" fill=\"none\" stroke=\"black\"/>\n"
@@ -176,10 +193,10 @@ std::string renderSvg(const Plot& plot) {
     svg << "<clipPath id=\"area\"><rect x=\"" << kLeft << "\" y=\"" << kTop << "\" width=\"" << kPlotWidth
         << "\" height=\"" << kPlotHeight << "\"/></clipPath>\n<g clip-path=\"url(#area)\">\n";
     for (const Series& s : plot.series) {
-        if (s.style == SeriesStyle::Line || s.style == SeriesStyle::DashedLine || s.style == SeriesStyle::Steps) {
+        if (s.style != SeriesStyle::Points) {
             std::string points;
             const auto add = [&](double x, double y) {
-                if (sx.shows(x) && sy.shows(y)) points += number(px(x)) + ',' + number(py(y)) + ' ';
+                if (sx.shows(x) && sy.shows(y)) points += pixels(px(x)) + ',' + pixels(py(y)) + ' ';
             };
             for (std::size_t i = 0; i < s.y.size() && i < s.x.size(); ++i) {
                 if (s.style != SeriesStyle::Steps) {
@@ -189,24 +206,23 @@ std::string renderSvg(const Plot& plot) {
                     add(s.x[i + 1], s.y[i]);
                 }
             }
-            svg << "<polyline fill=\"none\" stroke=\"" << s.colour << "\" stroke-width=\"1.8\""
-                << (s.style == SeriesStyle::DashedLine ? " stroke-dasharray=\"6,4\"" : "") << " points=\"" << points
-                << "\"/>\n";
+            svg << "<polyline fill=\"none\" stroke=\"" << s.colour << "\" stroke-width=\"1.8\"" << dashes(s.style)
+                << " points=\"" << points << "\"/>\n";
             continue;
         }
         for (std::size_t i = 0; i < s.y.size() && i < s.x.size(); ++i) {
             if (!sx.shows(s.x[i]) || !sy.shows(s.y[i])) continue;
-            const std::string x = number(px(s.x[i]));
+            const std::string x = pixels(px(s.x[i]));
             if (i < s.error.size() && s.error[i] > 0) {
                 const double low = s.y[i] - s.error[i], high = s.y[i] + s.error[i];
-                const std::string y0 = number(sy.shows(low) ? py(low) : kTop + kPlotHeight), y1 = number(py(high));
+                const std::string y0 = pixels(sy.shows(low) ? py(low) : kTop + kPlotHeight), y1 = pixels(py(high));
                 svg << "<line x1=\"" << x << "\" y1=\"" << y0 << "\" x2=\"" << x << "\" y2=\"" << y1 << "\" stroke=\""
-                    << s.colour << "\"/><line x1=\"" << number(px(s.x[i]) - 4) << "\" y1=\"" << y0 << "\" x2=\""
-                    << number(px(s.x[i]) + 4) << "\" y2=\"" << y0 << "\" stroke=\"" << s.colour << "\"/><line x1=\""
-                    << number(px(s.x[i]) - 4) << "\" y1=\"" << y1 << "\" x2=\"" << number(px(s.x[i]) + 4) << "\" y2=\""
+                    << s.colour << "\"/><line x1=\"" << pixels(px(s.x[i]) - 4) << "\" y1=\"" << y0 << "\" x2=\""
+                    << pixels(px(s.x[i]) + 4) << "\" y2=\"" << y0 << "\" stroke=\"" << s.colour << "\"/><line x1=\""
+                    << pixels(px(s.x[i]) - 4) << "\" y1=\"" << y1 << "\" x2=\"" << pixels(px(s.x[i]) + 4) << "\" y2=\""
                     << y1 << "\" stroke=\"" << s.colour << "\"/>\n";
             }
-            svg << "<circle cx=\"" << x << "\" cy=\"" << number(py(s.y[i])) << "\" r=\"3.5\" fill=\"" << s.colour
+            svg << "<circle cx=\"" << x << "\" cy=\"" << pixels(py(s.y[i])) << "\" r=\"3.5\" fill=\"" << s.colour
                 << "\"/>\n";
         }
     }
@@ -221,8 +237,7 @@ std::string renderSvg(const Plot& plot) {
                 << "\"/>\n";
         else
             svg << "<line x1=\"" << x << "\" y1=\"" << legendY - 4 << "\" x2=\"" << x + 20 << "\" y2=\"" << legendY - 4
-                << "\" stroke=\"" << s.colour << "\" stroke-width=\"1.8\""
-                << (s.style == SeriesStyle::DashedLine ? " stroke-dasharray=\"6,4\"" : "") << "/>\n";
+                << "\" stroke=\"" << s.colour << "\" stroke-width=\"1.8\"" << dashes(s.style) << "/>\n";
         svg << "<text x=\"" << x + 26 << "\" y=\"" << legendY << "\">" << escaped(s.label) << "</text>\n";
         legendY += 18;
     }
@@ -230,4 +245,4 @@ std::string renderSvg(const Plot& plot) {
     return svg.str();
 }
 
-}  // namespace carom::validation
+}  // namespace carom::app
