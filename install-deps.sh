@@ -4,7 +4,10 @@
 #   ./install-deps.sh --test   the same, plus what the tests need, and .venv: a virtual
 #                              environment with the Python tests' packages (PyPI)
 #   ./install-deps.sh --python the build dependencies, plus Python's headers and venv,
-#                              for `pip install .` (README, "Python")
+#                              for `pip install .` (docs/python.md)
+#   ./install-deps.sh --docs   the build dependencies, Python's, Doxygen, and .venv with
+#                              Sphinx and its extensions (docs/requirements.txt), to build
+#                              the documentation (docs/building.md)
 set -eu
 packages="cmake g++ make ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
           libcli11-dev nlohmann-json3-dev libtomlplusplus-dev
@@ -15,8 +18,11 @@ test_packages="doctest-dev xvfb xauth libgl1-mesa-dri libglx-mesa0"
 test_packages="$test_packages clang libclang-rt-14-dev python3 python3-pip"
 # The Python package (pip install .): Python's headers, venv and pip.
 python_packages="python3-dev python3-venv python3-pip"
-[ "${1:-}" = "--test" ] && packages="$packages $test_packages $python_packages"
+# The documentation: Doxygen reads the public headers for the C++ reference.
+docs_packages="doxygen"
+[ "${1:-}" = "--test" ] && packages="$packages $test_packages $python_packages $docs_packages"
 [ "${1:-}" = "--python" ] && packages="$packages $python_packages"
+[ "${1:-}" = "--docs" ] && packages="$packages $python_packages $docs_packages"
 
 sudo=""
 [ "$(id -u)" -eq 0 ] || sudo="sudo"
@@ -40,11 +46,18 @@ if [ "${1:-}" = "--test" ] && ! python3 -c "import ase" 2>/dev/null; then
     python3 -m pip install --quiet ase 2>/dev/null || python3 -m pip install --quiet --break-system-packages ase
 fi
 
-# The Python tests (README, "Python"): pytest, gsd, nbclient and the
-# notebook's kernel and plots, in .venv, where `pip install .` puts carom.
-if [ "${1:-}" = "--test" ]; then
+# The Python tests (docs/python.md): pytest, gsd, nbclient and the
+# notebook's kernel and plots, in .venv, where `pip install .` puts carom;
+# and the documentation's Sphinx, whose build the tests run too.
+if [ "${1:-}" = "--test" ] || [ "${1:-}" = "--docs" ]; then
     [ -x .venv/bin/python ] || python3 -m venv .venv
-    echo "install-deps: the Python test packages in .venv (PyPI)"
     .venv/bin/python -m pip install --quiet --upgrade pip
+fi
+if [ "${1:-}" = "--test" ]; then
+    echo "install-deps: the Python test packages in .venv (PyPI)"
     .venv/bin/python -m pip install --quiet numpy gsd pytest nbclient nbformat ipykernel matplotlib
+fi
+if [ "${1:-}" = "--test" ] || [ "${1:-}" = "--docs" ]; then
+    echo "install-deps: Sphinx and its extensions in .venv (PyPI, docs/requirements.txt)"
+    .venv/bin/python -m pip install --quiet -r docs/requirements.txt
 fi

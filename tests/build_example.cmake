@@ -1,5 +1,7 @@
-# Builds examples/ as a project of its own against this carom and runs
-# gas_in_a_box: the two ways another project uses carom.
+# Builds examples/ as a project of its own against this carom and runs its
+# programs (gas_in_a_box, quick_start, tour): the two ways another project
+# uses carom. The docs' C++ and CMake blocks are parts of these files
+# (python/tests/test_docs.py checks it).
 #   -DMODE=installed     `cmake --install` this build into WORK, then find_package(carom)
 #   -DMODE=subdirectory  add_subdirectory(SOURCE)
 #   -DSOURCE=<carom source> -DCAROM_BUILD=<this build> -DWORK=<scratch folder> -DCXX=<compiler> [-DLAUNCHER=ccache]
@@ -33,4 +35,18 @@ message("${output}")
 # The pairwise scheme keeps the energy to float rounding over the 1000 steps.
 if(NOT output MATCHES "relative energy change ([+-][0-9.]+e-(0[5-9]|[1-9][0-9])|[+-]0\\.00e\\+00)")
     message(FATAL_ERROR "the energy changed by 1e-4 or more")
+endif()
+run("${WORK}/build/quick_start")
+message("${output}")
+if(NOT output MATCHES "^kinetic energy (499\\.9|500)[0-9.]* \\(started at 500\\)")
+    message(FATAL_ERROR "quick_start did not print the energy of 1000 disks")
+endif()
+# The tour writes its files into WORK; carom::io is there when carom found toml++.
+if(EXISTS "${WORK}/build/tour")
+    execute_process(COMMAND "${WORK}/build/tour" "${SOURCE}/scenes/mixture.toml" WORKING_DIRECTORY "${WORK}"
+                    RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    message("${out}${err}")
+    if(NOT status EQUAL 0 OR NOT out MATCHES "resumed from the checkpoint: the same bits")
+        message(FATAL_ERROR "tour failed (${status})")
+    endif()
 endif()
