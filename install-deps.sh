@@ -14,8 +14,9 @@ packages="cmake g++ make ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinf
           libsdl2-dev libimgui-dev libstb-dev libgl-dev"
 # The viewer's tests render under Xvfb with Mesa's software OpenGL.
 test_packages="doctest-dev xvfb xauth libgl1-mesa-dri libglx-mesa0"
-# The fuzzers (clang's libFuzzer) and the output file tests (Python; ASE comes from PyPI below).
-test_packages="$test_packages clang libclang-rt-14-dev python3 python3-pip"
+# The fuzzers (clang's libFuzzer), the formatting check (clang-format) and the output
+# file tests (Python; ASE comes from PyPI below).
+test_packages="$test_packages clang clang-format libclang-rt-14-dev python3 python3-pip"
 # The Python package (pip install .): Python's headers, venv and pip.
 python_packages="python3-dev python3-venv python3-pip"
 # The documentation: Doxygen reads the public headers for the C++ reference.

@@ -33,8 +33,8 @@ int main(int argc, char** argv) {
         world.resetMeasurements();  // measure from here on
         world.step(1000);
         carom::Measurements m = world.measurements();
-        std::printf("kT %.4f, Z = %.3f, %.3f collisions per disk per unit time\n", m.temperature,
-                    m.compressibility, m.collisionRate);
+        std::printf("kT %.4f, Z = %.3f, %.3f collisions per disk per unit time\n", m.temperature, m.compressibility,
+                    m.collisionRate);
 
         // Edits between steps: read the disks, throw one, drop two more.
         std::vector<carom::Disk> disks = world.disks();  // in id order

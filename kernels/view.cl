@@ -35,13 +35,21 @@ __kernel void writeDiskViews(__global const Particle* state,
         const Particle p = state[s];
         const float speedSquared = dot(p.velocity, p.velocity);
         float value = p.radius;
-        if (valueKind == CAROM_VIEW_VALUE_SPEED) value = sqrt(speedSquared);
-        else if (valueKind == CAROM_VIEW_VALUE_MASS) value = p.mass;
-        else if (valueKind == CAROM_VIEW_VALUE_ID) value = (float)(ids ? ids[s] : s);
+        if (valueKind == CAROM_VIEW_VALUE_SPEED)
+            value = sqrt(speedSquared);
+        else if (valueKind == CAROM_VIEW_VALUE_MASS)
+            value = p.mass;
+        else if (valueKind == CAROM_VIEW_VALUE_ID)
+            value = (float)(ids ? ids[s] : s);
         views[s] = (float4)(p.position, p.radius, value);
-        const float terms[CAROM_VIEW_SUM_PAIRS] = {0.5f * p.mass * speedSquared, -p.mass * dot(gravity, p.position),
-                                               p.mass * p.velocity.x, p.mass * p.velocity.y, p.mass, speedSquared};
-        for (int q = 0; q < CAROM_VIEW_SUM_PAIRS; ++q) sums[q] = carom_float_float_add(sums[q], (float2)(terms[q], 0.0f));
+        const float terms[CAROM_VIEW_SUM_PAIRS] = {0.5f * p.mass * speedSquared,
+                                                   -p.mass * dot(gravity, p.position),
+                                                   p.mass * p.velocity.x,
+                                                   p.mass * p.velocity.y,
+                                                   p.mass,
+                                                   speedSquared};
+        for (int q = 0; q < CAROM_VIEW_SUM_PAIRS; ++q)
+            sums[q] = carom_float_float_add(sums[q], (float2)(terms[q], 0.0f));
         lowest = fmin(lowest, value);
         highest = fmax(highest, value);
     }
@@ -54,8 +62,8 @@ __kernel void writeDiskViews(__global const Particle* state,
             barrier(CLK_LOCAL_MEM_FENCE);
             if (lid < stride) {
                 const float2 a = scratch[lid], b = scratch[lid + stride];
-                scratch[lid] = q < CAROM_VIEW_SUM_PAIRS ? carom_float_float_add(a, b)
-                                                    : (float2)(fmin(a.x, b.x), fmax(a.y, b.y));
+                scratch[lid] =
+                    q < CAROM_VIEW_SUM_PAIRS ? carom_float_float_add(a, b) : (float2)(fmin(a.x, b.x), fmax(a.y, b.y));
             }
         }
         if (lid == 0) {

@@ -212,9 +212,9 @@ TEST_CASE("events: oblique collisions at impact parameter sigma/2 are exact, wit
         CHECK_EXACT(after[1].y, 10 + c.u2y * (t - contact), 40);
         if (c.m1 == c.m2) {
             CHECK_EXACT(std::hypot(after[1].vx, after[1].vy), s3 / 2 * 2, 2);
-            CHECK_EXACT(std::atan2(after[1].vy, after[1].vx), -M_PI / 6, 1);
+            CHECK_EXACT(std::atan2(after[1].vy, after[1].vx), -kPi / 6, 1);
             CHECK_EXACT(std::hypot(after[0].vx, after[0].vy), 0.5 * 2, 2);
-            CHECK_EXACT(std::atan2(after[0].vy, after[0].vx), M_PI / 3, 1);
+            CHECK_EXACT(std::atan2(after[0].vy, after[0].vx), kPi / 3, 1);
         }
         CHECK(events->contacts().collisions == 1);
         // sigma J, J = 2 mu sqrt 3.
@@ -394,14 +394,14 @@ TEST_CASE("events: a dense packing (eta = 0.72) runs without stalling and keeps 
     // eta = pi r^2 / (a^2 sqrt(3)/2) = 0.72; each disk jittered by up to 0.04
     // (the gaps are a - 2 = 0.245), unit speeds in random directions.
     const int columns = 20, rows = 24;
-    const double a = std::sqrt(2 * M_PI / (std::sqrt(3.0) * 0.72));
+    const double a = std::sqrt(2 * kPi / (std::sqrt(3.0) * 0.72));
     const double rowHeight = a * std::sqrt(3.0) / 2;
     const float width = static_cast<float>(columns * a), height = static_cast<float>(rows * rowHeight);
     SplitMix64 random{12};
     std::vector<Particle> lattice;
     for (int row = 0; row < rows; ++row)
         for (int column = 0; column < columns; ++column) {
-            const double angle = 2 * M_PI * random.uniform();
+            const double angle = 2 * kPi * random.uniform();
             const double x = (column + 0.25 + 0.5 * (row % 2)) * a + 0.08 * (random.uniform() - 0.5);
             const double y = (row + 0.5) * rowHeight + 0.08 * (random.uniform() - 0.5);
             lattice.push_back(disk(static_cast<float>(x), static_cast<float>(y), static_cast<float>(std::cos(angle)),
@@ -409,7 +409,7 @@ TEST_CASE("events: a dense packing (eta = 0.72) runs without stalling and keeps 
         }
     const WorldDef world = eventWorld(width, height, 0.1f, Boundary::Periodic);
     const double n = double(lattice.size());
-    CHECK(n * M_PI / (double(width) * height) == doctest::Approx(0.72).epsilon(1e-6));
+    CHECK(n * kPi / (double(width) * height) == doctest::Approx(0.72).epsilon(1e-6));
     REQUIRE(deepestOverlap(exactOf(lattice), world) < 0);
 
     auto events = startEvents(world, lattice);

@@ -22,67 +22,67 @@
 
 namespace carom::io {
 
-// A scene file read and validated, its disks not yet placed (makeScene
-// places them, carom/world.h): throws Error naming the file, the line, the
-// key, the bad value and what is allowed. parseSceneFile reads TOML text,
-// which `path` names in messages.
+/// A scene file read and validated, its disks not yet placed (makeScene
+/// places them, carom/world.h): throws Error naming the file, the line, the
+/// key, the bad value and what is allowed. parseSceneFile reads TOML text,
+/// which `path` names in messages.
 SceneFileDef readSceneFile(const std::string& path);
 SceneFileDef parseSceneFile(std::string_view text, const std::string& path);
 
-// A scene file read, validated and placed, as `carom run --scene` places it:
-// the world it defines and its disks in id order (the groups' disks, then
-// the [[disk]]s).
+/// A scene file read, validated and placed, as `carom run --scene` places it:
+/// the world it defines and its disks in id order (the groups' disks, then
+/// the [[disk]]s).
 struct SceneFile {
-    WorldDef world;  // the definition's box (sized by its packing if need be), dt, gravity,
-                     //   boundary, collisions, maxTravel, engine and device (a file's: Cpu, "")
+    WorldDef world;  ///< the definition's box (sized by its packing if need be), dt, gravity,
+                     ///<   boundary, collisions, maxTravel, engine and device (a file's: Cpu, "")
     std::vector<Disk> disks;
-    std::uint64_t steps = 1000;  // the steps `carom run` would take
+    std::uint64_t steps = 1000;  ///< the steps `carom run` would take
 };
-// Throws Error naming the file: for what readSceneFile refuses, for disks
-// more than the memory available now holds (requireRoomFor, carom/types.h,
-// checked before they are placed), for a group or disk that cannot be placed
-// and for a world out of range (validate).
+/// Throws Error naming the file: for what readSceneFile refuses, for disks
+/// more than the memory available now holds (requireRoomFor, carom/types.h,
+/// checked before they are placed), for a group or disk that cannot be placed
+/// and for a world out of range (validate).
 SceneFile loadScene(const std::string& path);
-// The same for a scene file already read (readSceneFile) and then changed by
-// the caller, as the command line's options override the file's values.
+/// The same for a scene file already read (readSceneFile) and then changed by
+/// the caller, as the command line's options override the file's values.
 SceneFile loadScene(const SceneFileDef& scene);
 
-// A state CSV: the disks, in id order. The file's ids must be exactly
-// 0..N-1, in any row order; the box is not checked here (World::setDisks does).
+/// A state CSV: the disks, in id order. The file's ids must be exactly
+/// 0..N-1, in any row order; the box is not checked here (World::setDisks does).
 std::vector<Disk> readState(const std::string& path);
 void writeState(const std::string& path, const std::vector<Disk>& disks);
 
-// Checkpoints: everything a world needs to continue bit for bit, its
-// snapshot (World::snapshot: the box, dt, gravity, boundary, scheme, step,
-// time, collision count, the disks, and with CollisionScheme::Events the
-// engine's exact double state), in a versioned binary file with a checksum.
-// loadCheckpoint takes the engine, the device and maxTravel from `def` (a
-// checkpoint does not hold them) and everything else from the file, which
-// it restores (World::restore); it refuses a file that is damaged, of
-// another format or out of range, naming what is wrong, and one whose disks
-// the memory available now cannot hold (requireRoomFor, carom/types.h); so
-// does readState.
+/// Checkpoints: everything a world needs to continue bit for bit, its
+/// snapshot (World::snapshot: the box, dt, gravity, boundary, scheme, step,
+/// time, collision count, the disks, and with CollisionScheme::Events the
+/// engine's exact double state), in a versioned binary file with a checksum.
+/// loadCheckpoint takes the engine, the device and maxTravel from `def` (a
+/// checkpoint does not hold them) and everything else from the file, which
+/// it restores (World::restore); it refuses a file that is damaged, of
+/// another format or out of range, naming what is wrong, and one whose disks
+/// the memory available now cannot hold (requireRoomFor, carom/types.h); so
+/// does readState.
 void saveCheckpoint(const std::string& path, const World& world);
 World loadCheckpoint(const std::string& path, const WorldDef& def = WorldDef{});
 
-// A checkpoint read and checked but not started, for a program that looks
-// at what it holds before it chooses the engine (CollisionScheme::Events
-// runs on the CPU only): readCheckpoint, then loadCheckpoint(std::move(file), def).
-// loadCheckpoint spends it: a moved-from CheckpointFile may only be
-// assigned to or destroyed, and loading it again throws Error.
+/// A checkpoint read and checked but not started, for a program that looks
+/// at what it holds before it chooses the engine (CollisionScheme::Events
+/// runs on the CPU only): readCheckpoint, then loadCheckpoint(std::move(file), def).
+/// loadCheckpoint spends it: a moved-from CheckpointFile may only be
+/// assigned to or destroyed, and loading it again throws Error.
 class CheckpointFile {
 public:
     ~CheckpointFile();
     CheckpointFile(CheckpointFile&&) noexcept;
     CheckpointFile& operator=(CheckpointFile&&) noexcept;
 
-    // Its box, dt, gravity, boundary and scheme (engine Cpu, device empty,
-    // maxTravel 0: a checkpoint does not hold them).
+    /// Its box, dt, gravity, boundary and scheme (engine Cpu, device empty,
+    /// maxTravel 0: a checkpoint does not hold them).
     const WorldDef& world() const;
-    std::uint64_t step() const;  // the step it holds
+    std::uint64_t step() const;  ///< the step it holds
     std::size_t diskCount() const;
-    // All it holds, for World::restore (world.engine, device and maxTravel
-    // as world() says).
+    /// All it holds, for World::restore (world.engine, device and maxTravel
+    /// as world() says).
     const Snapshot& snapshot() const;
 
 private:
@@ -95,25 +95,25 @@ private:
 CheckpointFile readCheckpoint(const std::string& path);
 World loadCheckpoint(CheckpointFile checkpoint, const WorldDef& def = WorldDef{});
 
-// Trajectories as extended XYZ (README, "Output files"), which OVITO and ASE
-// read: write() adds a frame of the world's disks at its stepCount() and
-// time(). The frames stream into a temporary file beside `path`, renamed
-// into place by close(); a writer destroyed without close() leaves `path`
-// as it was. Throws Error, naming the file, when it cannot be opened or a
-// write fails (a full disk).
+/// Trajectories as extended XYZ (README, "Output files"), which OVITO and ASE
+/// read: write() adds a frame of the world's disks at its stepCount() and
+/// time(). The frames stream into a temporary file beside `path`, renamed
+/// into place by close(); a writer destroyed without close() leaves `path`
+/// as it was. Throws Error, naming the file, when it cannot be opened or a
+/// write fails (a full disk).
 class TrajectoryWriter {
 public:
     explicit TrajectoryWriter(const std::string& path);
-    // Continues the trajectory at `path` that a run wrote up to the step
-    // `resumed` holds (a world loaded from that run's checkpoint); refuses a
-    // file whose last frame is after that step or has another disk count.
+    /// Continues the trajectory at `path` that a run wrote up to the step
+    /// `resumed` holds (a world loaded from that run's checkpoint); refuses a
+    /// file whose last frame is after that step or has another disk count.
     TrajectoryWriter(const std::string& path, const World& resumed);
     ~TrajectoryWriter();
     TrajectoryWriter(TrajectoryWriter&&) noexcept;
     TrajectoryWriter& operator=(TrajectoryWriter&&) noexcept;
 
     void write(const World& world);
-    std::size_t frames() const;  // written by this writer
+    std::size_t frames() const;  ///< written by this writer
     void close();
 
 private:
@@ -121,20 +121,20 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-// Statistics as CSV, a row per write(): step, time, kinetic energy,
-// momentum, collisionCount(), the deepest overlap and the disks outside the
-// box (README, "Output files"). Written and closed as TrajectoryWriter.
+/// Statistics as CSV, a row per write(): step, time, kinetic energy,
+/// momentum, collisionCount(), the deepest overlap and the disks outside the
+/// box (README, "Output files"). Written and closed as TrajectoryWriter.
 class StatisticsWriter {
 public:
     explicit StatisticsWriter(const std::string& path);
-    // Continues the statistics at `path` up to the step `resumed` holds.
+    /// Continues the statistics at `path` up to the step `resumed` holds.
     StatisticsWriter(const std::string& path, const World& resumed);
     ~StatisticsWriter();
     StatisticsWriter(StatisticsWriter&&) noexcept;
     StatisticsWriter& operator=(StatisticsWriter&&) noexcept;
 
     void write(const World& world);
-    std::size_t rows() const;  // written by this writer
+    std::size_t rows() const;  ///< written by this writer
     void close();
 
 private:
@@ -148,28 +148,28 @@ private:
 // wraps around ("-1" is not 2^64 - 1), nothing is octal or hexadecimal, and
 // an empty text is not 0.
 
-// "allowed: whole numbers from 1 to 1000": the range in a refusal.
+/// "allowed: whole numbers from 1 to 1000": the range in a refusal.
 std::string wholeNumbersAllowed(std::uint64_t min, std::uint64_t max);
 
-// The number `text` spells in decimal digits. Throws Error naming the text
-// and the range when it is not one ("'' is not a whole number; allowed:
-// ...") or lies outside [min, max] ("'-1' is out of range; allowed: ...").
+/// The number `text` spells in decimal digits. Throws Error naming the text
+/// and the range when it is not one ("'' is not a whole number; allowed:
+/// ...") or lies outside [min, max] ("'-1' is out of range; allowed: ...").
 std::uint64_t parseWholeNumber(std::string_view text, std::uint64_t min, std::uint64_t max);
 
-// The number `text` spells as strtod reads it (decimal, exponent, inf, nan):
-// throws Error "'1.5x' is not a number" for an empty text, leading spaces or
-// anything after the number. Ranges are the caller's to check.
+/// The number `text` spells as strtod reads it (decimal, exponent, inf, nan):
+/// throws Error "'1.5x' is not a number" for an empty text, leading spaces or
+/// anything after the number. Ranges are the caller's to check.
 double parseRealNumber(std::string_view text);
 
-// The shortest decimal that reads back to the same bits, whatever the C
-// locale's decimal point: 0.1f is "0.1", never "0.100000001" or "0,1".
+/// The shortest decimal that reads back to the same bits, whatever the C
+/// locale's decimal point: 0.1f is "0.1", never "0.100000001" or "0,1".
 std::string shortestText(float value);
 std::string shortestText(double value);
 
-// A value from an input file as a message shows it: at most 40 characters;
-// valid UTF-8 as it is ("café"), control characters (C0, DEL, C1) and
-// invalid bytes as \xNN, so a binary or huge file cannot flood or drive the
-// terminal.
+/// A value from an input file as a message shows it: at most 40 characters;
+/// valid UTF-8 as it is ("café"), control characters (C0, DEL, C1) and
+/// invalid bytes as `\xNN`, so a binary or huge file cannot flood or drive the
+/// terminal.
 std::string printable(std::string_view text);
 
 }  // namespace carom::io
