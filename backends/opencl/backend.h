@@ -38,8 +38,7 @@ public:
 
 protected:
     // `device`: see opencl::selectDevice. The program is built from
-    // `programSource`, which must hold maxSpeedSquared (kernels/step.cl) and
-    // writeDiskViews (kernels/view.cl).
+    // `programSource`, which must hold kernels/view.cl's kernels.
     // With `profiling`, each command's device time is recorded (profiler());
     // for explaining a step, not timing it.
     OpenClBackend(const WorldDef& world, const std::string& device, const char* programSource, bool profiling);
