@@ -47,7 +47,7 @@ for v in $variants; do
                 "constexpr cl_uint kLaunchedRoundLength = ${v#launched};" ;;
         scan8)
             edit "$src/kernels/small_system.cl" "#define CAROM_SMALL_SYSTEM_SCAN_ITEMS 4" "#define CAROM_SMALL_SYSTEM_SCAN_ITEMS 8"
-            edit "$src/backends/opencl/resident.cpp" "kSmallSystemScanItems = 4;" "kSmallSystemScanItems = 8;" ;;
+            edit "$src/backends/opencl/small_system.cpp" "kSmallSystemScanItems = 4;" "kSmallSystemScanItems = 8;" ;;
         nogrid)
             edit "$src/kernels/small_system.cl" "        carom_build_grid_in_group(step.count, cellCount, counts, cells, cellOf, rankInCell, ids, cellOrder, sortedIds,
                                   counts, tile, runSums);" "" ;;

@@ -1,8 +1,8 @@
 /* The program of `carom bench` (embedded into the carom_bench library only):
- * the all-pairs baseline, with step.cl's integrate and maxSpeedSquared and view.cl's
- * writeDiskViews (every OpenClBackend has them), and
- * the copy that measures the device's memory bandwidth. */
-#include "step.cl"
+ * the all-pairs baseline, with host_grid.cl's integrate and view.cl's kernels
+ * (every OpenClBackend launches them), and the copy that measures the
+ * device's memory bandwidth. */
+#include "host_grid.cl"
 #include "view.cl"
 
 /* resolveCollisions against every other particle, O(N^2); integrate follows

@@ -104,20 +104,6 @@ __kernel void resolveEvents(__global Particle* state,
         carom_resolve_event(pending[e], state, slots, ids, events, step, tallies, changedList, nextList, epoch);
 }
 
-/* The end of the step, particles stored by id (host-grid pipeline): in place.
- * A disk left non-finite is recorded under `stepIndex` (carom_record_non_finite). */
-__kernel void finishStepById(__global Particle* state,
-                             CaromStepParams step,
-                             __global ContactTally* tallies,
-                             uint stepIndex,
-                             __global uint* firstNonFinite)
-{
-    const uint i = get_global_id(0);
-    if (i >= step.count) return;
-    state[i] = carom_finish_step(state[i], step, &tallies[i]);
-    carom_record_non_finite(state[i], i, stepIndex, firstNonFinite);
-}
-
 /* Runs pass(k) for the entries of a list whose length is lengths[index], by
  * the work-group, then waits for all of it. */
 #define CAROM_FOR_LISTED(items, lengths, index, k, pass)                                             \

@@ -1,7 +1,7 @@
 /* The physics of one step, per particle, written once for both backends.
  *
  * The OpenMP backend calls these functions in a parallel loop; the OpenCL
- * kernels in step.cl call them once per work-item. Because both compile the
+ * kernels call them once per work-item. Because both compile the
  * same source with contraction off and correctly rounded divide and sqrt,
  * every float operation happens in the same order with the same rounding, and
  * the two backends produce bitwise identical trajectories.

@@ -2,7 +2,7 @@
  * kernels/embed.cmake inlines). The include guards of physics.h and
  * particle.h keep each definition single. The benchmark's kernels are a
  * program of their own (bench.cl). */
-#include "step.cl"
+#include "host_grid.cl"
 #include "resident.cl"
 #include "pairwise.cl"
 #include "small_system.cl"

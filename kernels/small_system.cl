@@ -1,5 +1,5 @@
 /* Whole steps of a small system in one work-group, for the resident
- * pipeline (backends/opencl/resident.cpp): at a few thousand disks
+ * pipeline (backends/opencl/small_system.cpp): at a few thousand disks
  * the launches of a step (the grid build's, the step's, the pairwise
  * rounds') cost more than the work, and one work-group does it all, with
  * barriers between the passes instead of launches. The passes are those of

@@ -1,5 +1,7 @@
-/* What the viewer draws of every disk, and its readouts' sums
- * (World::readView), so that a frame reads back 16 bytes a disk. */
+/* What the host reads of the state without reading it whole
+ * (backends/opencl/view.cpp): what the viewer draws of every disk and its
+ * readouts' sums (World::readView), so that a frame reads back 16 bytes a
+ * disk, and the largest speed, which sizes substeps. */
 #include "physics.h"
 
 /* a + b in float-float (high, low): Knuth's two-sum, renormalised. Additions
@@ -72,4 +74,26 @@ __kernel void writeDiskViews(__global const Particle* state,
         }
         barrier(CLK_LOCAL_MEM_FENCE);
     }
+}
+
+/* The largest v.x^2 + v.y^2 of each work-group's particles, into
+ * groupMax[group]: each work-item takes every (global size)-th particle,
+ * then the work-group halves its values in local memory. max is exact in any
+ * order, so the host's max over groupMax equals the CPU backend's bit for
+ * bit. The local size must be a power of two. */
+__kernel void maxSpeedSquared(__global const Particle* particles,
+                              uint count,
+                              __local float* scratch,
+                              __global float* groupMax)
+{
+    float largest = 0.0f;
+    for (uint i = get_global_id(0); i < count; i += get_global_size(0))
+        largest = fmax(largest, carom_speed_squared(particles[i]));
+    const uint lid = get_local_id(0);
+    scratch[lid] = largest;
+    for (uint stride = get_local_size(0) / 2; stride > 0; stride /= 2) {
+        barrier(CLK_LOCAL_MEM_FENCE);
+        if (lid < stride) scratch[lid] = fmax(scratch[lid], scratch[lid + stride]);
+    }
+    if (lid == 0) groupMax[get_group_id(0)] = scratch[0];
 }

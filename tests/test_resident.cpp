@@ -187,7 +187,7 @@ WorldDef boxUnder(CollisionScheme scheme, const InitialState& s) {
 }  // namespace
 
 // Both schemes, below and above the size whose steps run in one work-group
-// (OpenClResidentBackend, kSmallSystemParticles = 2048).
+// (kSmallSystemParticles = 2048, backends/opencl/small_system.h).
 TEST_CASE("resident grid: stays the shared builder's as the state evolves") {
     for (const CollisionScheme scheme : {CollisionScheme::Simultaneous, CollisionScheme::Pairwise})
         for (const std::uint32_t particles : {2000u, 5000u}) {

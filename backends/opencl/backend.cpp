@@ -13,10 +13,6 @@ namespace {
 // on a long run, while one wait per batch costs the GPU almost no idle time.
 constexpr std::uint64_t kStepsPerSync = 64;
 
-// Work-groups of the max-speed reduction: enough to fill a GPU, few enough
-// for the host to finish the reduction at once.
-constexpr std::size_t kReductionGroups = 256;
-
 }  // namespace
 
 OpenClBackend::OpenClBackend(const WorldDef& world, const std::string& device, const char* programSource,
@@ -29,12 +25,7 @@ OpenClBackend::OpenClBackend(const WorldDef& world, const std::string& device, c
         Queue(clCreateCommandQueue(context_.get(), device_.id, profiling ? CL_QUEUE_PROFILING_ENABLE : 0, &status));
     check(status, "clCreateCommandQueue");
     program_ = buildProgram(context_.get(), device_, programSource, device_.correctlyRoundedDivideSqrt);
-    maxSpeedKernel_ = createKernel(program_.get(), "maxSpeedSquared");
-    viewKernel_ = createKernel(program_.get(), "writeDiskViews");
-    fitWorkGroups({}, {maxSpeedKernel_.get(), viewKernel_.get()});
-    groupMax_ = createBuffer(context_.get(), kReductionGroups * sizeof(cl_float), "max speed per group");
-    groupSums_ =
-        createBuffer(context_.get(), kReductionGroups * CAROM_VIEW_SUM_COUNT * sizeof(cl_float), "view sums per group");
+    views_ = DeviceViews(context_.get(), device_, program_.get(), profiler_.get());
     firstNonFinite_ = createBuffer(context_.get(), sizeof(kNoneNonFinite), "first non-finite step and particle");
 }
 
@@ -57,7 +48,7 @@ void OpenClBackend::load(std::vector<Particle> particles) {
     state_.reset();
     next_.reset();
     tallies_.reset();
-    views_.reset();
+    views_.release();
 
     state_ = createBuffer(context_.get(), n * sizeof(Particle), "particle state");
     next_ = createBuffer(context_.get(), n * sizeof(Particle), "next particle state");
@@ -123,56 +114,12 @@ void OpenClBackend::readParticles(std::vector<Particle>& particles) {
 std::optional<ViewSums> OpenClBackend::readView(ViewValue value, DiskView* out) {
     confirmStep();
     if (particleCount_ == 0) return ViewSums{};
-    if (!views_.get()) views_ = createBuffer(context_.get(), particleCount_ * sizeof(DiskView), "disk views");
-    const cl_uint count = static_cast<cl_uint>(particleCount_), kind = static_cast<cl_uint>(value);
-    const std::size_t groups =
-        std::min(kReductionGroups, (particleCount_ + reductionGroupSize_ - 1) / reductionGroupSize_);
-    setKernelArgs(viewKernel_.get(), state_.get(), slotIds(), count, kind, world().gravity, views_.get(),
-                  groupSums_.get());
-    setLocalArg(viewKernel_.get(), 7, reductionGroupSize_ * 2 * sizeof(cl_float));
-    enqueue1d(queue_.get(), viewKernel_.get(), groups * reductionGroupSize_, reductionGroupSize_, "writeDiskViews",
-              profiler_.get());
-    std::vector<cl_float> groupSums(groups * CAROM_VIEW_SUM_COUNT);
-    check(clEnqueueReadBuffer(queue_.get(), views_.get(), CL_FALSE, 0, particleCount_ * sizeof(DiskView), out, 0,
-                              nullptr, nullptr),
-          "clEnqueueReadBuffer(disk views)");
-    check(clEnqueueReadBuffer(queue_.get(), groupSums_.get(), CL_TRUE, 0, groupSums.size() * sizeof(cl_float),
-                              groupSums.data(), 0, nullptr, nullptr),
-          "clEnqueueReadBuffer(view sums per group)");
-    ViewSums result;
-    result.minValue = HUGE_VALF;
-    result.maxValue = -HUGE_VALF;
-    for (std::size_t g = 0; g < groups; ++g) {
-        const cl_float* group = groupSums.data() + g * CAROM_VIEW_SUM_COUNT;
-        auto pair = [&](int at) { return double(group[at]) + double(group[at + 1]); };
-        result.kineticEnergy += pair(CAROM_VIEW_SUM_KINETIC);
-        result.potentialEnergy += pair(CAROM_VIEW_SUM_POTENTIAL);
-        result.momentum[0] += pair(CAROM_VIEW_SUM_MOMENTUM_X);
-        result.momentum[1] += pair(CAROM_VIEW_SUM_MOMENTUM_Y);
-        result.mass += pair(CAROM_VIEW_SUM_MASS);
-        result.speedSquared += pair(CAROM_VIEW_SUM_SPEED_SQUARED);
-        result.minValue = std::min(result.minValue, group[CAROM_VIEW_SUM_MIN_VALUE]);
-        result.maxValue = std::max(result.maxValue, group[CAROM_VIEW_SUM_MAX_VALUE]);
-    }
-    return result;
+    return views_.read(queue_.get(), state_.get(), slotIds(), particleCount_, value, world().gravity, out);
 }
 
 float OpenClBackend::maxSpeedSquared() {
     confirmStep();
-    const cl_uint count = static_cast<cl_uint>(particleCount_);
-    const std::size_t groups =
-        std::min(kReductionGroups, (particleCount_ + reductionGroupSize_ - 1) / reductionGroupSize_);
-    setKernelArgs(maxSpeedKernel_.get(), state_.get(), count);
-    setLocalArg(maxSpeedKernel_.get(), 2, reductionGroupSize_ * sizeof(cl_float));
-    const cl_mem groupMaxBuffer = groupMax_.get();
-    check(clSetKernelArg(maxSpeedKernel_.get(), 3, sizeof(cl_mem), &groupMaxBuffer), "clSetKernelArg");
-    enqueue1d(queue_.get(), maxSpeedKernel_.get(), groups * reductionGroupSize_, reductionGroupSize_, "maxSpeedSquared",
-              profiler_.get());
-    std::vector<cl_float> groupMax(groups);
-    check(clEnqueueReadBuffer(queue_.get(), groupMax_.get(), CL_TRUE, 0, groups * sizeof(cl_float), groupMax.data(), 0,
-                              nullptr, nullptr),
-          "clEnqueueReadBuffer(max speed per group)");
-    return *std::max_element(groupMax.begin(), groupMax.end());
+    return views_.maxSpeedSquared(queue_.get(), state_.get(), particleCount_);
 }
 
 void OpenClBackend::drainTallies(ContactTotals& totals) {

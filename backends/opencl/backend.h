@@ -1,7 +1,9 @@
 // The OpenCL backends: this base owns the device, context, queue and program
-// and what every pipeline shares (the state and contact tallies on the
-// device, the max-speed reduction, the record of a disk left non-finite, the
-// profiler); one class per pipeline runs the steps:
+// and what every pipeline shares: the state and contact tallies on the
+// device, the views and the max-speed reduction (DeviceViews,
+// backends/opencl/view.h), the record of a disk left non-finite and the
+// profiler. It launches no kernel itself; one class per pipeline runs the
+// steps:
 //  - OpenClHostGridBackend ("host-grid", backends/opencl/host_grid.h): the
 //    host builds the grid, uploads it and reads the new state back each step;
 //  - OpenClResidentBackend ("resident", backends/opencl/resident.h):
@@ -17,6 +19,7 @@
 
 #include "backends/backend.h"
 #include "backends/opencl/runtime.h"
+#include "backends/opencl/view.h"
 
 namespace carom {
 
@@ -28,8 +31,8 @@ public:
 
     // Reads state_, stored by id.
     void readParticles(std::vector<Particle>& particles) override;
-    // writeDiskViews (kernels/view.cl) on the device: reads back 16 bytes a
-    // disk and the work-groups' sums.
+    // On the device (DeviceViews::read): reads back 16 bytes a disk and the
+    // work-groups' sums.
     std::optional<ViewSums> readView(ViewValue value, DiskView* out) override;
 
     // Seconds per kernel, transfer and host grid build over the steps so
@@ -38,8 +41,7 @@ public:
 
 protected:
     // `device`: see opencl::selectDevice. The program is built from
-    // `programSource`, which must hold maxSpeedSquared (kernels/step.cl) and
-    // writeDiskViews (kernels/view.cl).
+    // `programSource`, which must hold kernels/view.cl's kernels.
     // With `profiling`, each command's device time is recorded (profiler());
     // for explaining a step, not timing it.
     OpenClBackend(const WorldDef& world, const std::string& device, const char* programSource, bool profiling);
@@ -68,7 +70,8 @@ protected:
     // makes its result the current state; called before anything reads it.
     virtual void confirmStep() {}
 
-    // The largest v.x^2 + v.y^2 of state_: a reduction on the device.
+    // The largest v.x^2 + v.y^2 of state_: a reduction on the device
+    // (DeviceViews::maxSpeedSquared).
     float maxSpeedSquared() override;
 
     // Lowers workGroupSize_ to what the kernels with one work-item per
@@ -111,11 +114,7 @@ private:
     void drainTallies(ContactTotals& totals) final;
     void awaitSteps() final;
 
-    opencl::Kernel maxSpeedKernel_;
-    opencl::Buffer groupMax_;          // maxSpeedSquared's per-group results
-    opencl::Kernel viewKernel_;        // writeDiskViews
-    opencl::Buffer views_;             // its views, made at the first readView after load
-    opencl::Buffer groupSums_;         // and its per-group sums
+    opencl::DeviceViews views_;
     std::uint64_t substep_ = 0;        // substeps enqueued since load
     std::uint64_t nonFiniteBase_ = 0;  // the substep that step index 0 means
 };

@@ -1,8 +1,9 @@
 // The OpenCL host-grid pipeline (--pipeline host-grid): each step the host builds the
 // grid with the shared builder from its copy of the state, uploads it, runs
 // the collision scheme's kernels (simultaneous: resolveCollisions and
-// integrate, kernels/step.cl; pairwise: the rounds of kernels/pairwise.cl)
-// and reads the new state back. The state stays stored by id.
+// integrate, kernels/host_grid.cl; pairwise: the rounds of kernels/pairwise.cl,
+// then finishStepById, kernels/host_grid.cl) and reads the new state back.
+// The state stays stored by id.
 #pragma once
 
 #include "backends/opencl/backend.h"

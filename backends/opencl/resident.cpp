@@ -17,23 +17,6 @@ namespace {
 // work-groups reduce the largest speed.
 constexpr std::size_t kFinishGroupsPerComputeUnit = 16;
 
-// Up to this many disks, steps run whole in one work-group
-// (kernels/small_system.cl): below it, the launches of the grid build and
-// the step cost more than one compute unit takes for the whole step.
-// Measured on an H200 (bench/results/nvidia-h200-small-system.txt), one
-// work-group against launches: simultaneous 18 against 33 us a step at
-// 1 000 disks, 37 against 33 at 2 000 (they cross near 1 800); pairwise 93
-// against 163 us at 1 000, 136 against 172 at 2 000, 209 against 176 at
-// 4 000. One limit for both keeps each path tested on either side of it.
-constexpr std::size_t kSmallSystemParticles = 2048;
-// The most steps one launch of stepSmallSystem runs.
-constexpr std::uint64_t kSmallSystemSteps = 16;
-// Its work-group, at most (the largest the scan tile's local memory allows),
-// and the values each work-item scans (CAROM_SMALL_SYSTEM_SCAN_ITEMS in
-// kernels/small_system.cl): a small tile, so that the work-group can be large.
-constexpr std::size_t kSmallSystemGroupSize = 1024;
-constexpr std::size_t kSmallSystemScanItems = 4;
-
 }  // namespace
 
 OpenClResidentBackend::OpenClResidentBackend(const WorldDef& world, const std::string& device, bool profiling)
@@ -42,15 +25,7 @@ OpenClResidentBackend::OpenClResidentBackend(const WorldDef& world, const std::s
     finishAndCountKernel_ = createKernel(program_.get(), "finishPairwiseAndCount");
     // finishPairwiseAndCount reduces in a work-group too.
     fitWorkGroups({fusedKernel_.get(), finishAndCountKernel_.get()}, {finishAndCountKernel_.get()});
-    smallSystemKernel_ = createKernel(program_.get(), "stepSmallSystem");
-    smallPairwiseKernel_ = createKernel(program_.get(), "stepSmallPairwise");
-    smallSystemGroupSize_ =
-        opencl::DeviceGrid::scanGroupSize(device_, kernelWorkGroupLimit(smallSystemKernel_.get(), device_.id),
-                                          kSmallSystemGroupSize, kSmallSystemScanItems);
-    // The pairwise one also reduces the largest speed: a float per work-item.
-    smallPairwiseGroupSize_ =
-        opencl::DeviceGrid::scanGroupSize(device_, kernelWorkGroupLimit(smallPairwiseKernel_.get(), device_.id),
-                                          kSmallSystemGroupSize, kSmallSystemScanItems, sizeof(cl_float));
+    smallSystem_ = DeviceSmallSystem(device_, program_.get(), profiler_.get());
 }
 
 void OpenClResidentBackend::releaseState() {
@@ -74,7 +49,7 @@ void OpenClResidentBackend::loadState(std::vector<Particle> particles) {
     deviceGrid_.count(queue_.get(), state_.get());
     speedKnown_ = false;
     unconfirmed_ = false;
-    smallSystem_ = n <= kSmallSystemParticles;
+    inOneGroup_ = n <= kSmallSystemParticles;
     if (world_.collisions != CollisionScheme::Pairwise) return;
     pairwise_ = DevicePairwise(context_.get(), device_, program_.get(), n, queue_.get(), profiler_.get());
     // The finish's record: no disk non-finite, no speed yet (zero).
@@ -92,7 +67,7 @@ void OpenClResidentBackend::loadState(std::vector<Particle> particles) {
 void OpenClResidentBackend::enqueueStep(float dt) { enqueueSteps(1, dt); }
 
 std::uint64_t OpenClResidentBackend::enqueueSteps(std::uint64_t steps, float dt) {
-    if (smallSystem_ && world_.collisions == CollisionScheme::Simultaneous) return stepSmallSystem(steps, dt);
+    if (inOneGroup_ && world_.collisions == CollisionScheme::Simultaneous) return stepSmallSystem(steps, dt);
     world_.collisions == CollisionScheme::Pairwise ? stepPairwise(dt) : stepSimultaneous(dt);
     return 1;
 }
@@ -101,15 +76,8 @@ std::uint64_t OpenClResidentBackend::stepSmallSystem(std::uint64_t steps, float 
     steps = std::min(steps, kSmallSystemSteps);
     const cl_uint firstStepIndex = nextStepIndex();
     for (std::uint64_t s = 1; s < steps; ++s) nextStepIndex();
-    setKernelArgs(smallSystemKernel_.get(), state_.get(), next_.get(), ids_.get(), sortedIds_.get(),
-                  deviceGrid_.cells(), deviceGrid_.counts(), deviceGrid_.cellOrder(), deviceGrid_.cellOf(),
-                  deviceGrid_.rankInCell(), stepParams(dt), cl_uint(steps), tallies_.get(), firstStepIndex,
-                  firstNonFinite_.get());
-    setLocalArg(smallSystemKernel_.get(), 14,
-                opencl::DeviceGrid::scanTileBytes(smallSystemGroupSize_, kSmallSystemScanItems));
-    setLocalArg(smallSystemKernel_.get(), 15, opencl::DeviceGrid::scanRunBytes(smallSystemGroupSize_));
-    enqueue1d(queue_.get(), smallSystemKernel_.get(), smallSystemGroupSize_, smallSystemGroupSize_, "stepSmallSystem",
-              profiler_.get());
+    smallSystem_.enqueueSteps(queue_.get(), smallStepBuffers(), deviceGrid_, stepParams(dt), cl_uint(steps),
+                              firstStepIndex, firstNonFinite_.get());
     if (steps % 2 == 1) {
         std::swap(state_, next_);
         std::swap(ids_, sortedIds_);
@@ -142,8 +110,9 @@ void OpenClResidentBackend::stepPairwise(float dt) {
     const CaromStepParams step = stepParams(dt);
     speedParity_ = 1 - speedParity_;
     const cl_uint stepIndex = nextStepIndex();
-    if (smallSystem_) {
-        enqueueSmallPairwise(step, stepIndex);
+    if (inOneGroup_) {
+        smallSystem_.enqueuePairwiseStep(queue_.get(), smallStepBuffers(), deviceGrid_, pairwise_, step,
+                                         cl_uint{speedParity_}, stepIndex);
     } else {
         deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get());
         pairwise_.enqueueStep(queue_.get(),
@@ -154,23 +123,6 @@ void OpenClResidentBackend::stepPairwise(float dt) {
     }
     check(clFlush(queue_.get()), "clFlush");
     unconfirmed_ = true;
-}
-
-void OpenClResidentBackend::enqueueSmallPairwise(const CaromStepParams& step, cl_uint stepIndex) {
-    const opencl::DevicePairwise::Lists l = pairwise_.lists();
-    const cl_uint firstEpoch = pairwise_.reserveEpochs(queue_.get(), kMaxPairwiseRounds + 1);
-    setKernelArgs(smallPairwiseKernel_.get(), state_.get(), next_.get(), ids_.get(), sortedIds_.get(),
-                  deviceGrid_.cells(), deviceGrid_.counts(), deviceGrid_.nextCounts(), deviceGrid_.cellOrder(),
-                  deviceGrid_.cellOf(), deviceGrid_.rankInCell(), step, tallies_.get(), l.events, l.pending0,
-                  l.pending1, l.changed, l.dirty, l.pendingMarks, l.changedMarks, l.dirtyMarks, l.lengths,
-                  opencl::DevicePairwise::lengthCount(), firstEpoch, cl_uint{kMaxPairwiseRounds},
-                  opencl::DevicePairwise::speedIndex(), cl_uint{speedParity_}, stepIndex,
-                  opencl::DevicePairwise::nonFiniteIndex());
-    const std::size_t group = smallPairwiseGroupSize_;
-    setLocalArg(smallPairwiseKernel_.get(), 28, opencl::DeviceGrid::scanTileBytes(group, kSmallSystemScanItems));
-    setLocalArg(smallPairwiseKernel_.get(), 29, opencl::DeviceGrid::scanRunBytes(group));
-    setLocalArg(smallPairwiseKernel_.get(), 30, group * sizeof(cl_float));
-    enqueue1d(queue_.get(), smallPairwiseKernel_.get(), group, group, "stepSmallPairwise", profiler_.get());
 }
 
 // The kernel records a disk left non-finite and the largest speed after the

@@ -4,8 +4,8 @@
 // integrates and counts the new positions into the next grid
 // (kernels/resident.cl; pairwise: the rounds, then a kernel that finishes
 // the step and counts). A small system's steps run whole in one
-// work-group instead (kernels/small_system.cl): one launch per pairwise
-// step, several simultaneous steps per launch. The host
+// work-group instead (DeviceSmallSystem, kernels/small_system.cl): one
+// launch per pairwise step, several simultaneous steps per launch. The host
 // reads the state only when asked (readParticles). Bitwise equal to the
 // host-grid pipeline.
 #pragma once
@@ -13,6 +13,7 @@
 #include "backends/opencl/backend.h"
 #include "backends/opencl/grid.h"
 #include "backends/opencl/pairwise.h"
+#include "backends/opencl/small_system.h"
 
 namespace carom {
 
@@ -43,20 +44,18 @@ private:
     float maxSpeedSquared() override;
     void stepSimultaneous(float dt);
     // Simultaneous steps of a small system, up to kSmallSystemSteps in one
-    // launch of stepSmallSystem; returns how many.
+    // launch; returns how many.
     std::uint64_t stepSmallSystem(std::uint64_t steps, float dt);
-    // A small system's pairwise step: one launch of stepSmallPairwise.
-    void enqueueSmallPairwise(const CaromStepParams& step, cl_uint stepIndex);
+    opencl::DeviceSmallSystem::StepBuffers smallStepBuffers() const {
+        return {state_.get(), next_.get(), ids_.get(), sortedIds_.get(), tallies_.get()};
+    }
     void stepPairwise(float dt);
     void enqueuePairwiseFinish(const CaromStepParams& step, cl_uint stepIndex);
 
-    opencl::Kernel fusedKernel_;            // resolveIntegrateAndCount
-    opencl::Kernel finishAndCountKernel_;   // pairwise: finishPairwiseAndCount
-    opencl::Kernel smallSystemKernel_;      // stepSmallSystem
-    opencl::Kernel smallPairwiseKernel_;    // stepSmallPairwise
-    std::size_t smallSystemGroupSize_ = 1;  // their one work-group: a power of two
-    std::size_t smallPairwiseGroupSize_ = 1;
-    bool smallSystem_ = false;  // steps run whole in one work-group (kernels/small_system.cl)
+    opencl::Kernel fusedKernel_;           // resolveIntegrateAndCount
+    opencl::Kernel finishAndCountKernel_;  // pairwise: finishPairwiseAndCount
+    opencl::DeviceSmallSystem smallSystem_;
+    bool inOneGroup_ = false;  // steps run whole in one work-group (smallSystem_)
     opencl::DeviceGrid deviceGrid_;
     opencl::Buffer ids_;               // the particle id in each slot of state_
     opencl::Buffer sortedIds_;         // sortedIndices, then the ids of next_'s slots
