@@ -1340,6 +1340,32 @@ def test_append_copy_on_a_full_disk():
     assert "failed: No space left on device; the file is unchanged" in done.stderr, done.stderr
 
 
+def test_signal_ends_the_wait_for_a_fifo_reader():
+    """A checkpoint written to a FIFO is opened anew each time; when its reader has gone, the first
+    SIGTERM ends the wait for another (it was ignored: the open blocked): the run stops at once, names
+    the FIFO, and keeps the other outputs."""
+    d = work("fifo-wait")
+    fifo = os.path.join(d, "c.fifo")
+    os.mkfifo(fifo)
+    reader = threading.Thread(target=lambda: read_bytes(fifo), daemon=True)  # some checkpoints, then gone
+    reader.start()
+    process = subprocess.Popen([ARGS.carom, *map(str, ["run", "--backend", "cpu", "--particles", 10, "--steps",
+                                                       10 ** 9, "--every", 10, "--quiet", "--checkpoint", fifo,
+                                                       "--stats", "s.csv"])],
+                               cwd=d, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    reader.join(timeout=60)
+    time.sleep(1)
+    assert process.poll() is None, process.communicate()
+    process.send_signal(signal.SIGTERM)
+    _, err = process.communicate(timeout=60)
+    assert process.returncode == 1, (process.returncode, err)
+    assert f"checkpoint {fifo}: FAILED: cannot write '{fifo}': no reader opened the FIFO before carom was asked " \
+           "to stop" in err, err
+    step = int(re.search(rf"checkpoint {re.escape(fifo)}: step (\d+)", err).group(1))  # the reader's last
+    assert csv_steps(os.path.join(d, "s.csv"))[-1] == step, err
+    no_partial_files(d)
+
+
 def main():
     global ARGS
     parser = argparse.ArgumentParser()
