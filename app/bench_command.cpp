@@ -14,7 +14,9 @@
 #include "app/commands.h"
 #include "app/host_info.h"
 #include "app/number_options.h"
+#include "app/output_plan.h"
 #include "app/renamed_value.h"
+#include "app/stop_signals.h"
 #include "app/bench/report.h"
 
 namespace carom::app {
@@ -230,13 +232,15 @@ void addBenchOptions(CLI::App& command, BenchOptions& o) {
     command.add_option("--budget-ms", o.budgetMs, "Drop a method for larger N once one step takes longer than this")
         ->transform(realNumber())
         ->capture_default_str();
-    command.add_option("--json", o.json,
-                       "Write the results as JSON to this file: a result per method, scheme and N (its fields "
-                       "method, scheme, particles, ms_per_step, pairwise_over_simultaneous, ...; the events "
-                       "method's collisions_per_second, particle_time_per_second, events_per_second, ...)");
-    command.add_option("--csv", o.csv, "Write the results as CSV to this file: a row per method, scheme and N");
-    command.add_option("--plot", o.plot,
-                       "Write an SVG plot of throughput against N to this file: a line per method and scheme");
+    fileOption(
+        command.add_option("--json", o.json,
+                           "Write the results as JSON to this file: a result per method, scheme and N (its fields "
+                           "method, scheme, particles, ms_per_step, pairwise_over_simultaneous, ...; the events "
+                           "method's collisions_per_second, particle_time_per_second, events_per_second, ...)"));
+    fileOption(
+        command.add_option("--csv", o.csv, "Write the results as CSV to this file: a row per method, scheme and N"));
+    fileOption(command.add_option(
+        "--plot", o.plot, "Write an SVG plot of throughput against N to this file: a line per method and scheme"));
     command.add_flag(
         "--profile", o.profile,
         "Also show where a step's time goes, under each scheme: device time per kernel and "
@@ -247,6 +251,9 @@ void addBenchOptions(CLI::App& command, BenchOptions& o) {
 
 int benchCommand(const BenchOptions& o) {
     if (o.list) return listMethods();
+    // The results are written at the end: a signal before then ends the
+    // bench at once, with no file written (the rows measured so far are on stderr).
+    StopSignals stopSignals(StopSignals::FirstSignal::Ends, "carom bench");
     std::vector<Variant> variants = chosenVariants(o);
     const std::vector<std::uint32_t> sizes = chosenSizes(o);
     validate(sceneFor(o, sizes.front()));
@@ -260,6 +267,11 @@ int benchCommand(const BenchOptions& o) {
         throw Error(message.str());
     }
     // Refuse unwritable outputs before the sweep, not after it.
+    OutputPlan plan;
+    for (const auto& [option, path] :
+         {std::pair{"--json", o.json}, std::pair{"--csv", o.csv}, std::pair{"--plot", o.plot}})
+        if (!path.empty()) plan.output(option, path);
+    plan.check();
     std::optional<io::AtomicFile> json, csv, plot;
     if (!o.json.empty()) json.emplace(o.json);
     if (!o.csv.empty()) csv.emplace(o.csv);
@@ -283,6 +295,7 @@ int benchCommand(const BenchOptions& o) {
     for (std::size_t k = 0; k < sizes.size() && !variants.empty(); ++k)
         benchOneSize(o, sizes[k], k + 1 < sizes.size(), variants, report);
 
+    stopSignals.setFirstSignal(StopSignals::FirstSignal::Stops);  // each file is written whole
     printTable(std::cout, report);
     if (json) {
         writeJson(json->stream(), report);
@@ -296,7 +309,7 @@ int benchCommand(const BenchOptions& o) {
         writeSvgPlot(plot->stream(), report);
         plot->commit();
     }
-    return 0;
+    return StopSignals::received() ? signalExitStatus(StopSignals::received()) : 0;
 }
 
 }  // namespace carom::app

@@ -28,6 +28,7 @@
 
 #include "app/commands.h"
 #include "app/number_options.h"
+#include "app/output_plan.h"
 #include "app/stop_signals.h"
 
 namespace carom::app {
@@ -37,26 +38,23 @@ void addRunOptions(CLI::App& command, RunOptions& o) {
     tracked(command.add_option("--steps", o.steps, "Number of steps (default: the scene file's, else 1000)")
                 ->transform(wholeNumber(0)),
             o.scene.given);
-    command.add_option("--output-state", o.outputState, "Write the final state to this CSV");
+    fileOption(command.add_option("--output-state", o.outputState, "Write the final state to this CSV"));
     command.add_flag("--json", o.json, "Print a JSON summary on stdout instead of the text summary");
-    command.add_option("--trajectory", o.trajectory, "Write extended XYZ frames (OVITO, ASE) every --every steps");
-    command.add_option("--stats", o.stats, "Write a CSV row of statistics every --every steps");
-    command.add_option("--checkpoint", o.checkpoint, "Write a checkpoint every --every steps and at the end");
+    fileOption(
+        command.add_option("--trajectory", o.trajectory, "Write extended XYZ frames (OVITO, ASE) every --every steps"));
+    fileOption(command.add_option("--stats", o.stats, "Write a CSV row of statistics every --every steps"));
+    fileOption(
+        command.add_option("--checkpoint", o.checkpoint, "Write a checkpoint every --every steps and at the end"));
     tracked(command.add_option("--every", o.every, "Steps between trajectory frames, statistics and checkpoints")
                 ->transform(wholeNumber(1))
                 ->capture_default_str(),
             o.scene.given);
-    auto* resume =
-        command.add_option("--resume", o.resume, "Continue from this checkpoint for --steps more steps, bit for bit");
+    auto* resume = fileOption(
+        command.add_option("--resume", o.resume, "Continue from this checkpoint for --steps more steps, bit for bit"));
     for (const char* scene :
          {"--scene", "--input-state", "--particles", "--packing", "--box", "--radius", "--radius-min", "--radius-max",
           "--mass", "--mass-min", "--mass-max", "--speed", "--seed", "--dt", "--gravity", "--boundary", "--collisions"})
         resume->excludes(command.get_option(scene));
-    // An empty name would silently mean "no output".
-    for (const char* output : {"--output-state", "--trajectory", "--stats", "--checkpoint"})
-        command.get_option(output)->check([](const std::string& path) {
-            return path.empty() ? std::string("an empty file name; give a path, or leave the option out") : "";
-        });
     command.add_flag("--quiet", o.quiet, "No progress line on stderr");
 }
 
@@ -64,12 +62,6 @@ namespace {
 
 // ---------------------------------------------------------------------------
 // What the run starts from: a scene (options or file) or a checkpoint.
-
-// A file the run reads or writes, and the option or scene key that named it.
-struct NamedFile {
-    std::string name;  // "--stats", "output.stats" (from the scene file)
-    std::string path;
-};
 
 struct Start {
     WorldDef world;                                // the run's world, with its --max-travel
@@ -79,8 +71,7 @@ struct Start {
     std::uint64_t step = 0;                        // steps the scene has taken before this run
     std::uint64_t steps = 0;                       // steps this run takes
     OutputDef outputs;
-    std::vector<NamedFile> outputFiles;  // outputs' paths with their names, for the checks and messages
-    std::vector<NamedFile> inputFiles;   // the files this run reads: no output may replace them
+    OutputPlan plan;  // the files the run reads and writes, under the options (or scene keys) that name them
 };
 
 // A command-line path wins over the scene file's.
@@ -92,7 +83,7 @@ void chooseOutputs(const RunOptions& o, Start& start) {
         {"--output-state", "output.state", &start.outputs.state, &o.outputState}};
     for (const auto& [option, sceneKey, path, given] : outputs) {
         if (!given->empty()) *path = *given;
-        if (!path->empty()) start.outputFiles.push_back({given->empty() ? sceneKey : option, *path});
+        if (!path->empty()) start.plan.output(given->empty() ? sceneKey : option, *path);
     }
 }
 
@@ -118,9 +109,11 @@ Start planRun(const RunOptions& o) {
     if (start.steps > std::numeric_limits<std::uint64_t>::max() - start.step)
         throw Error("--steps " + std::to_string(start.steps) + " would take the step count past 2^64");
     chooseOutputs(o, start);
-    for (const NamedFile& input : {NamedFile{"--resume", o.resume}, NamedFile{"--input-state", o.scene.inputState},
-                                   NamedFile{"--scene", o.scene.sceneFile}})
-        if (!input.path.empty()) start.inputFiles.push_back(input);
+    for (const auto& [option, path] : {std::pair{"--resume", o.resume}, std::pair{"--input-state", o.scene.inputState},
+                                       std::pair{"--scene", o.scene.sceneFile}})
+        if (!path.empty()) start.plan.input(option, path);
+    // Read whole before it is replaced whole.
+    start.plan.allowReplacing("--resume", "--checkpoint");
     if (o.scene.given.count("--every") || o.scene.sceneFile.empty()) start.outputs.every = o.every;
     return start;
 }
@@ -158,25 +151,16 @@ std::string shellWord(const std::string& text) {
 
 class Outputs {
 public:
-    // Refuses, before the world is made, outputs that would write over each
-    // other or over the inputs, and paths that cannot be written.
-    static void check(const Start& start) {
-        requireDistinctPaths(start);
-        // Opening a FIFO would wait for its reader, and closing it would end the reader's input.
-        for (const NamedFile& output : start.outputFiles)
-            if (!io::isSpecialFile(output.path)) io::AtomicFile probe(output.path);
-    }
-
     // Opens the trajectory and statistics (check() has passed). A resumed
     // run appends to them (see io::TrajectoryWriter), so that they continue
     // the previous run's.
     Outputs(const Start& start, const World& world)
         : def_(start.outputs), resumed_(start.resumed), maxTravel_(start.world.maxTravel) {
         if (!def_.trajectory.empty())
-            trajectory_ =
-                resumed_ ? io::TrajectoryWriter(def_.trajectory, world) : io::TrajectoryWriter(def_.trajectory);
+            trajectory_ = resumed_ ? io::TrajectoryWriter(def_.trajectory, world, def_.every)
+                                   : io::TrajectoryWriter(def_.trajectory);
         if (!def_.stats.empty())
-            stats_ = resumed_ ? io::StatisticsWriter(def_.stats, world) : io::StatisticsWriter(def_.stats);
+            stats_ = resumed_ ? io::StatisticsWriter(def_.stats, world, def_.every) : io::StatisticsWriter(def_.stats);
     }
 
     // Writes the checkpoint, a frame and a row at `step`. An output whose
@@ -209,8 +193,18 @@ public:
     }
 
     // Renames the trajectory and statistics into place: every frame and row
-    // in them is complete.
+    // in them is complete. One that took no sample in this run (its
+    // checkpoint failed at the first) is dropped: the file under its name,
+    // if any, stays as it was, never replaced by an empty one.
     void commitStreams() {
+        if (trajectory_ && trajectory_->frames() == 0) {
+            trajectory_.reset();
+            unsampled_[kTrajectory] = true;
+        }
+        if (stats_ && stats_->rows() == 0) {
+            stats_.reset();
+            unsampled_[kStats] = true;
+        }
         attempt(kTrajectory, [&] { trajectory_->close(); });
         attempt(kStats, [&] { stats_->close(); });
     }
@@ -256,6 +250,8 @@ public:
         if (stats_) lines += line(kStats, samples(stats_->rows(), "row", statsStep_));
         if (checkpointStep_) lines += line(kCheckpoint, "step " + std::to_string(*checkpointStep_));
         if (stateStep_) lines += line(kState, "step " + std::to_string(*stateStep_));
+        for (Output output : {kTrajectory, kStats})
+            if (unsampled_[output]) lines += line(output, "nothing from this run; the file, if any, is as it was");
         return lines;
     }
 
@@ -286,36 +282,6 @@ public:
     const std::string& statePath() const { return def_.state; }
 
 private:
-    // Refuses, before any work, outputs that would write over each other or
-    // over the run's inputs, under any spelling: through symlinks, hard
-    // links, "./" or a temporary name (FILE.partial). The one file that may
-    // be both is a checkpoint resumed from and written by --checkpoint: it
-    // is replaced whole. Outputs may share a character device (/dev/null):
-    // nothing is written over there.
-    static void requireDistinctPaths(const Start& start) {
-        const std::vector<NamedFile>& outputs = start.outputFiles;
-        for (const NamedFile& a : outputs) {
-            const std::string temporary = io::temporaryPath(a.path);
-            std::error_code unknown;
-            const bool device = std::filesystem::is_character_file(io::followSymlinks(a.path), unknown);
-            for (const NamedFile& b : outputs) {
-                if (&a < &b && !device && io::sameFile(a.path, b.path))
-                    throw Error(a.name + " and " + b.name + " name the same file ('" + a.path + "' and '" + b.path +
-                                "'); give each output its own file");
-                if (&a != &b && !temporary.empty() && io::sameFile(temporary, b.path))
-                    throw Error(b.name + " '" + b.path + "' is the temporary name of " + a.name + " '" + a.path +
-                                "' (written there first, then renamed); give " + b.name + " another name");
-            }
-            for (const NamedFile& input : start.inputFiles) {
-                const bool replacesResumed = input.name == "--resume" && a.name == "--checkpoint";
-                if ((!replacesResumed && io::sameFile(a.path, input.path)) ||
-                    (!temporary.empty() && io::sameFile(temporary, input.path)))
-                    throw Error(a.name + " '" + a.path + "' would overwrite the input " + input.name + " '" +
-                                input.path + "'; write the output to another file");
-            }
-        }
-    }
-
     enum Output { kTrajectory, kStats, kCheckpoint, kState, kOutputCount };
 
     const std::string& path(Output output) const {
@@ -332,7 +298,7 @@ private:
     // failure is recorded and drops the output, whose temporary file goes.
     template <class Write>
     void attempt(Output output, Write write) {
-        if (path(output).empty() || !failures_[output].empty()) return;
+        if (path(output).empty() || !failures_[output].empty() || unsampled_[output]) return;
         try {
             write();
         } catch (const Error& e) {
@@ -351,6 +317,7 @@ private:
     std::optional<std::uint64_t> checkpointStep_;
     std::optional<std::uint64_t> stateStep_;
     std::string failures_[kOutputCount];  // why each output failed; empty while it has not
+    bool unsampled_[kOutputCount] = {};   // dropped at the end for want of a sample
 };
 
 // ---------------------------------------------------------------------------
@@ -678,14 +645,16 @@ void reportInterruption(const Outputs& outputs, int signal, std::uint64_t step, 
 }  // namespace
 
 int runCommand(const RunOptions& o) {
-    // From the start: a signal while the outputs are checked or the world is
-    // made stops the run at step 0 with every output written.
-    const StopSignals stopSignals;
+    // A signal while the files are read and checked, the world is made and
+    // the outputs are opened ends the run at once, every file as it was;
+    // from the first step on, it stops the run with every output written.
+    StopSignals stopSignals(StopSignals::FirstSignal::Ends, "carom run");
     Start start = planRun(o);
-    Outputs::check(start);
+    start.plan.check();
     World world = startWorld(start, o);
     for (const std::string& warning : world.warnings()) std::cerr << "carom: warning: " << warning << '\n';
     Outputs outputs(start, world);
+    stopSignals.setFirstSignal(StopSignals::FirstSignal::Stops);
 
     Result r;
     r.firstStep = start.step;

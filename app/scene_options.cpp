@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "app/number_options.h"
+#include "app/output_plan.h"
 #include "app/renamed_value.h"
 #include <carom/world.h>
 
@@ -198,16 +199,16 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
         "events (exact event-driven dynamics in double on one CPU thread; --dt only sets when the state is "
         "sampled)");
 
-    auto* input = command.add_option("--input-state", o.inputState,
-                                     "Start from the particles in this CSV (id,x,y,vx,vy,mass,radius); needs --box");
+    auto* input = fileOption(command.add_option(
+        "--input-state", o.inputState, "Start from the particles in this CSV (id,x,y,vx,vy,mass,radius); needs --box"));
     input->needs(box);
     for (CLI::Option* generated :
          {particles, packing, radius, radiusMin, radiusMax, mass, massMin, massMax, speed, seed})
         input->excludes(generated);
 
-    command
-        .add_option("--scene", o.sceneFile,
-                    "Start from this TOML scene file; the options above that are given override its values")
+    fileOption(command.add_option("--scene", o.sceneFile,
+                                  "Start from this TOML scene file; the options above that are given override its "
+                                  "values"))
         ->excludes(input);
     for (CLI::Option* overriding : {particles, packing, box, radius, radiusMin, radiusMax, mass, massMin, massMax,
                                     speed, seed, dt, gravity, maxTravel, boundary, collisions})

@@ -1,5 +1,6 @@
 // `carom validate`: runs the physics validation suite (app/validate/checks.h)
 // and writes its report: Markdown with SVG plots, and JSON when asked.
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -15,7 +16,9 @@
 #include "app/commands.h"
 #include "app/host_info.h"
 #include "app/number_options.h"
+#include "app/output_plan.h"
 #include "app/scene_options.h"
+#include "app/stop_signals.h"
 #include "app/validate/checks.h"
 #include "app/validate/report.h"
 
@@ -44,9 +47,9 @@ void addValidateOptions(CLI::App& command, ValidateOptions& o) {
     command.add_flag("--quick", o.quick,
                      "The reduced suite for CI (under a minute on one core): fewer disks and shorter runs; where "
                      "they cannot resolve a target, the tolerance is three standard errors");
-    command.add_option("--report", o.report, "Folder for the report: README.md and its SVG plots")
+    fileOption(command.add_option("--report", o.report, "Folder for the report: README.md and its SVG plots"))
         ->capture_default_str();
-    command.add_option("--json", o.json, "Also write every check and measurement as JSON to this file");
+    fileOption(command.add_option("--json", o.json, "Also write every check and measurement as JSON to this file"));
     command
         .add_option("--backend", o.backend,
                     "Backend of every run but the conservation checks, which run on all (pairwise scheme), "
@@ -76,6 +79,9 @@ void addValidateOptions(CLI::App& command, ValidateOptions& o) {
 }
 
 int validateCommand(const ValidateOptions& o) {
+    // The report is written at the end: a signal before then ends the
+    // suite at once, with no file written (the checks so far are on stderr).
+    StopSignals stopSignals(StopSignals::FirstSignal::Ends, "carom validate");
     validation::SuiteOptions suite;
     suite.quick = o.quick;
     if (o.backend == "cpu" && o.pipeline != "auto")
@@ -88,16 +94,19 @@ int validateCommand(const ValidateOptions& o) {
     validation::describeBackend(suite.backend);  // refuses a bad --device or --pipeline at once
 
     // Refuse unwritable outputs before the runs, not after them.
+    const std::vector<std::string>& reportNames = validation::reportFileNames();
+    OutputPlan plan;
+    if (!o.json.empty()) plan.output("--json", o.json);
+    plan.outputFolder("--report", o.report, [&reportNames](const std::string& name) {
+        return std::find(reportNames.begin(), reportNames.end(), name) != reportNames.end();
+    });
+    plan.check();
     std::optional<io::AtomicFile> json;
     if (!o.json.empty()) json.emplace(o.json);
-    std::error_code error;
-    std::filesystem::create_directories(o.report, error);
-    if (error || !std::filesystem::is_directory(o.report))
-        throw Error("cannot create the report folder '" + o.report +
-                    "': " + (error ? error.message() : "a file of that name exists"));
+    createFolder("--report", o.report);
     const std::filesystem::path folder(o.report);
     std::map<std::string, std::unique_ptr<io::AtomicFile>> reportOutputs;
-    for (const std::string& name : validation::reportFileNames())
+    for (const std::string& name : reportNames)
         reportOutputs[name] = std::make_unique<io::AtomicFile>((folder / name).string());
 
     validation::RunContext context;
@@ -109,6 +118,7 @@ int validateCommand(const ValidateOptions& o) {
     std::cerr << "validate: " << (o.quick ? "quick" : "full") << " suite on " << o.backend << '\n';
     const validation::SuiteResult result = validation::runSuite(suite, std::cerr);
 
+    stopSignals.setFirstSignal(StopSignals::FirstSignal::Stops);  // each file is written whole
     for (const auto& [name, contents] : validation::reportFiles(result, context)) {
         io::AtomicFile& file = *reportOutputs.at(name);
         file.append(contents);
@@ -120,6 +130,7 @@ int validateCommand(const ValidateOptions& o) {
     }
     validation::printSummary(std::cout, result);
     std::cout << "report: " << (folder / "README.md").string() << (json ? ", " + o.json : std::string()) << '\n';
+    if (const int signal = StopSignals::received()) return signalExitStatus(signal);
     return result.passed() ? 0 : 1;
 }
 

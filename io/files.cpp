@@ -1,15 +1,22 @@
 // carom/files.h: AtomicFile and the paths it writes through.
 #include <carom/files.h>
 
+#include <atomic>
 #include <cerrno>
+#include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <iterator>
 #include <system_error>
+#include <thread>
+#include <vector>
 
 #if __has_include(<unistd.h>) && !defined(_WIN32)
 #include <fcntl.h>
 #include <unistd.h>
+#define CAROM_POSIX_FILES 1
 #endif
 
 #include "engine/scene.h"
@@ -54,6 +61,81 @@ bool syncToDisk(const fs::path& path) {
 #endif
 }
 
+// The temporary files not yet committed or removed, for removeTemporaryFiles()
+// in a signal handler: fixed slots, each claimed with an atomic state, so
+// the handler neither allocates nor waits.
+struct TemporarySlot {
+    std::atomic<int> state{0};  // kFree, kClaimed (being filled) or kHeld
+    char path[4096];
+};
+constexpr int kFree = 0, kClaimed = 1, kHeld = 2;
+static_assert(std::atomic<int>::is_always_lock_free);
+TemporarySlot temporarySlots[64];
+
+// The slot now holding `path`, -1 when none is free or the path too long
+// (its file is then removed by the AtomicFile alone, not by a handler).
+int registerTemporary(const std::string& path) {
+    if (path.size() >= sizeof TemporarySlot::path) return -1;
+    for (int i = 0; i < int(std::size(temporarySlots)); ++i) {
+        int free = kFree;
+        if (!temporarySlots[i].state.compare_exchange_strong(free, kClaimed)) continue;
+        std::memcpy(temporarySlots[i].path, path.c_str(), path.size() + 1);
+        temporarySlots[i].state.store(kHeld);
+        return i;
+    }
+    return -1;
+}
+
+std::atomic<bool> waitsInterrupted{false};
+static_assert(std::atomic<bool>::is_always_lock_free);
+
+// Six letters or digits, different for each call in a process and unlikely
+// to repeat across processes (its time and address differ).
+std::string uniqueTag() {
+    static std::atomic<std::uint64_t> counter{0};
+    std::uint64_t x = std::uint64_t(std::chrono::steady_clock::now().time_since_epoch().count()) ^
+                      (reinterpret_cast<std::uintptr_t>(&counter) << 16) ^
+                      (counter.fetch_add(1) * 0x9E3779B97F4A7C15ull);
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;  // splitmix64's mixing
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+    x ^= x >> 31;
+    std::string tag;
+    for (int i = 0; i < 6; ++i, x /= 36) tag += "0123456789abcdefghijklmnopqrstuvwxyz"[x % 36];
+    return tag;
+}
+
+// Creates `path`, empty, if no file has that name; false (errno set) if one has.
+bool createExclusively(const std::string& path) {
+#ifdef CAROM_POSIX_FILES
+    const int descriptor = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (descriptor < 0) return false;
+    ::close(descriptor);
+    return true;
+#else
+    std::FILE* file = std::fopen(path.c_str(), "wbx");
+    if (!file) return false;
+    std::fclose(file);
+    return true;
+#endif
+}
+
+// The folder a path's file is in and its name, symlinks followed.
+struct Place {
+    fs::path folder, name;
+};
+
+Place placeOf(const std::string& path) {
+    const fs::path where = resolved(path);
+    return {where.parent_path(), where.filename()};
+}
+
+// The same folder: the same path, or the same device and inode (a bind
+// mount, a symlinked folder).
+bool sameFolder(const fs::path& a, const fs::path& b) {
+    std::error_code error;
+    return a == b || fs::equivalent(a, b, error);
+}
+
 }  // namespace
 
 fs::path followSymlinks(const std::string& path) {
@@ -74,43 +156,123 @@ bool isSpecialFile(const std::string& path) {
     return fs::exists(status) && !fs::is_regular_file(status) && !fs::is_directory(status);
 }
 
-std::string temporaryPath(const std::string& path) {
-    if (isSpecialFile(path)) return "";
-    return followSymlinks(path).string() + ".partial";
+bool isTemporaryName(const std::string& name, const std::string& path) {
+    const Place candidate = placeOf(name), output = placeOf(path);
+    const std::string n = candidate.name.string(), target = output.name.string(), suffix = ".partial";
+    const bool shaped = n.size() > target.size() + suffix.size() &&
+                        n.compare(0, target.size() + 1, target + ".") == 0 &&
+                        n.compare(n.size() - suffix.size(), suffix.size(), suffix) == 0;
+    return (shaped || n == target + suffix) && sameFolder(candidate.folder, output.folder);
 }
 
 bool sameFile(const std::string& a, const std::string& b) {
-    if (resolved(a) == resolved(b)) return true;
-    std::error_code error;  // set (and the result false) unless both exist
-    return fs::equivalent(a, b, error);
+    std::error_code error;
+    if (fs::exists(a, error) && fs::exists(b, error)) return fs::equivalent(a, b, error);
+    const Place pa = placeOf(a), pb = placeOf(b);
+    return pa.name == pb.name && sameFolder(pa.folder, pb.folder);
+}
+
+void interruptWaits() noexcept { waitsInterrupted.store(true); }
+
+void removeTemporaryFiles() noexcept {
+    for (TemporarySlot& slot : temporarySlots) {
+        if (slot.state.load() != kHeld) continue;
+#ifdef CAROM_POSIX_FILES
+        ::unlink(slot.path);
+#else
+        std::remove(slot.path);
+#endif
+    }
 }
 
 AtomicFile::AtomicFile(std::string path, Existing existing) : path_(std::move(path)) {
     if (path_.empty()) throw Error("an output file name is empty");
     std::error_code error;
     if (fs::is_directory(path_, error)) throw Error("cannot write '" + path_ + "': it is a directory");
-    temporaryPath_ = temporaryPath(path_);
-    if (temporaryPath_.empty()) {  // a FIFO or a device: written in place, never replaced
-        stream_.open(path_, std::ios::binary);
-        if (!stream_) throw Error("cannot write '" + path_ + "': " + std::strerror(errno));
+    if (isSpecialFile(path_)) {  // a FIFO or a device: written in place, never replaced
+        openSpecialFile();
         return;
     }
     target_ = followSymlinks(path_).string();
-    continues_ = existing == Existing::Append && hasContent(target_);
-    if (continues_ && !fs::copy_file(target_, temporaryPath_, fs::copy_options::overwrite_existing, error))
-        throw Error("cannot write '" + path_ + "': copying it to '" + temporaryPath_ + "' failed: " + error.message());
-    stream_.open(temporaryPath_, std::ios::binary | (continues_ ? std::ios::app : std::ios::trunc));
-    if (!stream_) {
-        const int openError = errno;
-        if (continues_) std::remove(temporaryPath_.c_str());
-        throw Error("cannot write '" + path_ + "': " + std::strerror(openError));
+    for (int attempt = 0; temporaryPath_.empty(); ++attempt) {
+        const std::string name = target_ + "." + uniqueTag() + ".partial";
+        if (createExclusively(name)) {
+            temporaryPath_ = name;
+        } else if (errno != EEXIST || attempt == 100) {
+            throw Error("cannot write '" + path_ + "': " + std::strerror(errno));
+        }
+    }
+    registered_ = registerTemporary(temporaryPath_);
+    try {
+        stream_.open(temporaryPath_, std::ios::binary | std::ios::trunc);
+        if (!stream_) throw Error("cannot write '" + path_ + "': " + std::strerror(errno));
+        continues_ = existing == Existing::Append && hasContent(target_);
+        if (continues_) copyTarget();
+    } catch (...) {
+        removeTemporary();
+        throw;
     }
 }
 
 AtomicFile::~AtomicFile() {
-    if (committed_) return;
+    if (!committed_) removeTemporary();
+}
+
+void AtomicFile::removeTemporary() noexcept {
     stream_.close();
-    if (!temporaryPath_.empty()) std::remove(temporaryPath_.c_str());
+    if (temporaryPath_.empty()) return;
+    std::remove(temporaryPath_.c_str());
+    if (registered_ >= 0) temporarySlots[registered_].state.store(kFree);
+    registered_ = -1;
+}
+
+// A FIFO with no reader yet is waited for in short sleeps, so that a stop
+// signal (interruptWaits) ends the wait; once a reader is there the FIFO is
+// opened again, blocking, through the descriptor that holds it open (a
+// reader never sees the end of its input in between).
+void AtomicFile::openSpecialFile() {
+#ifdef __linux__
+    std::error_code error;
+    if (fs::is_fifo(path_, error)) {
+        for (;;) {
+            const int descriptor = ::open(path_.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+            if (descriptor >= 0) {
+                stream_.open("/proc/self/fd/" + std::to_string(descriptor), std::ios::binary);
+                ::close(descriptor);
+                break;  // without /proc, opened below
+            }
+            if (errno != ENXIO) throw Error("cannot write '" + path_ + "': " + std::strerror(errno));
+            if (waitsInterrupted.load())
+                throw Error("cannot write '" + path_ + "': no reader opened the FIFO before carom was asked to stop");
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+    }
+#endif
+    if (!stream_.is_open()) stream_.open(path_, std::ios::binary);
+    if (!stream_) throw Error("cannot write '" + path_ + "': " + std::strerror(errno));
+}
+
+// Copies the existing target into the temporary file, which a resumed run
+// then appends to. A failure (a full disk) names its reason and leaves the
+// target as it was; the caller removes the partial copy.
+void AtomicFile::copyTarget() {
+    std::ifstream in(target_, std::ios::binary);
+    if (!in) throw Error("cannot append to '" + path_ + "': cannot read it: " + std::strerror(errno));
+    std::vector<char> block(std::size_t(1) << 20);
+    for (;;) {
+        in.read(block.data(), std::streamsize(block.size()));
+        const std::streamsize count = in.gcount();
+        if (count == 0) break;
+        errno = 0;
+        stream_.write(block.data(), count);
+        if (count < std::streamsize(block.size())) stream_.flush();  // the last block: its write errors now
+        if (!stream_) {
+            const int reason = errno;
+            throw Error("cannot append to '" + path_ + "': copying it to '" + temporaryPath_ + "' failed: " +
+                        (reason ? std::strerror(reason) : "write error (disk full?)") + "; the file is unchanged");
+        }
+    }
+    if (in.bad()) throw Error("cannot append to '" + path_ + "': reading it failed");
 }
 
 // The reason is errno when the failed write set it (a full disk, a quota, a
@@ -143,6 +305,8 @@ void AtomicFile::commit() {
         std::error_code error;
         fs::rename(temporaryPath_, target_, error);
         if (error) throw Error("cannot rename '" + temporaryPath_ + "' to '" + target_ + "': " + error.message());
+        if (registered_ >= 0) temporarySlots[registered_].state.store(kFree);
+        registered_ = -1;
         // The file is in place now; a folder that cannot be synced (some file
         // systems refuse) leaves it as safe as a plain rename would.
         const fs::path folder = fs::path(target_).parent_path();

@@ -6,6 +6,7 @@
 
 #include "engine/diagnostics.h"
 #include "io/checkpoint.h"
+#include "io/output_paths.h"
 #include "io/state_csv.h"
 #include "io/stats.h"
 #include "io/trajectory.h"
@@ -84,8 +85,26 @@ struct TrajectoryWriter::Impl : Owned<carom::TrajectoryWriter> {
 };
 
 TrajectoryWriter::TrajectoryWriter(const std::string& path) : impl_(std::make_unique<Impl>(path)) {}
-TrajectoryWriter::TrajectoryWriter(const std::string& path, const World& resumed)
-    : impl_(std::make_unique<Impl>(path, resumed.stepCount(), resumed.diskCount())) {}
+namespace {
+
+// What the files a run resumed from `world` appends to must lead up to.
+Resumed resumedFrom(const World& world, std::uint64_t every) {
+    Resumed resumed;
+    resumed.step = world.stepCount();
+    resumed.time = world.time();
+    resumed.collisions = world.collisionCount();
+    resumed.every = every;
+    resumed.disks = world.disks();
+    resumed.world = world.def();
+    return resumed;
+}
+
+}  // namespace
+
+TrajectoryWriter::TrajectoryWriter(const std::string& path, const World& resumed, std::uint64_t every) {
+    const Resumed from = resumedFrom(resumed, every);
+    impl_ = std::make_unique<Impl>(path, &from);
+}
 TrajectoryWriter::~TrajectoryWriter() = default;
 TrajectoryWriter::TrajectoryWriter(TrajectoryWriter&&) noexcept = default;
 TrajectoryWriter& TrajectoryWriter::operator=(TrajectoryWriter&&) noexcept = default;
@@ -103,8 +122,10 @@ struct StatisticsWriter::Impl : Owned<StatsWriter> {
 };
 
 StatisticsWriter::StatisticsWriter(const std::string& path) : impl_(std::make_unique<Impl>(path)) {}
-StatisticsWriter::StatisticsWriter(const std::string& path, const World& resumed)
-    : impl_(std::make_unique<Impl>(path, resumed.stepCount())) {}
+StatisticsWriter::StatisticsWriter(const std::string& path, const World& resumed, std::uint64_t every) {
+    const Resumed from = resumedFrom(resumed, every);
+    impl_ = std::make_unique<Impl>(path, &from);
+}
 StatisticsWriter::~StatisticsWriter() = default;
 StatisticsWriter::StatisticsWriter(StatisticsWriter&&) noexcept = default;
 StatisticsWriter& StatisticsWriter::operator=(StatisticsWriter&&) noexcept = default;

@@ -41,21 +41,26 @@ LinesFromEnd::LinesFromEnd(const std::string& path) : in_(path, std::ios::binary
 }
 
 bool LinesFromEnd::previous(std::string& line) {
-    constexpr std::streamoff kBlockBytes = 1 << 16;
+    constexpr std::streamoff kBlockBytes = 1 << 14;
     if (done_) return false;
     for (;;) {
         const std::size_t newline = pending_.rfind('\n');
         if (newline != std::string::npos) {
             line.assign(pending_, newline + 1);
+            offset_ = unread_ + std::streamoff(newline) + 1;
             pending_.resize(newline);
             return true;
         }
         if (unread_ == 0) {
             line = std::move(pending_);
             pending_.clear();
+            offset_ = 0;
             done_ = true;
             return true;
         }
+        if (std::streamoff(pending_.size()) > kMaxLineBytes)
+            throw Error("'" + path_ + "' has a line longer than " + std::to_string(kMaxLineBytes) +
+                        " bytes, which no carom file has");
         const std::streamoff block = std::min(unread_, kBlockBytes);
         unread_ -= block;
         std::string text(static_cast<std::size_t>(block), '\0');
@@ -75,11 +80,18 @@ void refuseToAppend(const std::string& path, const std::string& why) {
     throw Error("cannot append to '" + path + "': " + why + "; write to another file, or remove it to start anew");
 }
 
-void requireAppendable(const std::string& path, const char* item, std::uint64_t last, std::uint64_t resumedAt) {
-    if (last > resumedAt)
-        refuseToAppend(path, std::string("its last ") + item + " is at step " + std::to_string(last) +
-                                 ", after the checkpoint's step " + std::to_string(resumedAt) +
+void requireAppendable(const std::string& path, const char* item, std::uint64_t last, const Resumed& resumed) {
+    const std::string at = std::string("its last ") + item + " is at step " + std::to_string(last);
+    if (last > resumed.step)
+        refuseToAppend(path, at + ", after the checkpoint's step " + std::to_string(resumed.step) +
                                  ", so the resumed run would repeat steps");
+    if (resumed.every == 0) return;
+    const std::uint64_t sample = resumed.step - resumed.step % resumed.every;
+    if (last < sample)
+        refuseToAppend(path, at + ", but sampling every " + std::to_string(resumed.every) +
+                                 " steps up to the checkpoint's step " + std::to_string(resumed.step) +
+                                 " reaches step " + std::to_string(sample) +
+                                 ", so the samples in between would be missing (was it written by this run?)");
 }
 
 }  // namespace carom

@@ -2,6 +2,8 @@
 #include "io/stats.h"
 
 #include <fstream>
+#include <sstream>
+#include <vector>
 
 #include "io/output_paths.h"
 #include "engine/text_format.h"
@@ -11,31 +13,54 @@ namespace {
 
 const std::string kHeader = "step,time,kinetic_energy,momentum_x,momentum_y,collisions,max_overlap,escaped";
 
-// How a run resumed at `resumedAt` (if it is) opens `path`: appending, once
-// the rows already there are found to have this header and to end at or
-// before that step.
-io::Existing continuation(const std::string& path, std::optional<std::uint64_t> resumedAt) {
-    if (!resumedAt) return io::Existing::Replace;
+// The fields of a CSV row.
+std::vector<std::string> fieldsOf(const std::string& row) {
+    std::vector<std::string> fields;
+    std::istringstream in(row);
+    for (std::string field; std::getline(in, field, ',');) fields.push_back(field);
+    return fields;
+}
+
+// How a run resumed from `resumed` (if it is) opens `path`: appending, once
+// the rows already there are found to have this header and to lead up to the
+// checkpoint, of the same simulation.
+io::Existing continuation(const std::string& path, const Resumed* resumed) {
+    if (!resumed) return io::Existing::Replace;
     if (!hasContent(path)) return io::Existing::Append;
     std::ifstream in(path, std::ios::binary);
-    std::string header;
-    std::getline(in, header);
-    if (header != kHeader) refuseToAppend(path, "its header is '" + io::printable(header) + "', not '" + kHeader + "'");
+    std::string header(kHeader.size() + 1, '\0');  // no more: the file may be one huge line
+    header.resize(std::size_t(in.read(header.data(), std::streamsize(header.size())).gcount()));
+    if (header != kHeader + '\n')
+        refuseToAppend(
+            path, "its header is '" + io::printable(header.substr(0, header.find('\n'))) + "', not '" + kHeader + "'");
     LinesFromEnd lines(path);
     std::string last;
     lines.previous(last);
     if (last == kHeader) return io::Existing::Append;  // no rows yet
-    std::uint64_t step = 0;
-    if (!parseStep(last.substr(0, last.find(',')), step))
+    const std::vector<std::string> row = fieldsOf(last);
+    std::uint64_t step = 0, collisions = 0;
+    if (!parseStep(row.empty() ? "" : row[0], step))
         refuseToAppend(path, "its last row '" + io::printable(last) + "' does not start with a step");
-    requireAppendable(path, "row", step, *resumedAt);
+    requireAppendable(path, "row", step, *resumed);
+    std::string time;
+    appendNumber(time, resumed->time);
+    const std::string another = "its last row, at step " + std::to_string(step) + ", ";
+    const std::string simulation = ", so it is another simulation's statistics";
+    if (row.size() != 8 || !parseStep(row[5], collisions))
+        refuseToAppend(path, another + "is no row of 8 columns with a count of collisions" + simulation);
+    if (collisions > resumed->collisions)
+        refuseToAppend(path, another + "counts " + row[5] + " collisions, more than the checkpoint's " +
+                                 std::to_string(resumed->collisions) + simulation);
+    if (step == resumed->step && (row[1] != time || collisions != resumed->collisions))
+        refuseToAppend(path, another + "the checkpoint's, has time " + io::printable(row[1]) + " and " + row[5] +
+                                 " collisions, the checkpoint " + time + " and " + std::to_string(resumed->collisions) +
+                                 simulation);
     return io::Existing::Append;
 }
 
 }  // namespace
 
-StatsWriter::StatsWriter(const std::string& path, std::optional<std::uint64_t> resumedAt)
-    : file_(path, continuation(path, resumedAt)) {
+StatsWriter::StatsWriter(const std::string& path, const Resumed* resumed) : file_(path, continuation(path, resumed)) {
     if (!file_.continues()) file_.append(kHeader + '\n');
 }
 

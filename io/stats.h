@@ -9,7 +9,6 @@
 #pragma once
 
 #include <cstdint>
-#include <optional>
 #include <string>
 
 #include <carom/files.h>
@@ -17,14 +16,18 @@
 
 namespace carom {
 
+struct Resumed;  // io/output_paths.h
+
 class StatsWriter {
 public:
     // Opens a temporary file beside `path` and writes the header; throws
-    // Error if it cannot. A run resumed from a checkpoint at step `resumedAt`
-    // continues an existing `path` (its rows, then this run's: one long run's
-    // statistics); Error if its header is not this one or its last row is
-    // after that step, since appending would repeat steps.
-    explicit StatsWriter(const std::string& path, std::optional<std::uint64_t> resumedAt = std::nullopt);
+    // Error if it cannot. A run resumed from a checkpoint continues an
+    // existing `path` (its rows, then this run's: one long run's statistics);
+    // Error if its header is not this one, its last row does not lead up to
+    // the checkpoint (requireAppendable), or counts more collisions than the
+    // checkpoint (at its step: another time or count) and so is another
+    // simulation's.
+    explicit StatsWriter(const std::string& path, const Resumed* resumed = nullptr);
 
     // Appends one row; throws Error if the write fails (disk full).
     void write(std::uint64_t step, double time, const Diagnostics& diagnostics, std::uint64_t collisions);

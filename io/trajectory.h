@@ -12,7 +12,6 @@
 #pragma once
 
 #include <cstdint>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,15 +20,17 @@
 
 namespace carom {
 
+struct Resumed;  // io/output_paths.h
+
 class TrajectoryWriter {
 public:
     // Opens a temporary file beside `path`; throws Error if it cannot. A run
-    // resumed from a checkpoint at step `resumedAt` with `particles` disks
-    // continues an existing `path` (its frames, then this run's: one long
-    // run's trajectory); Error if its last frame is after that step, since
-    // appending would repeat steps, or has another number of disks.
-    explicit TrajectoryWriter(const std::string& path, std::optional<std::uint64_t> resumedAt = std::nullopt,
-                              std::size_t particles = 0);
+    // resumed from a checkpoint continues an existing `path` (its frames,
+    // then this run's: one long run's trajectory); Error unless its last
+    // frame leads up to the checkpoint (requireAppendable) and is of the same
+    // simulation: its disk count, cell (box, boundary), radii, masses and
+    // ids, and its time when it is at the checkpoint's step.
+    explicit TrajectoryWriter(const std::string& path, const Resumed* resumed = nullptr);
 
     // Appends one frame of `disks` (in id order); throws Error if the write fails (disk full).
     void write(const std::vector<Disk>& disks, const WorldDef& world, std::uint64_t step, double time);

@@ -34,7 +34,7 @@ carom_cli_test(bench_negative_radius fail "radius must be a finite number > 0, g
 carom_cli_test(bench_zero_dt fail "dt must be a finite number > 0, got 0" "${bench}|--dt|0")
 carom_cli_test(bench_zero_budget fail "--budget-ms must be a finite number > 0, got 0" "${bench}|--budget-ms|0")
 carom_cli_test(bench_zero_samples fail "--samples: '0' is out of range; allowed: whole numbers from 1 to 1000" "${bench}|--samples|0")
-carom_cli_test(bench_unwritable_json fail "cannot write '/nonexistent-dir/bench.json'"
+carom_cli_test(bench_unwritable_json fail "--json '/nonexistent-dir/bench.json': the folder '/nonexistent-dir' does not exist"
                "bench|--methods|cpu|--sizes|100|--json|/nonexistent-dir/bench.json")
 add_test(NAME cli.bench_outputs
          COMMAND ${CMAKE_COMMAND} -DCAROM=$<TARGET_FILE:carom> -DWORK_DIR=${CMAKE_CURRENT_BINARY_DIR}

@@ -40,11 +40,11 @@ carom_cli_test(resume_version1 pass "\"scheme\": \"simultaneous\",.*\"step\": 20
 carom_cli_test(every_zero fail "--every: '0' is out of range; allowed: whole numbers from 1 to" "${run}|--every|0")
 carom_cli_test(too_many_particles fail "--particles: '500000001' is out of range; allowed: whole numbers from 1 to 500000000"
                "${run}|--particles|500000001")
-carom_cli_test(unwritable_trajectory fail "cannot write '/nonexistent-dir/t.xyz'"
+carom_cli_test(unwritable_trajectory fail "--trajectory '/nonexistent-dir/t.xyz': the folder '/nonexistent-dir' does not exist"
                "${run}|--trajectory|/nonexistent-dir/t.xyz")
 carom_cli_test(same_file_twice fail "--stats and --output-state name the same file"
                "${run}|--stats|${out}")
-carom_cli_test(unwritable_checkpoint fail "cannot write '/nonexistent-dir/c.ckpt'"
+carom_cli_test(unwritable_checkpoint fail "--checkpoint '/nonexistent-dir/c.ckpt': the folder '/nonexistent-dir' does not exist"
                "${run}|--checkpoint|/nonexistent-dir/c.ckpt")
 
 # The output files read back by the tools users read them with (ASE for the
@@ -73,7 +73,14 @@ foreach(test IN ITEMS trajectory_reads_in_ase stats_csv checkpoint_layout resume
                       stdout_write_errors_are_reported
                       blow_up_names_step_and_particle small_runs_start_no_thread_team fifo_reader_gone_keeps_the_others
                       empty_numbers_are_refused memory_check_uses_available_memory input_state_fifo
-                      resume_forged_count_allocates_nothing two_signals_at_once_stop_the_run)
+                      resume_forged_count_allocates_nothing two_signals_at_once_stop_the_run
+                      every_subcommand_checks_its_files_first empty_file_names_are_refused
+                      failed_first_sample_keeps_earlier_files same_file_through_a_symlinked_folder
+                      same_file_through_a_bind_mount resume_refuses_a_gap_or_another_simulation
+                      output_that_is_standard_output_or_error huge_last_line_is_refused_at_once
+                      signal_at_start_up_ends_at_once bench_and_validate_stop_on_signals
+                      second_signal_removes_temporary_files append_copy_failure_is_named append_copy_on_a_full_disk
+                      signal_ends_the_wait_for_a_fifo_reader)
     add_test(NAME outputs.${test}
              COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/outputs_test.py --carom $<TARGET_FILE:carom>
                      --work ${CMAKE_CURRENT_BINARY_DIR}/outputs --backends ${backends} ${sanitized} ${test})

@@ -47,7 +47,7 @@ def read_bytes(path):
 
 
 def no_partial_files(directory):
-    leftovers = [f for f in os.listdir(directory) if f.endswith(".partial")]
+    leftovers = [f for f in os.listdir(directory) if ".partial" in f]
     assert not leftovers, f"temporary files left behind: {leftovers}"
 
 
@@ -354,9 +354,11 @@ def test_same_file_under_two_spellings():
              (["--stats", "a.csv", "--output-state", "hard.csv"], "--stats and --output-state"),
              (["--trajectory", "link.csv", "--checkpoint", "sub/../a.csv"], "--trajectory and --checkpoint"),
              (["--stats", "s.csv", "--trajectory", "s.csv.partial"],
-              "--trajectory 's.csv.partial' is the temporary name of --stats 's.csv'"),
-             (["--stats", "link.csv", "--trajectory", "a.csv.partial"],  # the temporary goes beside the target
-              "--trajectory 'a.csv.partial' is the temporary name of --stats 'link.csv'")]
+              "--trajectory 's.csv.partial' is a temporary name of --stats 's.csv'"),
+             (["--stats", "s.csv", "--trajectory", "s.csv.x7k2m9.partial"],
+              "--trajectory 's.csv.x7k2m9.partial' is a temporary name of --stats 's.csv'"),
+             (["--stats", "link.csv", "--trajectory", "a.csv.x7k2m9.partial"],  # temporaries go beside the target
+              "--trajectory 'a.csv.x7k2m9.partial' is a temporary name of --stats 'link.csv'")]
     for args, message in cases:
         err = refused(*SMALL_RUN, *args, cwd=d)
         assert message in err, (args, err)
@@ -687,8 +689,9 @@ def test_output_failures_at_the_end_are_all_reported():
         assert done.returncode == 1, (limit, done.returncode, done.stderr)
         assert f"the run stopped at step {step} of 200: writing an output failed" in done.stderr, done.stderr
         assert re.findall(r"  (.*) \S+: FAILED", done.stderr) == failed, done.stderr
-        if "checkpoint" in failed:  # a sample whose checkpoint failed adds no row: none at step 0
-            assert f"statistics {paths['csv']}: 0 rows\n" in done.stderr and csv_steps(paths["csv"]) == [], done.stderr
+        if "checkpoint" in failed:  # a sample whose checkpoint failed adds no row: none at step 0, no file
+            assert f"statistics {paths['csv']}: nothing from this run; the file, if any, is as it was" in done.stderr
+            assert not os.path.exists(paths["csv"]), done.stderr
         else:
             rows = f"{step // 100 + 1} row" + ("s" if step else "")
             assert f"statistics {paths['csv']}: {rows}, the last at step {step}" in done.stderr, done.stderr
@@ -765,7 +768,7 @@ def test_input_state_fifo():
 
 
 def test_synced_before_rename():
-    """Each output file is synced to the disk (fsync of FILE.partial) before it is renamed into place,
+    """Each output file is synced to the disk (fsync of FILE.XXXXXX.partial) before it is renamed into place,
     and its folder after the rename, so that a power loss leaves the old file or the complete new one
     under the name, never an empty one. fsync and rename are logged by tests/fsync_spy.cpp."""
     d = work("synced")
@@ -780,12 +783,12 @@ def test_synced_before_rename():
         calls = [tuple(line.rstrip("\n").split(" ", 1)) for line in f]
     folder = os.path.realpath(d)
     for path in paths:
-        partial = os.path.join(folder, os.path.basename(path) + ".partial")
-        renames = [i for i, call in enumerate(calls) if call == ("rename", partial)]
+        temporary = re.compile(re.escape(os.path.join(folder, os.path.basename(path))) + r"\.[0-9a-z]{6}\.partial")
+        renames = [i for i, (call, name) in enumerate(calls) if call == "rename" and temporary.fullmatch(name)]
         assert renames, (path, calls)
         for i in renames:
-            synced = [j for j in range(i) if calls[j] == ("fsync", partial)]
-            assert synced and ("rename", partial) not in calls[synced[-1] + 1:i], (path, "not synced", calls)
+            partial = calls[i][1]  # each write its own temporary name
+            assert ("fsync", partial) in calls[:i], (path, "not synced", calls)
             assert ("fsync", folder) in calls[i + 1:i + 3], (path, "folder not synced", calls)
 
 
@@ -995,6 +998,371 @@ def test_events_resume_refusals():
     err = refused(*resume, "--resume", forged)
     assert f"but {n} particles and their events state need {len(data)}" in err, err
     assert not os.path.exists(state)
+    no_partial_files(d)
+
+
+# ---------------------------------------------------------------------------
+# Every subcommand's files: one check before any work, temporaries removed on
+# every exit path, signals honoured from the start.
+
+def has_viewer():
+    """Whether this carom has `carom view` (built with SDL2, OpenGL and Dear ImGui); says so if not."""
+    done = subprocess.run([ARGS.carom, "view", "--help"], capture_output=True, text=True, timeout=60)
+    if "--frames" not in done.stdout:
+        print("skipped: this carom has no viewer")
+    return "--frames" in done.stdout
+
+
+def snapshot_files(d):
+    """Every file under `d` with its bytes, to check that a refusal changed nothing."""
+    found = {}
+    for root, _, names in os.walk(d):
+        for name in names:
+            path = os.path.join(root, name)
+            found[os.path.relpath(path, d)] = None if stat.S_ISFIFO(os.lstat(path).st_mode) else read_bytes(path)
+    return found
+
+
+def test_every_subcommand_checks_its_files_first():
+    """view, bench and validate refuse, before any work and naming both options, what run refuses:
+    an output over an input (the scene, the input state, the events script), two outputs that are
+    one file, an output among the files of a folder output (validate's report, view's --record),
+    a folder output that is a file, and an output in a missing folder. Nothing is written."""
+    d = work("plan")
+    with open(os.path.join(d, "sc.toml"), "w") as f:
+        f.write("box = [20, 20]\nsteps = 5\n[[group]]\ncount = 10\n")
+    with open(os.path.join(d, "in.csv"), "w") as f:
+        f.write(csv_rows(3))
+    with open(os.path.join(d, "ev.txt"), "w") as f:
+        f.write("1 key space\n")
+    with open(os.path.join(d, "x.png"), "w") as f:
+        f.write("an earlier screenshot")
+    os.makedirs(os.path.join(d, "vr"))
+    with open(os.path.join(d, "vr", "README.md"), "w") as f:
+        f.write("an earlier report")
+    before = snapshot_files(d)
+    view = ["view", "--backend", "cpu", "--frames", 2, "--window", 64, 64]
+    cases = [
+        (["bench", "--methods", "cpu", "--sizes", 100, "--json", "x.out", "--csv", "./x.out"],
+         "--json and --csv name the same file ('x.out' and './x.out')"),
+        (["bench", "--methods", "cpu", "--sizes", 100, "--plot", "x.svg", "--csv", "x.svg.abc123.partial"],
+         "--csv 'x.svg.abc123.partial' is a temporary name of --plot 'x.svg'"),
+        (["bench", "--methods", "cpu", "--sizes", 100, "--json", "no-such-folder/b.json"],
+         "--json 'no-such-folder/b.json': the folder"),
+        (["validate", "--quick", "--report", "vr", "--json", "vr/README.md"],
+         "--json 'vr/README.md' is one of the files --report 'vr' writes"),
+        (["validate", "--quick", "--report", "x.png"], "--report 'x.png' is a file; give a folder"),
+        (["validate", "--quick", "--report", "vr", "--json", "vr/../vr"], "--json 'vr/../vr' is a folder"),
+    ]
+    if has_viewer():
+        cases += [
+            ([*view, "--scene", "sc.toml", "--output-state", "./sc.toml"],
+             "--output-state './sc.toml' would overwrite the input --scene 'sc.toml'"),
+            ([*view, "--box", 20, 20, "--input-state", "in.csv", "--output-state", "in.csv"],
+             "--output-state 'in.csv' would overwrite the input --input-state 'in.csv'"),
+            ([*view, "--events", "ev.txt", "--screenshot", "./ev.txt"],
+             "--screenshot './ev.txt' would overwrite the input --events 'ev.txt'"),
+            ([*view, "--screenshot", "x.png", "--output-state", "./x.png"],
+             "--screenshot and --output-state name the same file ('x.png' and './x.png')"),
+            ([*view, "--record", "rec", "--screenshot", "rec/frame_00001.png"],
+             "--screenshot 'rec/frame_00001.png' is one of the files --record 'rec' writes"),
+            ([*view, "--record", "x.png"], "--record 'x.png' is a file; give a folder"),
+            ([*view, "--screenshot", "no-such-folder/x.png"], "--screenshot 'no-such-folder/x.png': the folder"),
+        ]
+    for args, message in cases:
+        err = refused(*args, cwd=d)
+        assert message in err, (args, err)
+        assert snapshot_files(d) == before, (args, "changed the files")
+
+
+def test_empty_file_names_are_refused():
+    """An empty name for any file option of any subcommand, input or output, is refused naming the
+    option, never taken as "not given": `--resume ""` does not start a fresh scene whose --checkpoint
+    would replace the run it meant to continue."""
+    d = work("empty-file-names")
+    carom(*SMALL_RUN, "--checkpoint", "keep.ckpt", cwd=d)
+    kept = read_bytes(os.path.join(d, "keep.ckpt"))
+    cases = [["run", "--resume", "", "--checkpoint", "keep.ckpt"], ["run", "--scene", ""],
+             ["run", "--box", 20, 20, "--input-state", ""], ["bench", "--sizes", 100, "--json", ""],
+             ["bench", "--sizes", 100, "--csv", ""], ["bench", "--sizes", 100, "--plot", ""],
+             ["validate", "--quick", "--json", ""], ["validate", "--quick", "--report", ""]]
+    if has_viewer():
+        cases += [["view", "--frames", 1, option, ""]
+                  for option in ("--scene", "--input-state", "--events", "--screenshot", "--record", "--output-state")]
+    for args in cases:
+        option = next(a for a, b in zip(args, args[1:]) if b == "")
+        err = refused(*args, cwd=d)
+        assert f"{option}: an empty file name; give a path, or leave the option out" in err, (args, err)
+    assert read_bytes(os.path.join(d, "keep.ckpt")) == kept
+    assert sorted(os.listdir(d)) == ["keep.ckpt"], os.listdir(d)
+
+
+def test_failed_first_sample_keeps_earlier_files():
+    """An output that took no sample (the checkpoint fails at the first one, so no frame or row follows
+    it) is not committed: the earlier trajectory and statistics stay as they were, in a new run and in
+    a resumed one, and the message says so."""
+    d = work("first-sample")
+    full = device_node(d, "full", "/dev/full")
+    if not full:
+        return
+    carom(*SMALL_RUN, "--every", 1, "--trajectory", "t.xyz", "--stats", "s.csv", "--checkpoint", "c.ckpt", cwd=d)
+    before = {name: read_bytes(os.path.join(d, name)) for name in ("t.xyz", "s.csv")}
+    for resume in ([], ["--resume", "c.ckpt"]):
+        args = ["run", "--backend", "cpu", "--steps", 5, "--every", 1, "--quiet", "--trajectory", "t.xyz", "--stats",
+                "s.csv", "--checkpoint", full, *(resume or ["--particles", 10])]
+        err = refused(*args, cwd=d)
+        assert f"checkpoint {full}: FAILED: writing '{full}' failed: No space left on device" in err, err
+        for name, item in (("t.xyz", "trajectory"), ("s.csv", "statistics")):
+            assert f"{item} {name}: nothing from this run; the file, if any, is as it was" in err, err
+            assert read_bytes(os.path.join(d, name)) == before[name], (resume, name)
+        no_partial_files(d)
+
+
+def test_same_file_through_a_symlinked_folder():
+    """An output in a folder and another in a symlink to that folder are one file, although it does
+    not exist yet."""
+    d = work("symlinked-folder")
+    os.makedirs(os.path.join(d, "real"))
+    os.symlink("real", os.path.join(d, "alias"))
+    err = refused(*SMALL_RUN, "--checkpoint", "real/c.ckpt", "--output-state", "alias/c.ckpt", cwd=d)
+    assert "--checkpoint and --output-state name the same file ('real/c.ckpt' and 'alias/c.ckpt')" in err, err
+    assert os.listdir(os.path.join(d, "real")) == []
+
+
+def test_same_file_through_a_bind_mount():
+    """The same with a bind mount of the folder (the two folders are one by device and inode, as a
+    symlink cannot show), in a private mount namespace; skipped where one cannot be made (not root)."""
+    d = work("bind-mount")
+    os.makedirs(os.path.join(d, "real"))
+    os.makedirs(os.path.join(d, "alias"))
+    script = (f"mount --bind real alias && exec {ARGS.carom} run --backend cpu --particles 10 --steps 5 --quiet "
+              "--checkpoint real/c.ckpt --output-state alias/c.ckpt")
+    try:
+        done = subprocess.run(["unshare", "-m", "--propagation", "private", "sh", "-c", script], capture_output=True,
+                              text=True, timeout=120, cwd=d)
+    except FileNotFoundError:
+        print("skipped: no unshare here to make a bind mount")
+        return
+    if "unshare:" in done.stderr or "mount:" in done.stderr:
+        print(f"skipped: cannot make a bind mount here ({done.stderr.strip()})")
+        return
+    assert done.returncode == 1 and "--checkpoint and --output-state name the same file" in done.stderr, done.stderr
+    assert os.listdir(os.path.join(d, "real")) == []
+
+
+def test_resume_refuses_a_gap_or_another_simulation():
+    """A resumed run appends only to files whose last frame or row is the last sample up to the
+    checkpoint's step (no gap) and of the same simulation (disk count, box, boundary, radii, masses,
+    time, collisions); otherwise it is refused and the file left as it was."""
+    d = work("gap")
+    scene = ["--backend", "cpu", "--particles", 30, "--box", 30, 30, "--seed", 4, "--every", 100, "--quiet"]
+    carom("run", *scene, "--steps", 500, "--trajectory", "t.xyz", "--stats", "s.csv", "--checkpoint", "c500.ckpt",
+          cwd=d)
+    carom("run", "--resume", "c500.ckpt", "--steps", 600, "--every", 100, "--checkpoint", "c1100.ckpt", cwd=d)
+    resumed = ["run", "--backend", "cpu", "--every", 100, "--quiet", "--steps", 100]
+    for option, name, item in (("--trajectory", "t.xyz", "frame"), ("--stats", "s.csv", "row")):
+        before = read_bytes(os.path.join(d, name))
+        err = refused(*resumed, "--resume", "c1100.ckpt", option, name, cwd=d)
+        assert f"cannot append to '{name}': its last {item} is at step 500, but sampling every 100 steps up to the " \
+               "checkpoint's step 1100 reaches step 1100, so the samples in between would be missing" in err, err
+        assert read_bytes(os.path.join(d, name)) == before
+
+    # Another simulation with as many disks, up to step 500: another box, other masses.
+    others = [(["--box", 40, 40, "--seed", 4], "has another cell or other columns than the checkpoint's box"),
+              (["--box", 30, 30, "--seed", 5, "--mass-min", 1, "--mass-max", 2], "has disk 0 as ")]
+    for k, (world, message) in enumerate(others):
+        trajectory, stats = f"other{k}.xyz", f"other{k}.csv"
+        carom("run", "--backend", "cpu", "--particles", 30, "--every", 100, "--quiet", *world, "--steps", 500,
+              "--trajectory", trajectory, "--stats", stats, cwd=d)
+        before = read_bytes(os.path.join(d, trajectory))
+        err = refused(*resumed, "--resume", "c500.ckpt", "--trajectory", trajectory, cwd=d)
+        assert f"cannot append to '{trajectory}': its last frame {message}" in err, err
+        assert "so it is another simulation's trajectory" in err, err
+        assert read_bytes(os.path.join(d, trajectory)) == before
+        err = refused(*resumed, "--resume", "c500.ckpt", "--stats", stats, cwd=d)
+        assert f"cannot append to '{stats}': its last row, at step 500, " in err, err
+        assert "so it is another simulation's statistics" in err, err
+    # The files of this simulation, resumed where they end, still take the samples after.
+    carom(*resumed, "--resume", "c500.ckpt", "--trajectory", "t.xyz", "--stats", "s.csv", cwd=d)
+    assert xyz_steps(os.path.join(d, "t.xyz")) == list(range(0, 601, 100))
+    no_partial_files(d)
+
+
+def test_output_that_is_standard_output_or_error():
+    """An output that is the regular file carom's standard output or error goes to (under any name:
+    /dev/stdout, or the file itself) is refused before any work: replacing it would lose the summary
+    and messages printed there. A pipe or a terminal as /dev/stdout is written directly."""
+    d = work("own-stdout")
+    for args, stream, redirect in ((["--output-state", "/dev/stdout"], "standard output", "stdout"),
+                                   (["--stats", "out.txt"], "standard output", "stdout"),
+                                   (["--trajectory", "/dev/stderr"], "standard error", "stderr")):
+        path = os.path.join(d, "out.txt")
+        with open(path, "w") as f:
+            f.write("kept\n")
+        inode = os.stat(path).st_ino
+        with open(path, "a") as f:
+            streams = {"stdout": f, "stderr": subprocess.PIPE} if redirect == "stdout" else \
+                      {"stdout": subprocess.PIPE, "stderr": f}
+            done = subprocess.run([ARGS.carom, *map(str, SMALL_RUN), *args], text=True, timeout=120, cwd=d, **streams)
+        assert done.returncode == 1 and os.stat(path).st_ino == inode, args
+        with open(path) as f:
+            text = f.read()
+        message = text if redirect == "stderr" else done.stderr
+        assert f"is the file carom's {stream} goes to" in message, (args, message)
+        assert text.startswith("kept\n"), text
+    done = subprocess.run(f"{ARGS.carom} run --backend cpu --particles 3 --box 10 10 --steps 1 --quiet "
+                          "--output-state /dev/stdout | cat", shell=True, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0 and done.stdout.startswith("id,x,y,vx,vy,mass,radius\n"), done.stderr
+
+
+def test_huge_last_line_is_refused_at_once():
+    """A file of one 100 MB line (no newline) given to a resumed run to append to is refused at once,
+    naming it, not read whole (which took minutes)."""
+    d = work("huge-line")
+    carom(*SMALL_RUN, "--checkpoint", "c.ckpt", cwd=d)
+    for option, name in (("--trajectory", "t.xyz"), ("--stats", "s.csv")):
+        with open(os.path.join(d, name), "wb") as f:
+            if name == "s.csv":
+                f.write(b"step,time,kinetic_energy,momentum_x,momentum_y,collisions,max_overlap,escaped\n")
+            f.write(b"x" * (100 << 20))
+        done = subprocess.run([ARGS.carom, "run", "--resume", "c.ckpt", "--steps", "5", "--quiet", option, name],
+                              capture_output=True, text=True, timeout=60, cwd=d)
+        assert done.returncode == 1 and "has a line longer than 65536 bytes" in done.stderr, done.stderr
+        os.remove(os.path.join(d, name))
+    no_partial_files(d)
+
+
+def test_signal_at_start_up_ends_at_once():
+    """SIGTERM while the run starts (here waiting for a FIFO output's reader, which never comes) ends
+    it at once with 143, every file as it was and no temporary file left."""
+    d = work("start-up-signal")
+    os.mkfifo(os.path.join(d, "frames"))
+    with open(os.path.join(d, "s.csv"), "w") as f:
+        f.write("an earlier file\n")
+    process = subprocess.Popen([ARGS.carom, *map(str, SMALL_RUN), "--stats", "s.csv", "--trajectory", "frames"],
+                               cwd=d, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(1)
+    assert process.poll() is None, "carom did not wait for the FIFO's reader"
+    process.send_signal(signal.SIGTERM)
+    _, err = process.communicate(timeout=60)
+    assert process.returncode == 143, (process.returncode, err)
+    assert "carom run: interrupted by SIGTERM before writing any output; every file is as it was" in err, err
+    with open(os.path.join(d, "s.csv")) as f:
+        assert f.read() == "an earlier file\n"
+    no_partial_files(d)
+
+
+def test_bench_and_validate_stop_on_signals():
+    """carom validate and carom bench stop at once on SIGINT or SIGTERM, exit 128 + the signal, write
+    no file (what they measured is on stderr) and leave no temporary file."""
+    d = work("bench-validate-signals")
+    for stop, args in ((signal.SIGINT, ["validate", "--report", "vr", "--json", "v.json"]),
+                       (signal.SIGTERM, ["bench", "--methods", "cpu", "--sizes", "1e5", "--samples", 1000,
+                                         "--json", "b.json", "--csv", "b.csv", "--plot", "b.svg"])):
+        process = subprocess.Popen([ARGS.carom, *map(str, args)], cwd=d, stdout=subprocess.PIPE,
+                                   stderr=subprocess.PIPE, text=True)
+        time.sleep(2)
+        assert process.poll() is None, process.communicate()
+        process.send_signal(stop)
+        _, err = process.communicate(timeout=60)
+        assert process.returncode == 128 + stop, (args[0], process.returncode, err)
+        assert f"carom {args[0]}: interrupted by {stop.name} before writing any output" in err, err
+        for folder in (d, os.path.join(d, "vr")):
+            if os.path.isdir(folder):
+                no_partial_files(folder)
+                assert not [f for f in os.listdir(folder) if f.endswith((".json", ".csv", ".svg", ".md"))]
+
+
+def test_second_signal_removes_temporary_files():
+    """A second signal, a second after the first, ends the run at once (here blocked writing a
+    trajectory to a FIFO nobody reads any more), and removes its temporary files: no .partial is left."""
+    d = work("second-signal")
+    fifo = os.path.join(d, "frames")
+    os.mkfifo(fifo)
+    arguments = ["run", "--backend", "cpu", "--particles", 2000, "--steps", 10 ** 9, "--every", 1, "--quiet",
+                 "--trajectory", fifo, "--stats", "s.csv", "--checkpoint", "c.ckpt"]
+    process = subprocess.Popen([ARGS.carom, *map(str, arguments)], cwd=d, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    reader = open(fifo, "rb")  # never read: the pipe fills and carom blocks in a write
+    deadline = time.monotonic() + 120
+    while not os.path.exists(os.path.join(d, "c.ckpt")):
+        assert process.poll() is None and time.monotonic() < deadline, process.communicate()
+        time.sleep(0.05)
+    time.sleep(0.5)
+    assert any(".partial" in f for f in os.listdir(d)), os.listdir(d)
+    process.send_signal(signal.SIGTERM)
+    time.sleep(1.5)
+    process.send_signal(signal.SIGTERM)
+    process.communicate(timeout=60)
+    reader.close()
+    assert process.returncode == -signal.SIGTERM, process.returncode
+    no_partial_files(d)
+
+
+def test_append_copy_failure_is_named():
+    """The copy a resumed run appends to is made before any work; when it fails (past a file size
+    limit here, a full disk in the next test) the message says why, the partial copy is removed and
+    the file is unchanged."""
+    d = work("append-copy")
+    carom("run", "--backend", "cpu", "--particles", 200, "--steps", 100, "--every", 10, "--quiet", "--trajectory",
+          "t.xyz", "--checkpoint", "c.ckpt", cwd=d)
+    before = read_bytes(os.path.join(d, "t.xyz"))
+    done = limited_run(len(before) // 2, ["--backend", "cpu", "--resume", os.path.join(d, "c.ckpt"), "--steps", 10, "--every", 10, "--quiet",
+                                          "--trajectory", os.path.join(d, "t.xyz")])
+    assert done.returncode == 1, done.stderr
+    assert re.search(r"cannot append to '.*t.xyz': copying it to '.*t.xyz.[0-9a-z]{6}.partial' failed: File too "
+                     r"large; the file is unchanged", done.stderr), done.stderr
+    assert read_bytes(os.path.join(d, "t.xyz")) == before
+    no_partial_files(d)
+
+
+def test_append_copy_on_a_full_disk():
+    """A full disk while copying for an append says "No space left on device" and removes the partial
+    copy (a 1 MiB tmpfs in a private mount namespace; skipped where one cannot be made)."""
+    d = work("append-full-disk")
+    os.makedirs(os.path.join(d, "small"))
+    carom("run", "--backend", "cpu", "--particles", 2000, "--steps", 50, "--every", 10, "--quiet", "--trajectory",
+          "t.xyz", "--checkpoint", "c.ckpt", cwd=d)
+    size = os.path.getsize(os.path.join(d, "t.xyz"))
+    assert 600 * 1024 < size < 1024 * 1024, size  # one copy fits in 1 MiB, two do not
+    script = (f"mount -t tmpfs -o size=1m tmpfs small && cp t.xyz small/ && "
+              f"{ARGS.carom} run --resume c.ckpt --steps 10 --every 10 --quiet --trajectory small/t.xyz; "
+              "echo status $?; cmp t.xyz small/t.xyz && echo unchanged; ls small")
+    try:
+        done = subprocess.run(["unshare", "-m", "--propagation", "private", "sh", "-c", script], capture_output=True,
+                              text=True, timeout=120, cwd=d)
+    except FileNotFoundError:
+        print("skipped: no unshare here to mount a small file system")
+        return
+    if "unshare:" in done.stderr or "mount:" in done.stderr:
+        print(f"skipped: cannot mount a small file system here ({done.stderr.strip()})")
+        return
+    assert "status 1\nunchanged\nt.xyz\n" in done.stdout, (done.stdout, done.stderr)
+    assert "failed: No space left on device; the file is unchanged" in done.stderr, done.stderr
+
+
+def test_signal_ends_the_wait_for_a_fifo_reader():
+    """A checkpoint written to a FIFO is opened anew each time; when its reader has gone, the first
+    SIGTERM ends the wait for another (it was ignored: the open blocked): the run stops at once, names
+    the FIFO, and keeps the other outputs."""
+    d = work("fifo-wait")
+    fifo = os.path.join(d, "c.fifo")
+    os.mkfifo(fifo)
+    reader = threading.Thread(target=lambda: read_bytes(fifo), daemon=True)  # some checkpoints, then gone
+    reader.start()
+    process = subprocess.Popen([ARGS.carom, *map(str, ["run", "--backend", "cpu", "--particles", 10, "--steps",
+                                                       10 ** 9, "--every", 10, "--quiet", "--checkpoint", fifo,
+                                                       "--stats", "s.csv"])],
+                               cwd=d, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    reader.join(timeout=60)
+    time.sleep(1)
+    assert process.poll() is None, process.communicate()
+    process.send_signal(signal.SIGTERM)
+    _, err = process.communicate(timeout=60)
+    assert process.returncode == 1, (process.returncode, err)
+    assert f"checkpoint {fifo}: FAILED: cannot write '{fifo}': no reader opened the FIFO before carom was asked " \
+           "to stop" in err, err
+    step = int(re.search(rf"checkpoint {re.escape(fifo)}: step (\d+)", err).group(1))  # the reader's last
+    assert csv_steps(os.path.join(d, "s.csv"))[-1] == step, err
     no_partial_files(d)
 
 

@@ -13,8 +13,8 @@ carom_cli_test(same_file_trajectory_and_stats fail "--trajectory and --stats nam
 carom_cli_test(same_file_stats_and_state fail "--stats and --output-state name the same file"
                "${small}|--stats|${safety}/a.csv|--output-state|${safety}/sub/../a.csv")
 carom_cli_test(same_file_temporary_name fail
-               "--trajectory '.*s.csv.partial' is the temporary name of --stats '.*s.csv'"
-               "${small}|--stats|${safety}/s.csv|--trajectory|${safety}/s.csv.partial")
+               "--trajectory '.*s.csv.ab12cd.partial' is a temporary name of --stats '.*s.csv'"
+               "${small}|--stats|${safety}/s.csv|--trajectory|${safety}/s.csv.ab12cd.partial")
 
 # Fresh copies for each run (a regression overwrites them, never the source tree).
 file(WRITE ${safety}/originals/self.toml

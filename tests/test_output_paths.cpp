@@ -37,6 +37,14 @@ std::vector<std::string> linesFromEnd(const std::string& text) {
     return result;
 }
 
+// The temporary files (NAME.XXXXXX.partial) left in `folder`.
+std::vector<std::string> partialFiles(const fs::path& folder) {
+    std::vector<std::string> found;
+    for (const fs::directory_entry& entry : fs::directory_iterator(folder.empty() ? fs::path(".") : folder))
+        if (entry.path().extension() == ".partial") found.push_back(entry.path().string());
+    return found;
+}
+
 // A fresh folder for one test case, removed at its end.
 struct Folder {
     explicit Folder(const std::string& name) : path(name) {
@@ -55,8 +63,14 @@ TEST_CASE("output paths: lines read from the end") {
     CHECK(linesFromEnd("a\nb\n") == std::vector<std::string>{"b", "a"});
     CHECK(linesFromEnd("a\nb") == std::vector<std::string>{"b", "a"});
     CHECK(linesFromEnd("a\n\nb\n") == std::vector<std::string>{"b", "", "a"});
-    const std::string longLine(200000, 'x');  // over several blocks
+    const std::string longLine(60000, 'x');  // over several blocks
     CHECK(linesFromEnd("first\n" + longLine + "\nlast\n") == std::vector<std::string>{"last", longLine, "first"});
+
+    // A line longer than any carom writes is refused after a block or two,
+    // not read whole (a file of one huge line took minutes).
+    const std::string huge(std::size_t(kMaxLineBytes) * 4, 'x');
+    CHECK_THROWS_WITH_AS(linesFromEnd("first\n" + huge), doctest::Contains("has a line longer than 65536 bytes"),
+                         Error);
 
     std::uint64_t step = 0;
     CHECK((parseStep("18446744073709551615", step) && step == 18446744073709551615u));
@@ -78,12 +92,19 @@ TEST_CASE("output paths: one file under two names") {
     fs::create_symlink("new.csv", folder.path / "dangling.csv");  // names a file still to be written
     CHECK(io::sameFile((folder.path / "new.csv").string(), (folder.path / "dangling.csv").string()));
 
-    // The temporary name is beside the link's target; a device has none.
-    CHECK(fs::path(io::temporaryPath((folder.path / "link.csv").string())) == folder.path / "a.csv.partial");
-    CHECK(io::temporaryPath(a) == a + ".partial");
+    // A temporary name is beside the link's target; a device has none.
+    for (const std::string& output : {(folder.path / "link.csv").string(), a}) {
+        CHECK(io::isTemporaryName((folder.path / "a.csv.x1y2z3.partial").string(), output));
+        CHECK(io::isTemporaryName((folder.path / "a.csv.partial").string(), output));
+        CHECK_FALSE(io::isTemporaryName((folder.path / "a.csv.partial.txt").string(), output));
+        CHECK_FALSE(io::isTemporaryName((folder.path / "b.csv.x1y2z3.partial").string(), output));
+    }
+    CHECK_FALSE(
+        io::isTemporaryName((folder.path / "link.csv.x1y2z3.partial").string(), (folder.path / "link.csv").string()));
     if (fs::exists("/dev/null")) {
         CHECK(io::isSpecialFile("/dev/null"));
-        CHECK(io::temporaryPath("/dev/null").empty());
+        io::AtomicFile null("/dev/null");
+        CHECK(null.temporaryPath().empty());
     }
     CHECK_FALSE(io::isSpecialFile(a));
 
@@ -91,6 +112,35 @@ TEST_CASE("output paths: one file under two names") {
     fs::create_symlink("loop1", folder.path / "loop2");
     CHECK_THROWS_WITH_AS(io::followSymlinks((folder.path / "loop1").string()),
                          doctest::Contains("too many levels of symbolic links"), Error);
+}
+
+TEST_CASE("output paths: one file through a symlinked folder, before it exists") {
+    // `alias` is another name of the folder `real`: outputs there are one
+    // file although neither exists yet (a bind mount of `real` is the same
+    // case, tested by outputs.same_file_through_a_bind_mount where it may be made).
+    const Folder folder("same-folder");
+    fs::create_directories(folder.path / "real");
+    fs::create_directory_symlink("real", folder.path / "alias");
+    const std::string real = (folder.path / "real" / "c.ckpt").string();
+    CHECK(io::sameFile(real, (folder.path / "alias" / "c.ckpt").string()));
+    CHECK_FALSE(io::sameFile(real, (folder.path / "alias" / "d.ckpt").string()));
+    CHECK(io::isTemporaryName((folder.path / "alias" / "c.ckpt.abc123.partial").string(), real));
+}
+
+TEST_CASE("atomic files: two writers of one file never share a temporary file") {
+    // Two runs with one --checkpoint: each commit puts its own writer's
+    // content in place (a shared temporary name mixed them up).
+    const Folder folder("two-writers");
+    const std::string path = (folder.path / "c.ckpt").string();
+    io::AtomicFile first(path), second(path);
+    CHECK(first.temporaryPath() != second.temporaryPath());
+    first.append("first");
+    second.append("second");
+    first.commit();
+    CHECK(contents(path) == "first");
+    second.commit();
+    CHECK(contents(path) == "second");
+    CHECK(partialFiles(folder.path).empty());
 }
 
 TEST_CASE("atomic files: a symlink stays a link to the new file") {
@@ -101,12 +151,13 @@ TEST_CASE("atomic files: a symlink stays a link to the new file") {
     {
         io::AtomicFile file((folder.path / "link.csv").string());
         file.append("new");
-        CHECK(fs::exists(folder.path / "data" / "target.csv.partial"));
+        CHECK(partialFiles(folder.path / "data") == std::vector<std::string>{file.temporaryPath()});
+        CHECK(fs::path(file.temporaryPath()).filename().string().rfind("target.csv.", 0) == 0);
         file.commit();
     }
     CHECK(fs::is_symlink(folder.path / "link.csv"));
     CHECK(contents(folder.path / "data" / "target.csv") == "new");
-    CHECK_FALSE(fs::exists(folder.path / "data" / "target.csv.partial"));
+    CHECK(partialFiles(folder.path / "data").empty());
 }
 
 TEST_CASE("atomic files: appending is atomic too") {
@@ -119,14 +170,14 @@ TEST_CASE("atomic files: appending is atomic too") {
         file.append("new\n");
     }  // destroyed without commit: the original is untouched
     CHECK(contents(path) == "old\n");
-    CHECK_FALSE(fs::exists(path + ".partial"));
+    CHECK(partialFiles(folder.path).empty());
     {
         io::AtomicFile file(path, io::Existing::Append);
         file.append("new\n");
         file.commit();
     }
     CHECK(contents(path) == "old\nnew\n");
-    CHECK_FALSE(fs::exists(path + ".partial"));
+    CHECK(partialFiles(folder.path).empty());
     {
         io::AtomicFile file((folder.path / "absent.txt").string(), io::Existing::Append);
         CHECK_FALSE(file.continues());
@@ -144,7 +195,7 @@ TEST_CASE("atomic files: commit syncs and renames, here and in another folder") 
             file.commit();
         }
         CHECK(contents(path) == "complete");
-        CHECK_FALSE(fs::exists(path.string() + ".partial"));
+        CHECK(partialFiles(path.parent_path()).empty());
     }
     fs::remove("synced-here.txt");
 }
@@ -190,27 +241,42 @@ TEST_CASE("atomic files: a device is written directly and its write errors repor
 }
 #endif
 
+namespace {
+
+// A checkpoint at `step`, at time step / 100, before any collision.
+Resumed resumedAt(std::uint64_t step) {
+    Resumed resumed;
+    resumed.step = step;
+    resumed.time = double(step) / 100;
+    return resumed;
+}
+
+}  // namespace
+
 TEST_CASE("statistics: a resumed run appends after the rows already there") {
     const Folder folder("stats-append");
     const std::string path = (folder.path / "s.csv").string();
     const std::string header = "step,time,kinetic_energy,momentum_x,momentum_y,collisions,max_overlap,escaped\n";
     const Diagnostics d{};
     {
-        StatsWriter stats(path, 100);  // no file yet: created with its header
+        const Resumed resumed = resumedAt(100);
+        StatsWriter stats(path, &resumed);  // no file yet: created with its header
         stats.write(200, 2.0, d, 0);
         stats.commit();
     }
     CHECK(contents(path).rfind(header + "200,", 0) == 0);
     {
-        StatsWriter stats(path, 200);
+        const Resumed resumed = resumedAt(200);
+        StatsWriter stats(path, &resumed);
         stats.write(300, 3.0, d, 0);
         stats.commit();
     }
     CHECK(contents(path).find("\n200,") < contents(path).find("\n300,"));
-    CHECK_THROWS_WITH_AS(StatsWriter(path, 250),
+    const Resumed at250 = resumedAt(250), at0 = resumedAt(0);
+    CHECK_THROWS_WITH_AS(StatsWriter(path, &at250),
                          doctest::Contains("its last row is at step 300, after the checkpoint's step 250"), Error);
     write(path, header);  // no rows yet
-    CHECK_NOTHROW(StatsWriter(path, 0));
+    CHECK_NOTHROW(StatsWriter(path, &at0));
     write(path, "id,x,y\n0,1,2\n");
-    CHECK_THROWS_WITH_AS(StatsWriter(path, 0), doctest::Contains("its header is 'id,x,y'"), Error);
+    CHECK_THROWS_WITH_AS(StatsWriter(path, &at0), doctest::Contains("its header is 'id,x,y'"), Error);
 }

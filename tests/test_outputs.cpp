@@ -2,6 +2,7 @@
 // writer under them; the hardened state CSV reader; resource limits.
 // (tests/outputs_test.py reads the files back with ASE and drives `carom run`.)
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -10,6 +11,10 @@
 #include <limits>
 #include <locale>
 #include <sstream>
+
+#ifdef __linux__
+#include <sys/resource.h>
+#endif
 
 #include <carom/files.h>
 #include "engine/diagnostics.h"
@@ -134,21 +139,24 @@ TEST_CASE("statistics: a header and one row per sample") {
 
 TEST_CASE("atomic files: complete or absent, never half-written") {
     std::ofstream("target.txt") << "old";
+    std::string temporary;
     {
         io::AtomicFile file("target.txt");
         file.append("half of the new");
-        CHECK(exists("target.txt.partial"));
+        temporary = file.temporaryPath();
+        CHECK(exists(temporary));
     }  // destroyed without commit: an error happened
     CHECK(contents("target.txt") == "old");
-    CHECK_FALSE(exists("target.txt.partial"));
+    CHECK_FALSE(exists(temporary));
     {
         io::AtomicFile file("target.txt");
         file.append("new");
+        temporary = file.temporaryPath();
         file.commit();
         file.commit();  // harmless
     }
     CHECK(contents("target.txt") == "new");
-    CHECK_FALSE(exists("target.txt.partial"));
+    CHECK_FALSE(exists(temporary));
     std::remove("target.txt");
 
     CHECK_THROWS_WITH_AS(io::AtomicFile("no-such-dir/x"), doctest::Contains("cannot write 'no-such-dir/x'"), Error);
@@ -157,28 +165,32 @@ TEST_CASE("atomic files: complete or absent, never half-written") {
 }
 
 #ifdef __linux__
-TEST_CASE("atomic files: a full disk fails the write and keeps the previous file") {
-    if (!std::filesystem::exists("/dev/full")) {
-        MESSAGE("no /dev/full here: nothing to test");
-        return;
-    }
-    std::ofstream("full.txt") << "old";
-    std::filesystem::remove("full.txt.partial");
-    std::filesystem::create_symlink("/dev/full", "full.txt.partial");  // every write: ENOSPC
+TEST_CASE("atomic files: a failed write keeps the previous file") {
+    // Past a file size limit every write fails (EFBIG, SIGXFSZ ignored), as on a full disk.
+    std::ofstream("limited.txt") << "old";
+    struct rlimit saved {};
+    getrlimit(RLIMIT_FSIZE, &saved);
+    const auto previousHandler = std::signal(SIGXFSZ, SIG_IGN);
+    struct rlimit limited = saved;
+    limited.rlim_cur = 4096;
+    setrlimit(RLIMIT_FSIZE, &limited);
+    std::string temporary;
     {
-        io::AtomicFile file("full.txt");
+        io::AtomicFile file("limited.txt");
+        temporary = file.temporaryPath();
         CHECK_THROWS_WITH_AS(
             [&] {
                 file.append(std::string(1 << 20, 'x'));
                 file.commit();
             }(),
-            doctest::Contains(
-                "writing 'full.txt' failed: No space left on device; the previous file, if any, is unchanged"),
+            doctest::Contains("writing 'limited.txt' failed: File too large; the previous file, if any, is unchanged"),
             Error);
     }
-    CHECK(contents("full.txt") == "old");
-    CHECK_FALSE(std::filesystem::is_symlink("full.txt.partial"));
-    std::remove("full.txt");
+    setrlimit(RLIMIT_FSIZE, &saved);
+    std::signal(SIGXFSZ, previousHandler);
+    CHECK(contents("limited.txt") == "old");
+    CHECK_FALSE(std::filesystem::exists(temporary));
+    std::remove("limited.txt");
 }
 #endif
 

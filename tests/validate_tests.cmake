@@ -21,9 +21,9 @@ carom_cli_test(validate_seed_renamed fail
                "--pipeline seed is now called host-grid; the old name still works.*--pipeline host-grid needs --backend opencl"
                "${validate}|--backend|cpu|--pipeline|seed")
 carom_cli_test(validate_seed_not_a_number fail "--seed.*many" "${validate}|--seed|many")
-carom_cli_test(validate_unwritable_json fail "cannot write '/nonexistent-dir/validate.json'"
+carom_cli_test(validate_unwritable_json fail "--json '/nonexistent-dir/validate.json': the folder '/nonexistent-dir' does not exist"
                "validate|--quick|--report|${refused}|--json|/nonexistent-dir/validate.json")
-carom_cli_test(validate_report_not_a_folder fail "cannot create the report folder '/dev/null/report'"
+carom_cli_test(validate_report_not_a_folder fail "--report '/dev/null/report': '/dev/null' is not a folder"
                "validate|--quick|--report|/dev/null/report|--json|${out}")
 if(OpenCL_FOUND)
     carom_cli_test(validate_device_out_of_range fail "device 99 \\(WorldDef::device, --device\\): no such device index"

@@ -19,6 +19,7 @@
 #include <carom/types.h>
 
 #include "app/number_options.h"
+#include "app/output_plan.h"
 #include "app/stop_signals.h"
 #include "app/viewer/layout.h"
 #include "app/viewer/png.h"
@@ -212,8 +213,10 @@ void addViewOptions(CLI::App& command, ViewOptions& o) {
     command.add_flag("--hide-panels", o.hidePanels, "Start with the panels hidden (as H)");
     auto* frames = command.add_option("--frames", o.frames, "Headless: render K frames (one tick each), then exit")
                        ->transform(app::wholeNumber(1));
-    command.add_option("--screenshot", o.screenshot, "Headless: write the last frame as PNG")->needs(frames);
-    command.add_option("--record", o.record, "Headless: write every frame as DIR/frame_00000.png ...")->needs(frames);
+    app::fileOption(command.add_option("--screenshot", o.screenshot, "Headless: write the last frame as PNG"))
+        ->needs(frames);
+    app::fileOption(command.add_option("--record", o.record, "Headless: write every frame as DIR/frame_00000.png ..."))
+        ->needs(frames);
     command
         .add_option_function<std::vector<std::string>>(
             "--switch-collisions",
@@ -231,13 +234,12 @@ void addViewOptions(CLI::App& command, ViewOptions& o) {
         ->expected(2)
         ->type_name("FRAME SCHEME")
         ->needs(frames);
-    command
-        .add_option("--events", o.events,
-                    "Headless: input events from FILE, a line each: FRAME key NAME | press|release "
-                    "left|middle|right X Y | move X Y | wheel STEPS")
+    app::fileOption(command.add_option("--events", o.events,
+                                       "Headless: input events from FILE, a line each: FRAME key NAME | press|release "
+                                       "left|middle|right X Y | move X Y | wheel STEPS"))
         ->type_name("FILE")
         ->needs(frames);
-    command.add_option("--output-state", o.outputState, "Headless: write the final disks to this CSV")
+    app::fileOption(command.add_option("--output-state", o.outputState, "Headless: write the final disks to this CSV"))
         ->type_name("FILE")
         ->needs(frames);
 }
@@ -271,7 +273,7 @@ Viewer::Viewer(const ViewOptions& options) : options_(options) {
     if (options_.switchCollisions && options_.switchCollisions->first > options_.frames)
         throw Error("--switch-collisions frame " + std::to_string(options_.switchCollisions->first) +
                     " is after the last one; allowed: 1 to --frames (" + std::to_string(options_.frames) + ")");
-    if (!options_.record.empty()) std::filesystem::create_directories(options_.record);
+    if (!options_.record.empty()) app::createFolder("--record", options_.record);
 
     sceneFileEdit_ = setup.sceneFile;
     openWindow();
@@ -776,8 +778,38 @@ int Viewer::run() {
     return app::signalExitStatus(signal);
 }
 
+namespace {
+
+// Whether `name` is one of the frames --record writes: frame_00000.png, ...
+bool isRecordedFrame(const std::string& name) {
+    const std::string prefix = "frame_", suffix = ".png";
+    if (name.size() < prefix.size() + 5 + suffix.size() || name.compare(0, prefix.size(), prefix) != 0 ||
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+        return false;
+    const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+    return std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+// Refuses, before the window opens, outputs that would be lost or replace
+// an input (app/output_plan.h).
+void checkFiles(const ViewOptions& o) {
+    app::OutputPlan plan;
+    for (const auto& [option, path] : {std::pair{"--scene", o.scene.sceneFile},
+                                       std::pair{"--input-state", o.scene.inputState}, std::pair{"--events", o.events}})
+        if (!path.empty()) plan.input(option, path);
+    for (const auto& [option, path] :
+         {std::pair{"--screenshot", o.screenshot}, std::pair{"--output-state", o.outputState}})
+        if (!path.empty()) plan.output(option, path);
+    if (!o.record.empty()) plan.outputFolder("--record", o.record, isRecordedFrame);
+    plan.check();
+}
+
+}  // namespace
+
 int runViewer(const ViewOptions& options) {
-    const app::StopSignals stopSignals;  // from the start: a signal while the window opens stops after frame 1
+    // From the start: a signal while the window opens stops after frame 1.
+    const app::StopSignals stopSignals(app::StopSignals::FirstSignal::Stops, "carom view");
+    checkFiles(options);
     Viewer viewer(options);
     return viewer.run();
 }

@@ -2,7 +2,8 @@
 // carom::io, which carom's own writers use).
 //
 // Output files that are either complete or absent: written to a temporary
-// name beside the target and renamed into place by commit(). If the writer
+// name beside the target (TARGET.XXXXXX.partial, unique: two writers of one
+// target never share it) and renamed into place by commit(). If the writer
 // is destroyed without commit() (an error, an exception), the temporary file
 // is removed and the target is untouched. A crash leaves at most the
 // temporary file, never a half-written target; commit() syncs the file and
@@ -11,7 +12,8 @@
 // A symlink is followed: the temporary file goes beside its target, which
 // is replaced, and the link stays a link. A FIFO or a device (/dev/null, a
 // terminal) is written directly, with no temporary name: it is never
-// replaced by a regular file (isSpecialFile).
+// replaced by a regular file (isSpecialFile). Opening a FIFO waits for its
+// reader until interruptWaits() is called.
 #pragma once
 
 #include <filesystem>
@@ -31,7 +33,8 @@ class AtomicFile {
 public:
     /// Opens the temporary file (with Existing::Append, a copy of an existing
     /// regular file at `path`), or a special file directly; throws Error if it
-    /// cannot (so a bad output path is refused before any work is done).
+    /// cannot (so a bad output path is refused before any work is done),
+    /// removing what it had created.
     explicit AtomicFile(std::string path, Existing existing = Existing::Replace);
     ~AtomicFile();
     AtomicFile(const AtomicFile&) = delete;
@@ -49,6 +52,8 @@ public:
     void commit();
 
     const std::string& path() const { return path_; }
+    /// The unique name written before commit(); empty for a special file.
+    const std::string& temporaryPath() const { return temporaryPath_; }
 
     /// Whether the file starts with an existing file's content (Existing::Append
     /// and a non-empty regular file was there).
@@ -56,6 +61,9 @@ public:
 
 private:
     [[noreturn]] void failWrite(int error) const;
+    void openSpecialFile();
+    void copyTarget();
+    void removeTemporary() noexcept;
 
     std::string path_;           ///< as given, for messages
     std::string target_;         ///< path_ with its symlinks followed: what commit() replaces
@@ -63,6 +71,7 @@ private:
     std::ofstream stream_;
     bool continues_ = false;
     bool committed_ = false;
+    int registered_ = -1;  ///< its slot among the temporaries removeTemporaryFiles() removes, -1 for none
 };
 
 /// `path` with its symlinks followed to the file they name (which may not
@@ -73,13 +82,27 @@ std::filesystem::path followSymlinks(const std::string& path);
 /// nor a directory: a FIFO, a device or a socket, which carom writes directly.
 bool isSpecialFile(const std::string& path);
 
-/// The name an output is written to before it is renamed onto `path`: the
-/// target's name + ".partial"; empty for a special file (no temporary).
-std::string temporaryPath(const std::string& path);
+/// Whether `name` has the form of a temporary name of the output `path`:
+/// beside its target (symlinks followed), the target's name + ".XXXXXX.partial"
+/// (or + ".partial"), so that no output is written where another's temporary
+/// file would be taken for it.
+bool isTemporaryName(const std::string& name, const std::string& path);
 
-/// Whether two paths name one file: the same absolute path once symlinks,
-/// "." and ".." are resolved, or (for existing files) the same file through
-/// hard links or case-insensitive names.
+/// Whether two paths name one file: for existing files the same file (device
+/// and inode: through hard links, bind mounts or case-insensitive names);
+/// otherwise the same name in the same folder (the folder compared by device
+/// and inode), or the same absolute path once symlinks, "." and ".." are
+/// resolved.
 bool sameFile(const std::string& a, const std::string& b);
+
+/// For a program's signal handler (async-signal-safe): from now on, opening
+/// a FIFO output that has no reader fails at once with Error instead of
+/// waiting for one.
+void interruptWaits() noexcept;
+
+/// For a program's signal handler that ends the program at once
+/// (async-signal-safe): removes the temporary file of every AtomicFile not yet
+/// committed, so that no partial file is left behind.
+void removeTemporaryFiles() noexcept;
 
 }  // namespace carom::io

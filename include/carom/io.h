@@ -105,9 +105,13 @@ class TrajectoryWriter {
 public:
     explicit TrajectoryWriter(const std::string& path);
     /// Continues the trajectory at `path` that a run wrote up to the step
-    /// `resumed` holds (a world loaded from that run's checkpoint); refuses a
-    /// file whose last frame is after that step or has another disk count.
-    TrajectoryWriter(const std::string& path, const World& resumed);
+    /// `resumed` holds (a world loaded from that run's checkpoint). Refuses a
+    /// file whose last frame is after that step, or of another simulation:
+    /// another disk count, box or boundary, other radii, masses or ids, or
+    /// (at that step) another time. With `every` > 0, the steps between the
+    /// samples, it refuses a file whose last frame is before the last
+    /// multiple of `every` up to that step, too: samples would be missing.
+    TrajectoryWriter(const std::string& path, const World& resumed, std::uint64_t every = 0);
     ~TrajectoryWriter();
     TrajectoryWriter(TrajectoryWriter&&) noexcept;
     TrajectoryWriter& operator=(TrajectoryWriter&&) noexcept;
@@ -127,8 +131,11 @@ private:
 class StatisticsWriter {
 public:
     explicit StatisticsWriter(const std::string& path);
-    /// Continues the statistics at `path` up to the step `resumed` holds.
-    StatisticsWriter(const std::string& path, const World& resumed);
+    /// Continues the statistics at `path` up to the step `resumed` holds,
+    /// refusing a file as TrajectoryWriter does (its last row after that step,
+    /// or before its last sample; more collisions than `resumed` counts, or
+    /// at its step another time or count).
+    StatisticsWriter(const std::string& path, const World& resumed, std::uint64_t every = 0);
     ~StatisticsWriter();
     StatisticsWriter(StatisticsWriter&&) noexcept;
     StatisticsWriter& operator=(StatisticsWriter&&) noexcept;
