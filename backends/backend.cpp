@@ -45,20 +45,24 @@ void Backend::setParticles(const std::vector<Particle>& particles, std::uint64_t
     substepsSinceDrain_ = 0;
 }
 
-double Backend::travelLimit() const {
-    double limit = HUGE_VAL;
-    if (world_.collisions == CollisionScheme::Events) return limit;  // exact: no substeps
-    if (world_.maxTravel > 0.0f) limit = double(world_.maxTravel) * minRadius_;
+CaromSubstepRule Backend::substepRule() const {
+    CaromSubstepRule rule;
+    rule.dt = world_.dt;
+    rule.gravity = carom_sqrt(world_.gravity.x * world_.gravity.x + world_.gravity.y * world_.gravity.y);
+    rule.allowed = HUGE_VALF;
+    rule.maxSubsteps = static_cast<unsigned int>(kMaxSubsteps);
+    if (world_.collisions == CollisionScheme::Events) return rule;  // exact: no substeps
+    if (world_.maxTravel > 0.0f) rule.allowed = world_.maxTravel * minRadius_;
     if (world_.collisions == CollisionScheme::Pairwise)
-        limit = std::min(limit, double(gridTravel_) / kPairwiseSpeedMargin);
-    return limit;
+        rule.allowed = std::min(rule.allowed, gridTravel_ / kPairwiseSpeedMargin);
+    return rule;
 }
 
 void Backend::step(std::uint64_t steps) {
     requireFinite();
     const float dt = world_.dt;
-    const double allowed = travelLimit();
-    if (allowed == HUGE_VAL) {
+    const CaromSubstepRule rule = substepRule();
+    if (rule.allowed == HUGE_VALF) {
         // Fixed dt: in batches, so that no tally sums more than kTallySubsteps.
         for (std::uint64_t done = 0; done < steps;) {
             const std::uint64_t batch = std::min(steps - done, kTallySubsteps);
@@ -72,37 +76,61 @@ void Backend::step(std::uint64_t steps) {
         totals_.time += double(dt) * double(steps);
         return;
     }
-    // The fewest equal substeps in which the fastest disk, sped up by gravity
-    // for the whole step, moves at most `allowed`. The maximum and this
-    // arithmetic are the same on every backend, so the substeps are too.
-    const double gravity = std::hypot(double(world_.gravity.x), double(world_.gravity.y));
-    for (std::uint64_t s = 0; s < steps; ++s) {
-        const double speed = double(maxSpeed()) + gravity * dt;
+    // Each step is split by the fastest disk at its start
+    // (carom_substeps_needed): the same count on every backend.
+    for (std::uint64_t done = 0; done < steps;) {
+        const float speedSquared = maxSpeedSquared();
         requireFinite();  // the wait for the largest speed may find the step before non-finite
-        const double needed = std::ceil(speed * dt / allowed);
-        if (!(needed <= double(kMaxSubsteps)))
-            throw Error(
-                "a step of dt " + std::to_string(dt) + " at the largest speed " + std::to_string(speed) +
-                " would need " + (std::isfinite(needed) ? std::to_string(needed) : std::string("unbounded")) +
-                " substeps to keep each move within " +
-                (allowed == double(world_.maxTravel) * minRadius_
-                     ? "maxTravel " + std::to_string(world_.maxTravel) + " x radius " + std::to_string(minRadius_)
-                     : "the pairwise grid's allowance " + std::to_string(allowed)) +
-                "; at most " + std::to_string(kMaxSubsteps) +
-                " are allowed (the state may have blown up, or use a smaller dt)");
-        const auto substeps = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(needed));
+        const unsigned int substeps = carom_substeps_needed(speedSquared, rule);
+        if (substeps == 0) throw Error(tooManySubsteps(speedSquared, rule));
         const float substepDt = substeps == 1 ? dt : static_cast<float>(double(dt) / double(substeps));
-        for (std::uint64_t done = 0; done < substeps;) {
-            const std::uint64_t batch = std::min(substeps - done, kTallySubsteps);
-            advanceCounted(Batch{substepsTaken_, stepNumber_ + 1, substeps}, batch, substepDt);
-            done += batch;
+        const Batch batch{substepsTaken_, stepNumber_ + 1, substeps};
+        std::uint64_t taken = 1;
+        if (substeps <= kTallySubsteps / 2) {
+            // Whole steps at this count, as many as one drain of the tallies
+            // allows; the backend may stop at a step that needs another.
+            if (substepsSinceDrain_ + substeps > kTallySubsteps) drainCounted();
+            const std::uint64_t most = std::min(steps - done, (kTallySubsteps - substepsSinceDrain_) / substeps);
+            previousBatch_ = batch_;
+            batch_ = batch;
+            taken = advanceWhileSubstepsHold(most, substeps, substepDt, rule);
+            requireFinite();
+            countSubsteps(taken * substeps);
+        } else {
+            for (std::uint64_t s = 0; s < substeps;) {
+                const std::uint64_t part = std::min<std::uint64_t>(substeps - s, kTallySubsteps);
+                advanceCounted(Batch{substepsTaken_, stepNumber_ + 1, substeps}, part, substepDt);
+                s += part;
+            }
         }
-        ++stepNumber_;
-        totals_.time += dt;
-        ++totals_.steps;
+        done += taken;
+        stepNumber_ += taken;
+        totals_.time += double(dt) * double(taken);
+        totals_.steps += taken;
     }
     awaitSteps();
     requireFinite();
+}
+
+std::string Backend::tooManySubsteps(float speedSquared, const CaromSubstepRule& rule) const {
+    const float speed = carom_sqrt(speedSquared) + rule.gravity * rule.dt;
+    const float needed = carom_ceil(speed * rule.dt / rule.allowed);
+    return "a step of dt " + std::to_string(rule.dt) + " at the largest speed " + std::to_string(speed) +
+           " would need " + (std::isfinite(needed) ? std::to_string(needed) : std::string("unbounded")) +
+           " substeps to keep each move within " +
+           (world_.maxTravel > 0.0f && rule.allowed == world_.maxTravel * minRadius_
+                ? "maxTravel " + std::to_string(world_.maxTravel) + " x radius " + std::to_string(minRadius_)
+                : "the pairwise grid's allowance " + std::to_string(rule.allowed)) +
+           "; at most " + std::to_string(kMaxSubsteps) +
+           " are allowed (the state may have blown up, or use a smaller dt)";
+}
+
+std::uint64_t Backend::advanceWhileSubstepsHold(std::uint64_t steps, std::uint64_t substeps, float dt,
+                                                const CaromSubstepRule& rule) {
+    (void)steps;
+    (void)rule;
+    advance(substeps, dt);
+    return 1;
 }
 
 void Backend::recordNonFinite(std::uint64_t substep, std::uint32_t particle) {
@@ -139,24 +167,27 @@ CaromStepParams Backend::stepParams(float dt) const {
 }
 
 void Backend::advanceCounted(const Batch& batch, std::uint64_t substeps, float dt) {
-    if (substepsSinceDrain_ + substeps > kTallySubsteps) {
-        drainTallies(totals_);
-        substepsSinceDrain_ = 0;
-    }
+    if (substepsSinceDrain_ + substeps > kTallySubsteps) drainCounted();
     previousBatch_ = batch_;
     batch_ = batch;
     advance(substeps, dt);
     requireFinite();
+    countSubsteps(substeps);
+}
+
+void Backend::countSubsteps(std::uint64_t substeps) {
     substepsTaken_ += substeps;
     substepsSinceDrain_ += substeps;
     totals_.substeps += substeps;
 }
 
+void Backend::drainCounted() {
+    drainTallies(totals_);
+    substepsSinceDrain_ = 0;
+}
+
 const ContactTotals& Backend::contacts() {
-    if (substepsSinceDrain_ > 0) {
-        drainTallies(totals_);
-        substepsSinceDrain_ = 0;
-    }
+    if (substepsSinceDrain_ > 0) drainCounted();
     return totals_;
 }
 

@@ -131,6 +131,14 @@ protected:
     virtual void load(std::vector<Particle> particles) = 0;  // takes the copy setParticles made
     // Takes `substeps` steps of `dt` with world_'s gravity and boundary.
     virtual void advance(std::uint64_t substeps, float dt) = 0;
+    // Takes up to `steps` (>= 1) steps of `substeps` substeps of dt each,
+    // the first as planned; each later one only while the state it starts
+    // from needs the same count (carom_substeps_needed under `rule`), so that
+    // the result equals stepping one at a time. Returns the steps taken. This
+    // one takes one: a backend that checks the count where its state lives
+    // can take more without a wait each.
+    virtual std::uint64_t advanceWhileSubstepsHold(std::uint64_t steps, std::uint64_t substeps, float dt,
+                                                   const CaromSubstepRule& rule);
     // The largest v.x^2 + v.y^2 of the current state.
     virtual float maxSpeedSquared() = 0;
     // Waits until every step advance() enqueued has finished, for backends
@@ -167,12 +175,17 @@ private:
         std::uint64_t firstSubstep = 0, firstStep = 0, substepsPerStep = 1;
     };
     void advanceCounted(const Batch& batch, std::uint64_t substeps, float dt);
+    void countSubsteps(std::uint64_t substeps);  // after advance() took them
+    void drainCounted();                         // drains the tallies into totals_
+    // The message for a step that would need more than kMaxSubsteps.
+    std::string tooManySubsteps(float speedSquared, const CaromSubstepRule& rule) const;
     // Throws the Error that says where the state went non-finite, once it has.
     void requireFinite() const;
-    // The longest move one substep may make: maxTravel x the smallest
-    // radius, and with the pairwise scheme the grid's allowance over
-    // kPairwiseSpeedMargin; infinite when neither limits it [length].
-    double travelLimit() const;
+    // How step() splits a step: the longest move of one substep is
+    // maxTravel x the smallest radius, and with the pairwise scheme the
+    // grid's allowance over kPairwiseSpeedMargin; infinite when neither
+    // limits it.
+    CaromSubstepRule substepRule() const;
 
     ContactTotals totals_;
     std::uint64_t substepsSinceDrain_ = 0;

@@ -11,7 +11,10 @@
  *   scanCountsIntoCells  exclusive prefix sum of the counts into the cells'
  *                        starts in one pass: each work-group scans a tile
  *                        and adds the sum of the tiles before it, which it
- *                        learns from them as they finish (decoupled look-back)
+ *                        learns from them as they finish (decoupled look-back);
+ *                        or, where a work-group may not wait for another,
+ *                        in three launches (scanTiles, scanTileSums,
+ *                        addTileStarts)
  *   scatterToCells       each slot, and its id, to start + rank of its cell
  *   sortCellSegments     each cell's slots and ids into ascending id: the ids
  *                        are then sortedIndices
@@ -100,6 +103,21 @@ static inline uint carom_scan_tile(
     return total;
 }
 
+/* The cells of the tile that starts at `first`, scanned into `tile`
+ * (carom_scan_tile, which returned `total`): starts after `before`. */
+static inline void carom_tile_cells(
+    uint first, uint n, uint before, uint total, __local const uint* tile, __global GridCell* cells)
+{
+    const uint size = get_local_size(0);
+    const uint tileLength = size * CAROM_SCAN_ITEMS;
+    for (uint k = get_local_id(0); k < tileLength && first + k < n; k += size) {
+        GridCell cell;
+        cell.start = before + tile[carom_padded(k)];
+        cell.count = (k + 1 < tileLength ? tile[carom_padded(k + 1)] : total) - tile[carom_padded(k)];
+        cells[first + k] = cell;
+    }
+}
+
 /* A tile's word in the scan's status (scanCountsIntoCells): 0 until the tile
  * publishes; then a flag and a value of 30 bits (a sum of particles, fewer
  * than kMaxParticles < 2^30). */
@@ -112,11 +130,13 @@ static inline uint carom_scan_tile(
  * its total in status[1 + tile], and adds up the published words of the tiles
  * before it, back to the first that holds a prefix; then it publishes its own
  * prefix. It waits only for tiles whose work-groups started before it: OpenCL
- * 1.2 promises no progress between work-groups, but every device carom runs
- * on (NVIDIA, PoCL's threads) keeps running a work-group once started. The
+ * 1.2 promises no progress between work-groups, so the host runs this only on
+ * devices known to keep a started work-group running (DeviceGrid), and the
+ * scan in launches elsewhere. The
  * words are read and written with atomics, so a word is seen whole. `status` must be zero on entry; the kernel
  * zeroes `nextStatus`, which the next build passes as its status. */
-__kernel void scanCountsIntoCells(__global const uint* counts,
+__kernel void scanCountsIntoCells(__global const uint* halt,
+                                  __global const uint* counts,
                                   uint n,
                                   __global GridCell* cells,
                                   __global uint* status,
@@ -124,6 +144,7 @@ __kernel void scanCountsIntoCells(__global const uint* counts,
                                   __local uint* tile,
                                   __local uint* runSums)
 {
+    if (CAROM_HALTED(halt)) return;
     __local uint tileIndex, before;
     const uint lid = get_local_id(0);
     const uint size = get_local_size(0);
@@ -151,12 +172,55 @@ __kernel void scanCountsIntoCells(__global const uint* counts,
         before = prefix;
     }
     barrier(CLK_LOCAL_MEM_FENCE);
-    for (uint k = lid; k < tileLength && first + k < n; k += size) {
-        GridCell cell;
-        cell.start = before + tile[carom_padded(k)];
-        cell.count = (k + 1 < tileLength ? tile[carom_padded(k + 1)] : total) - tile[carom_padded(k)];
-        cells[first + k] = cell;
+    carom_tile_cells(first, n, before, total, tile, cells);
+}
+
+/* The scan in three launches, for devices not known to keep a started
+ * work-group running while another waits for it (Apple's GPUs among them):
+ * no work-group waits for another. scanTiles scans each tile into its
+ * cells' starts within the tile and its total into tileSums[tile];
+ * scanTileSums, one work-group, turns the totals into the tiles' starts;
+ * addTileStarts adds them. The cells are those of scanCountsIntoCells. */
+__kernel void scanTiles(__global const uint* halt,
+                        __global const uint* counts,
+                        uint n,
+                        __global GridCell* cells,
+                        __global uint* tileSums,
+                        __local uint* tile,
+                        __local uint* runSums)
+{
+    if (CAROM_HALTED(halt)) return;
+    const uint first = get_group_id(0) * get_local_size(0) * CAROM_SCAN_ITEMS;
+    const uint total = carom_scan_tile(counts, n, first, CAROM_SCAN_ITEMS, tile, runSums);
+    if (get_local_id(0) == 0) tileSums[get_group_id(0)] = total;
+    carom_tile_cells(first, n, 0u, total, tile, cells);
+}
+
+/* The exclusive prefix sum of tileSums[0..tiles), in place, by one work-group. */
+__kernel void scanTileSums(
+    __global const uint* halt, __global uint* tileSums, uint tiles, __local uint* tile, __local uint* runSums)
+{
+    if (CAROM_HALTED(halt)) return;
+    const uint lid = get_local_id(0);
+    const uint size = get_local_size(0);
+    const uint tileLength = size * CAROM_SCAN_ITEMS;
+    uint before = 0;
+    for (uint first = 0; first < tiles; first += tileLength) {
+        const uint total = carom_scan_tile(tileSums, tiles, first, CAROM_SCAN_ITEMS, tile, runSums);
+        for (uint k = lid; k < tileLength && first + k < tiles; k += size)
+            tileSums[first + k] = before + tile[carom_padded(k)];
+        before += total;
+        barrier(CLK_LOCAL_MEM_FENCE); /* the next tile overwrites this one */
     }
+}
+
+__kernel void addTileStarts(
+    __global const uint* halt, __global GridCell* cells, uint n, __global const uint* tileStarts, uint tileLength)
+{
+    if (CAROM_HALTED(halt)) return;
+    const uint c = get_global_id(0);
+    if (c >= n) return;
+    cells[c].start += tileStarts[c / tileLength];
 }
 
 /* Slot `slot` to the start of its cell plus its arrival rank, with its id:
@@ -173,7 +237,8 @@ static inline void carom_scatter_slot(uint slot,
     sortedIds[at] = ids[slot];
 }
 
-__kernel void scatterToCells(__global const uint* cellOf,
+__kernel void scatterToCells(__global const uint* halt,
+                             __global const uint* cellOf,
                              __global const uint* rankInCell,
                              __global const GridCell* cells,
                              uint count,
@@ -181,6 +246,7 @@ __kernel void scatterToCells(__global const uint* cellOf,
                              __global uint* cellOrder,
                              __global uint* sortedIds)
 {
+    if (CAROM_HALTED(halt)) return;
     const uint slot = get_global_id(0);
     if (slot >= count) return;
     carom_scatter_slot(slot, cells[cellOf[slot]].start, rankInCell, ids, cellOrder, sortedIds);
@@ -210,12 +276,14 @@ static inline void carom_sort_cell(GridCell cell, __global uint* cellOrder, __gl
 /* Per cell: zeroes the cell's count in `nextCounts`, which the step counts
  * the new positions into; sorts the cell's slots and ids by id: sortedIds is
  * then sortedIndices. */
-__kernel void sortCellSegments(__global const GridCell* cells,
+__kernel void sortCellSegments(__global const uint* halt,
+                               __global const GridCell* cells,
                                uint cellCount,
                                __global uint* cellOrder,
                                __global uint* sortedIds,
                                __global uint* nextCounts)
 {
+    if (CAROM_HALTED(halt)) return;
     const uint c = get_global_id(0);
     if (c >= cellCount) return;
     nextCounts[c] = 0u;

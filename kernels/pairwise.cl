@@ -8,8 +8,10 @@
  *
  * The lists' lengths live in `counts`, three per round r (0 = the first
  * search): counts[3r] the pending list built in round r, counts[3r + 1] the
- * disks changed in it, counts[3r + 2] the dirty ones. The host zeroes them
- * once per step, and reads them after it. A list kernel runs a fixed number
+ * disks changed in it, counts[3r + 2] the dirty ones. startPairwiseStep
+ * zeroes them once per step; the host reads them after it, or after a
+ * chunk of steps. Every kernel of a step is given `halt` and does nothing
+ * once a chunk has stopped (startPairwiseStep). A list kernel runs a fixed number
  * of work-items that stride over its list, whose length only the device
  * knows when the kernel is enqueued. The first rounds, whose lists are long,
  * run as launches of these kernels; the rest, whose lists are short, run in
@@ -27,8 +29,36 @@ static inline CaromList carom_list(__global uint* items, __global uint* counts, 
     return list;
 }
 
+/* The start of a pairwise substep: zeroes the list lengths. In a chunk the
+ * host enqueued without waiting (OpenClResidentBackend), it first checks
+ * the state the substep starts from, unless `check` is 0: when a disk in it
+ * is non-finite, or, at a step's first substep (check 2), when its largest
+ * v.x^2 + v.y^2 (the float's bits in lengths[speedWord]) asks for another
+ * count than the `substeps` the host planned (carom_substeps_needed under
+ * `rule`), it records `stepIndex` in halt[0] instead, and the chunk's
+ * kernels from here on do nothing. Every work-item decides alike. */
+__kernel void startPairwiseStep(__global uint* halt,
+                                __global uint* lengths,
+                                uint lengthCount,
+                                uint check,
+                                CaromSubstepRule rule,
+                                uint substeps,
+                                uint speedWord,
+                                uint nonFiniteIndex,
+                                uint stepIndex)
+{
+    if (CAROM_HALTED(halt)) return;
+    if (check != 0u && (lengths[nonFiniteIndex] != CAROM_ALL_FINITE ||
+                        (check == 2u && carom_substeps_needed(as_float(lengths[speedWord]), rule) != substeps))) {
+        if (get_global_id(0) == 0) halt[0] = stepIndex;
+        return;
+    }
+    for (uint i = get_global_id(0); i < lengthCount; i += get_global_size(0)) lengths[i] = 0u;
+}
+
 /* Round 0, every disk: its earliest event over the pairs after it. */
-__kernel void findEventsForward(__global const Particle* state,
+__kernel void findEventsForward(__global const uint* halt,
+                                __global const Particle* state,
                                 __global const uint* slots,
                                 __global const uint* ids,
                                 __global const uint* cellOf,
@@ -42,6 +72,7 @@ __kernel void findEventsForward(__global const Particle* state,
                                 __global uint* counts,
                                 uint epoch)
 {
+    if (CAROM_HALTED(halt)) return;
     const uint k = get_global_id(0);
     if (k >= step.count) return;
     const CaromList none = carom_list(0, counts, 0, 0);
@@ -52,7 +83,8 @@ __kernel void findEventsForward(__global const Particle* state,
 /* Round r's search of the disks on `listed` (counts[listIndex] of them) in
  * `mode`: CAROM_SEARCH_ALL for the dirty list, CAROM_SEARCH_CHANGED for the
  * changed one (which adds to the dirty list). */
-__kernel void searchListed(__global const Particle* state,
+__kernel void searchListed(__global const uint* halt,
+                           __global const Particle* state,
                            __global const uint* slots,
                            __global const uint* ids,
                            __global const uint* cellOf,
@@ -72,6 +104,7 @@ __kernel void searchListed(__global const Particle* state,
                            uint listIndex,
                            uint epoch)
 {
+    if (CAROM_HALTED(halt)) return;
     const uint length = counts[listIndex];
     const CaromList changedList = carom_list(changed, counts, 3 * round + 1, changedMarks);
     const CaromList dirtyList = carom_list(dirty, counts, 3 * round + 2, dirtyMarks);
@@ -82,7 +115,8 @@ __kernel void searchListed(__global const Particle* state,
 }
 
 /* Round r >= 1: resolves the events on round r - 1's pending list. */
-__kernel void resolveEvents(__global Particle* state,
+__kernel void resolveEvents(__global const uint* halt,
+                            __global Particle* state,
                             __global const uint* slots,
                             __global const uint* ids,
                             __global const CaromEvent* events,
@@ -97,6 +131,7 @@ __kernel void resolveEvents(__global Particle* state,
                             uint round,
                             uint epoch)
 {
+    if (CAROM_HALTED(halt)) return;
     const uint length = counts[3 * (round - 1)];
     const CaromList changedList = carom_list(changed, counts, 3 * round + 1, changedMarks);
     const CaromList nextList = carom_list(nextPending, counts, 3 * round, pendingMarks);
@@ -163,7 +198,8 @@ static inline void carom_rounds_in_group(uint firstRound,
 
 /* Rounds firstRound .. maxRounds (those with events left) in one work-group:
  * carom_rounds_in_group, after the launches of the rounds before. */
-__kernel void resolveRoundsInGroup(__global Particle* state,
+__kernel void resolveRoundsInGroup(__global const uint* halt,
+                                   __global Particle* state,
                                    __global const uint* slots,
                                    __global const uint* ids,
                                    __global const uint* cellOf,
@@ -183,6 +219,7 @@ __kernel void resolveRoundsInGroup(__global Particle* state,
                                    uint maxRounds,
                                    uint firstEpoch)
 {
+    if (CAROM_HALTED(halt)) return;
     carom_rounds_in_group(firstRound, maxRounds, firstEpoch, state, slots, ids, cellOf, cells, step, tallies, events,
                           pending0, pending1, changed, dirty, pendingMarks, changedMarks, dirtyMarks, lengths);
 }

@@ -40,7 +40,26 @@ typedef struct CaromStepParams {
     unsigned int count;       /* the number of disks */
 } CaromStepParams;
 
+/* halt[0] while a chunk of steps the host enqueued without waiting runs on
+ * (startPairwiseStep, kernels/pairwise.cl); else the index of the substep
+ * it stopped before, and every kernel given `halt` does nothing. */
+#define CAROM_RUNNING 0xFFFFFFFFu
+#ifdef __OPENCL_VERSION__
+#define CAROM_HALTED(halt) ((halt)[0] != CAROM_RUNNING)
+#endif
+
+/* How a step is split into substeps (Backend::step, carom_substeps_needed):
+ * the fewest equal substeps in which the fastest disk, sped up by gravity for
+ * the whole step, moves at most `allowed` in each. */
+typedef struct CaromSubstepRule {
+    float dt;                 /* the whole step [time] */
+    float gravity;            /* |g| [length/time^2] */
+    float allowed;            /* the longest move of one substep [length] */
+    unsigned int maxSubsteps; /* more are refused (kMaxSubsteps) */
+} CaromSubstepRule;
+
 #ifndef __OPENCL_VERSION__
+static_assert(sizeof(CaromSubstepRule) == 16, "CaromSubstepRule must match the OpenCL struct");
 static_assert(sizeof(GridGeometry) == 16 && offsetof(GridGeometry, cols) == 8 && offsetof(GridGeometry, rows) == 12,
               "GridGeometry must match the OpenCL struct");
 static_assert(sizeof(CaromBox) == 12 && offsetof(CaromBox, periodic) == 8, "CaromBox must match the OpenCL struct");

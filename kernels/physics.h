@@ -19,6 +19,7 @@
 #pragma OPENCL FP_CONTRACT OFF
 #define CAROM_GLOBAL __global
 #define carom_sqrt sqrt
+#define carom_ceil ceil
 #define carom_isfinite isfinite
 #else
 #include <cmath>
@@ -27,6 +28,10 @@ namespace carom {
 static inline float carom_sqrt(float x)
 {
     return std::sqrt(x);
+}
+static inline float carom_ceil(float x)
+{
+    return std::ceil(x);
 }
 static inline bool carom_isfinite(float x)
 {
@@ -50,6 +55,19 @@ static inline int carom_cell_index(float2 position, GridGeometry grid)
 {
     return carom_cell_coord(position.y, grid.cellsPerLengthY, grid.rows) * grid.cols +
            carom_cell_coord(position.x, grid.cellsPerLengthX, grid.cols);
+}
+
+/* The substeps a step needs when the fastest disk's v.x^2 + v.y^2 is
+ * `speedSquared` (CaromSubstepRule); 0 when that is more than
+ * rule.maxSubsteps or not finite. In float on the host and the device alike,
+ * so that a device can check, at the start of each step it runs unattended,
+ * the count the host planned for it. */
+static inline unsigned int carom_substeps_needed(float speedSquared, CaromSubstepRule rule)
+{
+    const float speed = carom_sqrt(speedSquared) + rule.gravity * rule.dt;
+    const float needed = carom_ceil(speed * rule.dt / rule.allowed);
+    if (!(needed <= (float)rule.maxSubsteps)) return 0u;
+    return needed < 1.0f ? 1u : (unsigned int)needed;
 }
 
 /* One component of the separation between the nearest images of two disks
@@ -374,11 +392,14 @@ static inline int carom_is_finite(Particle p)
            carom_isfinite(p.velocity.y);
 }
 
+/* firstNonFinite[0] before any disk went non-finite (carom_record_non_finite). */
+#define CAROM_ALL_FINITE 0xFFFFFFFFu
+
 #ifdef __OPENCL_VERSION__
 /* Records particle `id`, left by step `step` (counted from a start the host
  * chooses), if it is not finite: firstNonFinite[0] is the first step that
  * left one, [1] the lowest id among that step's (the host sets both to
- * 0xffffffff). A step is one kernel launch after another, so [0] only ever
+ * CAROM_ALL_FINITE). A step is one kernel launch after another, so [0] only ever
  * drops to the step running, and a later step leaves it alone. */
 static inline void carom_record_non_finite(Particle p, uint id, uint step, __global uint* firstNonFinite)
 {

@@ -113,9 +113,11 @@ static inline float carom_group_max(float value, __local float* scratch)
  * collects it in lengths[speedIndex + parity]; the first work-item zeroes the
  * other word for the step after. max is exact in any order: this equals the
  * maxSpeedSquared reduction bit for bit. A disk left non-finite is recorded
- * under `stepIndex` in lengths[nonFiniteIndex..+1] (carom_record_non_finite).
- * The host reads both back with the list lengths, in one read. */
-__kernel void finishPairwiseAndCount(__global const Particle* state,
+ * under `stepIndex` in lengths[nonFiniteIndex..+1] (carom_record_non_finite),
+ * and the rounds this step used, at most, in lengths[roundsIndex]. The host
+ * reads them back with the list lengths, in one read. */
+__kernel void finishPairwiseAndCount(__global const uint* halt,
+                                     __global const Particle* state,
                                      __global const uint* cellOrder,
                                      __global const uint* sortedIds,
                                      CaromStepParams step,
@@ -129,9 +131,17 @@ __kernel void finishPairwiseAndCount(__global const Particle* state,
                                      uint parity,
                                      uint stepIndex,
                                      uint nonFiniteIndex,
+                                     uint roundsIndex,
                                      __local float* scratch)
 {
+    if (CAROM_HALTED(halt)) return;
     __global uint* speedWords = lengths + speedIndex;
+    if (get_global_id(0) == 0) {
+        uint rounds = 0; /* the last round that changed a disk; the lengths end where the record starts */
+        for (uint r = 1; 3 * r + 1 < nonFiniteIndex; ++r)
+            if (lengths[3 * r + 1] > 0u) rounds = r;
+        atomic_max(&lengths[roundsIndex], rounds);
+    }
     float largest = 0.0f;
     for (uint k = get_global_id(0); k < step.count; k += get_global_size(0))
         largest = fmax(largest, carom_finish_slot(k, state, cellOrder, sortedIds, step, next, tallies, nextCounts,

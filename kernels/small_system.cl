@@ -98,22 +98,32 @@ __kernel void stepSmallSystem(__global Particle* state,
     }
 }
 
-/* One pairwise step: the grid build, the passes findEventsForward and
- * searchListed enqueue for round 0 (backends/opencl/pairwise.cpp), the rounds
- * until none is pending or `maxRounds` ran (carom_rounds_in_group), then
- * finishPairwiseAndCount's. The list lengths start zeroed (the first
- * lengthCount words of `lengths`); round r uses epoch firstEpoch + r, and
- * round r's pending list is pending0 for even r and pending1 for odd r, as on
- * the host. The finished state lands in `next` (slot k: particle
- * sortedIds[k]) and is counted into `nextCounts`; its largest
- * v.x^2 + v.y^2 in lengths[speedIndex + parity] (the other word zeroed); a disk left
- * non-finite is recorded under `stepIndex` in lengths[nonFiniteIndex..+1]. */
+/* Pairwise substeps, up to `substeps` of them, `substepsPerStep` to a step:
+ * each the grid build, the passes findEventsForward and searchListed enqueue
+ * for round 0 (backends/opencl/pairwise.cpp), the rounds until none is
+ * pending or `maxRounds` ran (carom_rounds_in_group), then
+ * finishPairwiseAndCount's. A step after the first starts only if its state
+ * needs substepsPerStep substeps too (carom_substeps_needed under `rule`,
+ * from the largest speed of the substep before) and no disk is non-finite:
+ * the host planned the count from the first step's state, and a run that
+ * stops early equals stepping one step at a time. The list lengths are
+ * zeroed each substep (the first lengthCount words of `lengths`); substep s
+ * uses epochs firstEpoch + s (maxRounds + 1) on, and round r's pending list
+ * is pending0 for even r and pending1 for odd r, as on the host. Each
+ * substep leaves its state in `next` (slot k: particle sortedIds[k]),
+ * counted into `nextCounts`, and the three pairs of buffers swap roles for
+ * the next: after an odd number of substeps the result is in `next`,
+ * `sortedIds` and `nextCounts`. The record words of `lengths`: a disk left
+ * non-finite, under firstStepIndex + s, at nonFiniteIndex..+1; the last
+ * state's largest v.x^2 + v.y^2 at speedIndex + parity (the other word
+ * zeroed); the substeps taken and the most rounds one of them used at
+ * takenIndex..+1. */
 __kernel void stepSmallPairwise(__global Particle* state,
                                 __global Particle* next,
-                                __global const uint* ids,
+                                __global uint* ids,
                                 __global uint* sortedIds,
                                 __global GridCell* cells,
-                                __global const uint* counts,
+                                __global uint* counts,
                                 __global uint* nextCounts,
                                 __global uint* cellOrder,
                                 __global uint* cellOf,
@@ -132,10 +142,14 @@ __kernel void stepSmallPairwise(__global Particle* state,
                                 uint lengthCount,
                                 uint firstEpoch,
                                 uint maxRounds,
+                                uint substeps,
+                                uint substepsPerStep,
+                                CaromSubstepRule rule,
+                                uint firstStepIndex,
+                                uint nonFiniteIndex,
                                 uint speedIndex,
                                 uint parity,
-                                uint stepIndex,
-                                uint nonFiniteIndex,
+                                uint takenIndex,
                                 __local uint* tile,
                                 __local uint* runSums,
                                 __local float* scratch)
@@ -143,35 +157,57 @@ __kernel void stepSmallPairwise(__global Particle* state,
     const uint lid = get_local_id(0);
     const uint size = get_local_size(0);
     const uint cellCount = (uint)(step.grid.cols * step.grid.rows);
-    carom_build_grid_in_group(step.count, cellCount, counts, cells, cellOf, rankInCell, ids, cellOrder, sortedIds,
-                              nextCounts, tile, runSums);
-    for (uint i = lid; i < lengthCount; i += size) lengths[i] = 0u;
-    barrier(CLK_GLOBAL_MEM_FENCE);
-
-    /* Round 0: every disk forward, then the dirty ones over all neighbours. */
-    const uint epoch = firstEpoch;
-    const CaromList none = carom_list(0, lengths, 0, 0);
-    const CaromList changedList = carom_list(changed, lengths, 1, changedMarks);
-    const CaromList dirtyList = carom_list(dirty, lengths, 2, dirtyMarks);
-    const CaromList pendingList = carom_list(pending0, lengths, 0, pendingMarks);
-    for (uint k = lid; k < step.count; k += size)
-        carom_find_event(k, state, cellOrder, sortedIds, cellOf, cells, step, events, CAROM_SEARCH_FORWARD, none,
-                         dirtyList, pendingList, epoch);
-    barrier(CLK_GLOBAL_MEM_FENCE);
-    CAROM_FOR_LISTED(dirty, lengths, 2, k,
-                     carom_find_event(k, state, cellOrder, sortedIds, cellOf, cells, step, events, CAROM_SEARCH_ALL,
-                                      changedList, dirtyList, pendingList, epoch));
-
-    carom_rounds_in_group(1, maxRounds, epoch + 1, state, cellOrder, sortedIds, cellOf, cells, step, tallies, events,
-                          pending0, pending1, changed, dirty, pendingMarks, changedMarks, dirtyMarks, lengths);
-
     float largest = 0.0f;
-    for (uint k = lid; k < step.count; k += size)
-        largest = fmax(largest, carom_finish_slot(k, state, cellOrder, sortedIds, step, next, tallies, nextCounts,
-                                                  cellOf, rankInCell, stepIndex, lengths + nonFiniteIndex));
-    const float groupLargest = carom_group_max(largest, scratch);
+    uint mostRounds = 0;
+    uint s = 0;
+    for (; s < substeps; ++s) {
+        if (s > 0 && lengths[nonFiniteIndex] != CAROM_ALL_FINITE) break;
+        if (s > 0 && s % substepsPerStep == 0 && carom_substeps_needed(largest, rule) != substepsPerStep) break;
+        carom_build_grid_in_group(step.count, cellCount, counts, cells, cellOf, rankInCell, ids, cellOrder, sortedIds,
+                                  nextCounts, tile, runSums);
+        for (uint i = lid; i < lengthCount; i += size) lengths[i] = 0u;
+        barrier(CLK_GLOBAL_MEM_FENCE);
+
+        /* Round 0: every disk forward, then the dirty ones over all neighbours. */
+        const uint epoch = firstEpoch + s * (maxRounds + 1);
+        const CaromList none = carom_list(0, lengths, 0, 0);
+        const CaromList changedList = carom_list(changed, lengths, 1, changedMarks);
+        const CaromList dirtyList = carom_list(dirty, lengths, 2, dirtyMarks);
+        const CaromList pendingList = carom_list(pending0, lengths, 0, pendingMarks);
+        for (uint k = lid; k < step.count; k += size)
+            carom_find_event(k, state, cellOrder, sortedIds, cellOf, cells, step, events, CAROM_SEARCH_FORWARD, none,
+                             dirtyList, pendingList, epoch);
+        barrier(CLK_GLOBAL_MEM_FENCE);
+        CAROM_FOR_LISTED(dirty, lengths, 2, k,
+                         carom_find_event(k, state, cellOrder, sortedIds, cellOf, cells, step, events, CAROM_SEARCH_ALL,
+                                          changedList, dirtyList, pendingList, epoch));
+
+        carom_rounds_in_group(1, maxRounds, epoch + 1, state, cellOrder, sortedIds, cellOf, cells, step, tallies,
+                              events, pending0, pending1, changed, dirty, pendingMarks, changedMarks, dirtyMarks,
+                              lengths);
+        for (uint r = 1; r <= maxRounds; ++r)
+            if (lengths[3 * r + 1] > 0u) mostRounds = max(mostRounds, r);
+
+        float own = 0.0f;
+        for (uint k = lid; k < step.count; k += size)
+            own = fmax(own, carom_finish_slot(k, state, cellOrder, sortedIds, step, next, tallies, nextCounts, cellOf,
+                                              rankInCell, firstStepIndex + s, lengths + nonFiniteIndex));
+        largest = carom_group_max(own, scratch);
+        barrier(CLK_GLOBAL_MEM_FENCE);
+        __global Particle* const stepped = next;
+        next = state;
+        state = stepped;
+        __global uint* const steppedIds = sortedIds;
+        sortedIds = ids;
+        ids = steppedIds;
+        __global uint* const steppedCounts = nextCounts;
+        nextCounts = counts;
+        counts = steppedCounts;
+    }
     if (lid == 0) {
-        lengths[speedIndex + parity] = as_uint(groupLargest);
+        lengths[speedIndex + parity] = as_uint(largest);
         lengths[speedIndex + 1 - parity] = 0u;
+        lengths[takenIndex] = s;
+        lengths[takenIndex + 1] = mostRounds;
     }
 }

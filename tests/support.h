@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <iterator>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -91,6 +92,23 @@ int registerCases(Registered which, const char* name, const char* file, unsigned
     static void body(const ::carom::EngineDef& def)
 
 namespace carom::test {
+
+// Sets an environment variable for its lifetime (POSIX setenv: the tests
+// run on Linux and macOS), then restores what was there.
+class ScopedEnvironment {
+public:
+    ScopedEnvironment(const char* name, const char* value) : name_(name) {
+        if (const char* before = std::getenv(name)) before_ = before;
+        setenv(name, value, 1);
+    }
+    ~ScopedEnvironment() { before_ ? (void)setenv(name_.c_str(), before_->c_str(), 1) : (void)unsetenv(name_.c_str()); }
+    ScopedEnvironment(const ScopedEnvironment&) = delete;
+    ScopedEnvironment& operator=(const ScopedEnvironment&) = delete;
+
+private:
+    std::string name_;
+    std::optional<std::string> before_;
+};
 
 inline Particle disk(float x, float y, float vx, float vy, float mass = 1.0f, float radius = 1.0f) {
     Particle p{};

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <numeric>
+#include <set>
 #include <random>
 
 #include "app/bench/all_pairs_cpu.h"
@@ -102,8 +103,15 @@ TEST_CASE("resident grid: the device builds the shared builder's cells and sorte
     }
 }
 
-TEST_CASE("resident grid: the one-pass scan gives the same grid from one tile to thousands") {
+// Both scans (keepsWorkGroupsRunning, backends/opencl/grid.h): the one pass
+// on this device, and the launches that devices not known to keep a started
+// work-group running use instead.
+TEST_CASE("resident grid: both scans give the same grid from one tile to thousands") {
     using namespace opencl;
+    bool onePass = true;
+    SUBCASE("in one pass") { onePass = true; }
+    SUBCASE("in launches") { onePass = false; }
+    const test::ScopedEnvironment scan("CAROM_GRID_SCAN", onePass ? "one-pass" : "launches");
     const char* selector = std::getenv("CAROM_TEST_DEVICE");
     const DeviceInfo device = selectDevice(selector ? selector : "");
     cl_int status = CL_SUCCESS;
@@ -135,6 +143,8 @@ TEST_CASE("resident grid: the one-pass scan gives the same grid from one tile to
                                     upload(states[1].data(), n * sizeof(Particle))};
     const Buffer idBuffer = upload(ids.data(), n * sizeof(cl_uint));
     const Buffer sortedIds = createBuffer(context.get(), n * sizeof(cl_uint), "sorted ids");
+    const cl_uint running = CAROM_RUNNING;
+    const Buffer halt = upload(&running, sizeof running);
     const auto poison = [&](cl_mem buffer, std::size_t bytes) {
         const cl_uint junk = 0xFFFFFFFFu;
         check(clEnqueueFillBuffer(queue.get(), buffer, &junk, sizeof junk, 0, bytes, 0, nullptr, nullptr),
@@ -162,13 +172,13 @@ TEST_CASE("resident grid: the one-pass scan gives the same grid from one tile to
             copy(counted[k].rankInCell(), grid.rankInCell(), n * sizeof(cl_uint));
             poison(grid.cells(), grid.cellCount() * sizeof(GridCell));
             poison(sortedIds.get(), n * sizeof(cl_uint));
-            grid.build(queue.get(), idBuffer.get(), sortedIds.get());
+            grid.build(queue.get(), idBuffer.get(), sortedIds.get(), halt.get());
             checkSameGrid(grid.read(queue.get(), sortedIds.get()), hosts[k]);
             std::vector<cl_uint> next(1 + grid.scanTiles());
             check(clEnqueueReadBuffer(queue.get(), grid.scanStatus(), CL_TRUE, 0, next.size() * sizeof(cl_uint),
                                       next.data(), 0, nullptr, nullptr),
                   "clEnqueueReadBuffer(scan status)");
-            CHECK(std::count(next.begin(), next.end(), 0u) == std::ptrdiff_t(next.size()));
+            if (onePass) CHECK(std::count(next.begin(), next.end(), 0u) == std::ptrdiff_t(next.size()));
         }
         mostTiles = std::max(mostTiles, grid.scanTiles());
     }
@@ -245,6 +255,49 @@ TEST_CASE("resident pipeline: steps in several calls, with reads between, equal 
             CHECK(bitwiseEqual(read(*resident), read(*cpu)));
             CHECK(resident->collisions() == cpu->collisions());
         }
+}
+
+// The pairwise steps of one call run in chunks without a wait, and the
+// device stops a chunk where a step needs another substep count
+// (startPairwiseStep, or within stepSmallPairwise). Falling disks speed up,
+// so the count changes: one call equals a call per step, and the CPU
+// backend, bit for bit, below and above the small-system size.
+TEST_CASE("resident pipeline: pairwise chunks stop where the substep count changes, as single steps do") {
+    for (const std::uint32_t particles : {1000u, 4000u}) {
+        CAPTURE(particles);
+        SceneDef scene;
+        scene.particles = particles;
+        const InitialState s = makeInitialState(scene);
+        WorldDef world = boxUnder(CollisionScheme::Pairwise, s);
+        world.dt = 0.05f;
+        world.gravity = float2{0.0f, -10.0f};
+        auto chunked = makeOpenCl<OpenClResidentBackend>(world);
+        if (!chunked->exactArithmetic()) {
+            MESSAGE("the device lacks correctly rounded divide/sqrt: no bitwise comparison");
+            return;
+        }
+        auto single = makeOpenCl<OpenClResidentBackend>(world);
+        auto cpu = makeBackend(EngineDef{}, world);
+        for (Backend* b : {static_cast<Backend*>(chunked.get()), static_cast<Backend*>(single.get()), cpu.get()})
+            b->setParticles(s.particles);
+        const std::uint64_t steps = 200;
+        chunked->step(steps);
+        std::set<std::uint64_t> counts;  // the substeps each step took
+        for (std::uint64_t k = 0, before = 0; k < steps; ++k) {
+            single->step(1);
+            counts.insert(single->contacts().substeps - before);
+            before = single->contacts().substeps;
+        }
+        CHECK(counts.size() >= 3);
+        cpu->step(steps);
+        const std::uint64_t substeps = cpu->contacts().substeps;
+        CHECK(chunked->contacts().substeps == substeps);
+        CHECK(single->contacts().substeps == substeps);
+        CHECK(bitwiseEqual(read(*chunked), read(*cpu)));
+        CHECK(bitwiseEqual(read(*single), read(*cpu)));
+        CHECK(chunked->collisions() == cpu->collisions());
+        CHECK(chunked->contacts().maxRounds == cpu->contacts().maxRounds);
+    }
 }
 
 TEST_CASE("pipelines: a value that is not a ComputeEngine is refused") {

@@ -27,6 +27,9 @@ OpenClBackend::OpenClBackend(const WorldDef& world, const std::string& device, c
     program_ = buildProgram(context_.get(), device_, programSource, device_.correctlyRoundedDivideSqrt);
     views_ = DeviceViews(context_.get(), device_, program_.get(), profiler_.get());
     firstNonFinite_ = createBuffer(context_.get(), sizeof(kNoneNonFinite), "first non-finite step and particle");
+    halt_ = createBuffer(context_.get(), sizeof(kRunning), "halt");
+    check(clEnqueueWriteBuffer(queue_.get(), halt_.get(), CL_TRUE, 0, sizeof(kRunning), &kRunning, 0, nullptr, nullptr),
+          "clEnqueueWriteBuffer(halt)");
 }
 
 std::string OpenClBackend::device() const {
@@ -98,13 +101,9 @@ void OpenClBackend::advance(std::uint64_t steps, float dt) {
     if (!waits) finish();
 }
 
-void OpenClBackend::awaitSteps() {
-    confirmStep();
-    finish();
-}
+void OpenClBackend::awaitSteps() { finish(); }
 
 void OpenClBackend::readParticles(std::vector<Particle>& particles) {
-    confirmStep();
     particles.resize(particleCount_);
     check(clEnqueueReadBuffer(queue_.get(), state_.get(), CL_TRUE, 0, particleCount_ * sizeof(Particle),
                               particles.data(), 0, nullptr, nullptr),
@@ -112,18 +111,13 @@ void OpenClBackend::readParticles(std::vector<Particle>& particles) {
 }
 
 std::optional<ViewSums> OpenClBackend::readView(ViewValue value, DiskView* out) {
-    confirmStep();
     if (particleCount_ == 0) return ViewSums{};
     return views_.read(queue_.get(), state_.get(), slotIds(), particleCount_, value, world().gravity, out);
 }
 
-float OpenClBackend::maxSpeedSquared() {
-    confirmStep();
-    return views_.maxSpeedSquared(queue_.get(), state_.get(), particleCount_);
-}
+float OpenClBackend::maxSpeedSquared() { return views_.maxSpeedSquared(queue_.get(), state_.get(), particleCount_); }
 
 void OpenClBackend::drainTallies(ContactTotals& totals) {
-    confirmStep();
     std::vector<ContactTally> tallies(particleCount_);
     check(clEnqueueReadBuffer(queue_.get(), tallies_.get(), CL_TRUE, 0, tallies.size() * sizeof(ContactTally),
                               tallies.data(), 0, nullptr, nullptr),

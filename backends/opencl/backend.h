@@ -66,9 +66,6 @@ protected:
     // Whether enqueueStep ends in a wait of its own; else advance() waits
     // every kStepsPerSync steps and at its end.
     virtual bool waitsEachStep() const { return false; }
-    // Waits for a step enqueueStep left to be confirmed later, if any, and
-    // makes its result the current state; called before anything reads it.
-    virtual void confirmStep() {}
 
     // The largest v.x^2 + v.y^2 of state_: a reduction on the device
     // (DeviceViews::maxSpeedSquared).
@@ -81,7 +78,15 @@ protected:
     void finish();  // waits for the queue; collects the profile
     // The index under which the kernels of the substep being enqueued record
     // a disk left non-finite (counted from nonFiniteBase_); counts the substep.
-    cl_uint nextStepIndex() { return static_cast<cl_uint>(substep_++ - nonFiniteBase_); }
+    cl_uint nextStepIndex() { return reserveStepIndices(1); }
+    // The indices of `count` substeps enqueued together: the first is returned.
+    cl_uint reserveStepIndices(std::uint64_t count) {
+        const auto first = static_cast<cl_uint>(substep_ - nonFiniteBase_);
+        substep_ += count;
+        return first;
+    }
+    // The last `count` substeps reserved did not run (the device stopped before them).
+    void returnStepIndices(std::uint64_t count) { substep_ -= count; }
     // Reads firstNonFinite_ without waiting; checkNonFinite() after a wait
     // that covers the read, with nothing enqueued after it, reports what it
     // found (recordNonFinite) or moves the base past every substep so far.
@@ -89,7 +94,9 @@ protected:
     void checkNonFinite();
 
     // A record of a disk left non-finite before any was (kernels/physics.h, carom_record_non_finite).
-    static constexpr cl_uint kNoneNonFinite[2] = {0xffffffffu, 0xffffffffu};
+    static constexpr cl_uint kNoneNonFinite[2] = {CAROM_ALL_FINITE, CAROM_ALL_FINITE};
+    // halt_ while a chunk of steps runs on (kernels/params.h).
+    static constexpr cl_uint kRunning = CAROM_RUNNING;
 
     std::unique_ptr<opencl::Profiler> profiler_;
     opencl::DeviceInfo device_;
@@ -107,6 +114,10 @@ protected:
     // nonFiniteBase_, and the lowest id; read at the waits each pipeline has.
     opencl::Buffer firstNonFinite_;
     cl_uint firstNonFiniteRead_[2] = {};  // the host's copy of the record last read
+    // One word every kernel of a pairwise step reads first: kRunning, or the
+    // substep before which a chunk of steps enqueued without a wait stopped
+    // (startPairwiseStep, kernels/pairwise.cl); those kernels then do nothing.
+    opencl::Buffer halt_;
 
 private:
     void load(std::vector<Particle> particles) final;

@@ -1,7 +1,9 @@
 #include "backends/opencl/grid.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <limits>
+#include <string>
 
 namespace carom::opencl {
 namespace {
@@ -26,6 +28,17 @@ std::size_t powerOfTwoAtMost(std::size_t limit) {
 }
 
 }  // namespace
+
+bool keepsWorkGroupsRunning(const DeviceInfo& device) {
+    if (const char* forced = std::getenv("CAROM_GRID_SCAN")) {
+        const std::string scan = forced;
+        if (scan == "one-pass") return true;
+        if (scan == "launches") return false;
+        throw Error("CAROM_GRID_SCAN is \"" + scan + "\"; it may be one-pass or launches (or unset)");
+    }
+    return device.type == "CPU" || device.platformName.find("NVIDIA") != std::string::npos ||
+           device.platformName.find("AMD") != std::string::npos;
+}
 
 std::size_t DeviceGrid::scanTileBytes(std::size_t groupSize, std::size_t items) {
     const std::size_t tileLength = groupSize * items;
@@ -55,14 +68,23 @@ DeviceGrid::DeviceGrid(cl_context context, const DeviceInfo& device, cl_program 
         throw Error("the device grid holds fewer than 2^30 disks, got " + std::to_string(particleCount));
 
     countKernel_ = createKernel(program, "countCells");
-    scanKernel_ = createKernel(program, "scanCountsIntoCells");
+    onePassScan_ = keepsWorkGroupsRunning(device);
+    scanKernel_ = createKernel(program, onePassScan_ ? "scanCountsIntoCells" : "scanTiles");
+    if (!onePassScan_) {
+        scanTileSumsKernel_ = createKernel(program, "scanTileSums");
+        addTileStartsKernel_ = createKernel(program, "addTileStarts");
+    }
     scatterKernel_ = createKernel(program, "scatterToCells");
     sortKernel_ = createKernel(program, "sortCellSegments");
     groupSize_ = kGridGroupSize;
     for (cl_kernel k : {countKernel_.get(), scatterKernel_.get(), sortKernel_.get()})
         groupSize_ = std::min(groupSize_, kernelWorkGroupLimit(k, device.id));
-    scanGroupSize_ =
-        scanGroupSize(device, kernelWorkGroupLimit(scanKernel_.get(), device.id), maxScanGroupSize, kScanItems);
+    std::size_t scanLimit = kernelWorkGroupLimit(scanKernel_.get(), device.id);
+    if (!onePassScan_) {
+        scanLimit = std::min(scanLimit, kernelWorkGroupLimit(scanTileSumsKernel_.get(), device.id));
+        groupSize_ = std::min(groupSize_, kernelWorkGroupLimit(addTileStartsKernel_.get(), device.id));
+    }
+    scanGroupSize_ = scanGroupSize(device, scanLimit, maxScanGroupSize, kScanItems);
     tileLength_ = scanGroupSize_ * kScanItems;
 
     counts_ = createBuffer(context, cellCount * sizeof(cl_uint), "cell counts");
@@ -84,19 +106,45 @@ void DeviceGrid::count(cl_command_queue queue, cl_mem state) {
     enqueue1d(queue, countKernel_.get(), particleCount_, groupSize_, "countCells", profiler_);
 }
 
-void DeviceGrid::build(cl_command_queue queue, cl_mem ids, cl_mem sortedIds) {
+void DeviceGrid::build(cl_command_queue queue, cl_mem ids, cl_mem sortedIds, cl_mem halt) {
     const cl_uint cellCount = cl_uint(cellCount_);
-    setKernelArgs(scanKernel_.get(), counts_.get(), cellCount, cells_.get(), scanStatus_.get(), nextScanStatus_.get());
-    setLocalArg(scanKernel_.get(), 5, scanTileBytes(scanGroupSize_, kScanItems));
-    setLocalArg(scanKernel_.get(), 6, scanRunBytes(scanGroupSize_));
+    onePassScan_ ? scanInOnePass(queue, halt) : scanInLaunches(queue, halt);
+    setKernelArgs(scatterKernel_.get(), halt, cellOf_.get(), rankInCell_.get(), cells_.get(), cl_uint(particleCount_),
+                  ids, cellOrder_.get(), sortedIds);
+    enqueue1d(queue, scatterKernel_.get(), particleCount_, groupSize_, "scatterToCells", profiler_);
+    setKernelArgs(sortKernel_.get(), halt, cells_.get(), cellCount, cellOrder_.get(), sortedIds, nextCounts_.get());
+    enqueue1d(queue, sortKernel_.get(), cellCount_, groupSize_, "sortCellSegments", profiler_);
+}
+
+void DeviceGrid::resetScan(cl_command_queue queue) {
+    for (cl_mem status : {scanStatus_.get(), nextScanStatus_.get()})
+        enqueueZero(queue, status, (1 + tiles(cellCount_)) * sizeof(cl_uint), "scan status");
+}
+
+void DeviceGrid::scanInOnePass(cl_command_queue queue, cl_mem halt) {
+    setKernelArgs(scanKernel_.get(), halt, counts_.get(), cl_uint(cellCount_), cells_.get(), scanStatus_.get(),
+                  nextScanStatus_.get());
+    setLocalArg(scanKernel_.get(), 6, scanTileBytes(scanGroupSize_, kScanItems));
+    setLocalArg(scanKernel_.get(), 7, scanRunBytes(scanGroupSize_));
     enqueue1d(queue, scanKernel_.get(), tiles(cellCount_) * scanGroupSize_, scanGroupSize_, "scanCountsIntoCells",
               profiler_);
     std::swap(scanStatus_, nextScanStatus_);
-    setKernelArgs(scatterKernel_.get(), cellOf_.get(), rankInCell_.get(), cells_.get(), cl_uint(particleCount_), ids,
-                  cellOrder_.get(), sortedIds);
-    enqueue1d(queue, scatterKernel_.get(), particleCount_, groupSize_, "scatterToCells", profiler_);
-    setKernelArgs(sortKernel_.get(), cells_.get(), cellCount, cellOrder_.get(), sortedIds, nextCounts_.get());
-    enqueue1d(queue, sortKernel_.get(), cellCount_, groupSize_, "sortCellSegments", profiler_);
+}
+
+// The tiles' sums go to scanStatus_, which the one-pass scan would use.
+void DeviceGrid::scanInLaunches(cl_command_queue queue, cl_mem halt) {
+    const std::size_t tileBytes = scanTileBytes(scanGroupSize_, kScanItems), runBytes = scanRunBytes(scanGroupSize_);
+    setKernelArgs(scanKernel_.get(), halt, counts_.get(), cl_uint(cellCount_), cells_.get(), scanStatus_.get());
+    setLocalArg(scanKernel_.get(), 5, tileBytes);
+    setLocalArg(scanKernel_.get(), 6, runBytes);
+    enqueue1d(queue, scanKernel_.get(), tiles(cellCount_) * scanGroupSize_, scanGroupSize_, "scanTiles", profiler_);
+    setKernelArgs(scanTileSumsKernel_.get(), halt, scanStatus_.get(), cl_uint(tiles(cellCount_)));
+    setLocalArg(scanTileSumsKernel_.get(), 3, tileBytes);
+    setLocalArg(scanTileSumsKernel_.get(), 4, runBytes);
+    enqueue1d(queue, scanTileSumsKernel_.get(), scanGroupSize_, scanGroupSize_, "scanTileSums", profiler_);
+    setKernelArgs(addTileStartsKernel_.get(), halt, cells_.get(), cl_uint(cellCount_), scanStatus_.get(),
+                  cl_uint(tileLength_));
+    enqueue1d(queue, addTileStartsKernel_.get(), cellCount_, groupSize_, "addTileStarts", profiler_);
 }
 
 Grid DeviceGrid::read(cl_command_queue queue, cl_mem sortedIds) const {

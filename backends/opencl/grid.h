@@ -18,13 +18,25 @@
 
 namespace carom::opencl {
 
+// Whether `device` is known to keep running a work-group once started,
+// which the one-pass scan needs (a work-group waits there for those started
+// before it). OpenCL promises no progress between work-groups: NVIDIA's and
+// AMD's GPUs and CPU devices (PoCL's threads) keep it; Apple's M1 Max and M3
+// GPUs are documented not to (Smith, Levien & Owens, SPAA 2025, "Decoupled
+// Fallback"), and others are not known to. The environment variable
+// CAROM_GRID_SCAN=launches or one-pass overrides the answer (the tests run
+// both scans on one device); another value throws Error.
+bool keepsWorkGroupsRunning(const DeviceInfo& device);
+
 class DeviceGrid {
 public:
     DeviceGrid() = default;
     // Kernels from `program`, buffers for `particleCount` particles; launches
-    // are recorded in `profiler` when given. The scan runs in one launch of
-    // work-groups of up to maxScanGroupSize (a power of two), each scanning a
-    // tile of 16 values per work-item (kernels/grid.cl, scanCountsIntoCells).
+    // are recorded in `profiler` when given. The scan's work-groups, of up
+    // to maxScanGroupSize (a power of two), each scan a tile of 16 values per
+    // work-item: in one launch where keepsWorkGroupsRunning(device)
+    // (scanCountsIntoCells), else in three (scanTiles, scanTileSums,
+    // addTileStarts), with the same result (kernels/grid.cl).
     DeviceGrid(cl_context context, const DeviceInfo& device, cl_program program, GridGeometry geometry,
                std::size_t particleCount, Profiler* profiler = nullptr, std::size_t maxScanGroupSize = 512);
 
@@ -33,8 +45,12 @@ public:
     void count(cl_command_queue queue, cl_mem state);
     // From the counts and the slots' `ids`: the cells, cellOrder() and
     // `sortedIds` (sortedIndices: ascending id within a cell); zeroes the
-    // next counts for the step to count into.
-    void build(cl_command_queue queue, cl_mem ids, cl_mem sortedIds);
+    // next counts for the step to count into. Its kernels do nothing once
+    // `halt` (one word, CAROM_RUNNING while a chunk runs on) says a chunk
+    // of steps stopped; resetScan() must then follow.
+    void build(cl_command_queue queue, cl_mem ids, cl_mem sortedIds, cl_mem halt);
+    // Zeroes the scan's status words, which builds that did nothing left as they were.
+    void resetScan(cl_command_queue queue);
     // The step has counted the new state into the next counts: make them current.
     void advance() { std::swap(counts_, nextCounts_); }
     // The current grid, read back (for tests and diagnostics). Call after
@@ -61,11 +77,14 @@ public:
     cl_mem cellOf() const { return cellOf_.get(); }
     cl_mem rankInCell() const { return rankInCell_.get(); }
     // The scan status the next build starts from: 1 + scanTiles() words, all
-    // zero between builds (the build before zeroed them).
+    // zero between builds (the build before zeroed them); the tiles' sums
+    // when the scan runs in launches.
     cl_mem scanStatus() const { return scanStatus_.get(); }
 
 private:
     std::size_t tiles(std::size_t n) const { return (n + tileLength_ - 1) / tileLength_; }
+    void scanInOnePass(cl_command_queue queue, cl_mem halt);
+    void scanInLaunches(cl_command_queue queue, cl_mem halt);
 
     GridGeometry geometry_{};
     std::size_t particleCount_ = 0;
@@ -75,10 +94,13 @@ private:
     std::size_t tileLength_ = 0;      // values per scan work-group
     std::size_t cellCount_ = 0;
 
-    Kernel countKernel_, scanKernel_, scatterKernel_, sortKernel_;
+    bool onePassScan_ = true;  // keepsWorkGroupsRunning
+    // scanKernel_ is scanCountsIntoCells, or scanTiles before the other two.
+    Kernel countKernel_, scanKernel_, scatterKernel_, sortKernel_, scanTileSumsKernel_, addTileStartsKernel_;
     Buffer counts_, nextCounts_, cells_, cellOrder_, cellOf_, rankInCell_;  // cellOrder_: slots
     // The scan's ticket and tile words (scanCountsIntoCells): the current
     // one zero before each build, which zeroes the other and swaps them.
+    // The scan in launches keeps the tiles' sums in scanStatus_.
     Buffer scanStatus_, nextScanStatus_;
 };
 

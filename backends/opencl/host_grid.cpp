@@ -88,9 +88,11 @@ void OpenClHostGridBackend::stepPairwise(float dt) {
     cl_command_queue queue = queue_.get();
     const CaromStepParams step = stepParams(dt);
     uploadGrid();
-    pairwise_.enqueueStep(
-        queue, {state_.get(), sortedIndices_.get(), sortedIndices_.get(), cellOf_.get(), cells_.get(), tallies_.get()},
-        step);
+    pairwise_.enqueueStart(queue, halt_.get(), {});
+    pairwise_.enqueueStep(queue,
+                          {state_.get(), sortedIndices_.get(), sortedIndices_.get(), cellOf_.get(), cells_.get(),
+                           tallies_.get(), halt_.get()},
+                          step);
     // The rounds finish on the device, so the finish and the download follow
     // them in the queue; the lengths are read once all of it is done.
     setKernelArgs(finishByIdKernel_.get(), state_.get(), step, tallies_.get(), nextStepIndex(), firstNonFinite_.get());

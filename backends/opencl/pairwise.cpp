@@ -39,11 +39,12 @@ static_assert(sizeof(CaromEvent) == 8, "CaromEvent must match its OpenCL layout"
 DevicePairwise::DevicePairwise(cl_context context, const DeviceInfo& device, cl_program program,
                                std::size_t particleCount, cl_command_queue queue, Profiler* profiler)
     : particleCount_(particleCount), profiler_(profiler), hostCounts_(kCountsWithRecord) {
+    startKernel_ = createKernel(program, "startPairwiseStep");
     forwardKernel_ = createKernel(program, "findEventsForward");
     listedKernel_ = createKernel(program, "searchListed");
     resolveKernel_ = createKernel(program, "resolveEvents");
     roundsInGroupKernel_ = createKernel(program, "resolveRoundsInGroup");
-    for (cl_kernel k : {forwardKernel_.get(), listedKernel_.get(), resolveKernel_.get()})
+    for (cl_kernel k : {startKernel_.get(), forwardKernel_.get(), listedKernel_.get(), resolveKernel_.get()})
         groupSize_ = std::min(groupSize_, kernelWorkGroupLimit(k, device.id));
     roundsGroupSize_ = std::min(kRoundsGroupSize, kernelWorkGroupLimit(roundsInGroupKernel_.get(), device.id));
     listItems_ = std::min((particleCount + groupSize_ - 1) / groupSize_ * groupSize_,
@@ -80,8 +81,8 @@ unsigned int DevicePairwise::nextEpoch(cl_command_queue queue) {
 void DevicePairwise::searchListed(cl_command_queue queue, int mode, cl_mem listed, unsigned int round,
                                   unsigned int listIndex, unsigned int epoch) {
     const StepBuffers& b = buffers_;
-    setKernelArgs(listedKernel_.get(), b.state, b.slots, b.ids, b.cellOf, b.cells, step_, events_.get(), cl_int{mode},
-                  listed, changed_.get(), changedMarks_.get(), dirty_.get(), dirtyMarks_.get(),
+    setKernelArgs(listedKernel_.get(), b.halt, b.state, b.slots, b.ids, b.cellOf, b.cells, step_, events_.get(),
+                  cl_int{mode}, listed, changed_.get(), changedMarks_.get(), dirty_.get(), dirtyMarks_.get(),
                   pending_[round % 2].get(), pendingMarks_.get(), counts_.get(), cl_uint{round}, cl_uint{listIndex},
                   cl_uint{epoch});
     enqueue1d(queue, listedKernel_.get(), listItems_, groupSize_,
@@ -91,7 +92,7 @@ void DevicePairwise::searchListed(cl_command_queue queue, int mode, cl_mem liste
 void DevicePairwise::enqueueRound(cl_command_queue queue, unsigned int round) {
     const StepBuffers& b = buffers_;
     const unsigned int epoch = nextEpoch(queue);
-    setKernelArgs(resolveKernel_.get(), b.state, b.slots, b.ids, events_.get(), step_, b.tallies,
+    setKernelArgs(resolveKernel_.get(), b.halt, b.state, b.slots, b.ids, events_.get(), step_, b.tallies,
                   pending_[(round - 1) % 2].get(), pending_[round % 2].get(), pendingMarks_.get(), changed_.get(),
                   changedMarks_.get(), counts_.get(), cl_uint{round}, cl_uint{epoch});
     enqueue1d(queue, resolveKernel_.get(), listItems_, groupSize_, "resolveEvents", profiler_);
@@ -102,21 +103,33 @@ void DevicePairwise::enqueueRound(cl_command_queue queue, unsigned int round) {
 void DevicePairwise::enqueueRoundsInGroup(cl_command_queue queue, unsigned int firstRound) {
     const StepBuffers& b = buffers_;
     const cl_uint firstEpoch = reserveEpochs(queue, kMaxPairwiseRounds - firstRound + 1);
-    setKernelArgs(roundsInGroupKernel_.get(), b.state, b.slots, b.ids, b.cellOf, b.cells, step_, b.tallies,
+    setKernelArgs(roundsInGroupKernel_.get(), b.halt, b.state, b.slots, b.ids, b.cellOf, b.cells, step_, b.tallies,
                   events_.get(), pending_[0].get(), pending_[1].get(), changed_.get(), dirty_.get(),
                   pendingMarks_.get(), changedMarks_.get(), dirtyMarks_.get(), counts_.get(), cl_uint{firstRound},
                   cl_uint{kMaxPairwiseRounds}, firstEpoch);
     enqueue1d(queue, roundsInGroupKernel_.get(), roundsGroupSize_, roundsGroupSize_, "resolveRoundsInGroup", profiler_);
 }
 
+void DevicePairwise::enqueueStart(cl_command_queue queue, cl_mem halt, const StartCheck& check) {
+    setKernelArgs(startKernel_.get(), halt, counts_.get(), cl_uint(kCounts), check.check, check.rule, check.substeps,
+                  check.speedWord, nonFiniteIndex(), check.stepIndex);
+    enqueue1d(queue, startKernel_.get(), kCounts, groupSize_, "startPairwiseStep", profiler_);
+}
+
+void DevicePairwise::clearRoundsRecord(cl_command_queue queue) {
+    const cl_uint zero = 0;  // the fill copies its pattern when enqueued
+    check(clEnqueueFillBuffer(queue, counts_.get(), &zero, sizeof zero, roundsIndex() * sizeof(cl_uint), sizeof zero, 0,
+                              nullptr, nullptr),
+          "clEnqueueFillBuffer(rounds record)");
+}
+
 void DevicePairwise::enqueueStep(cl_command_queue queue, const StepBuffers& buffers, const CaromStepParams& step) {
     buffers_ = buffers;
     step_ = step;
-    enqueueZero(queue, counts_.get(), kCounts * sizeof(cl_uint), "list lengths");
     const unsigned int epoch = nextEpoch(queue);
-    setKernelArgs(forwardKernel_.get(), buffers.state, buffers.slots, buffers.ids, buffers.cellOf, buffers.cells, step,
-                  events_.get(), pending_[0].get(), pendingMarks_.get(), dirty_.get(), dirtyMarks_.get(), counts_.get(),
-                  cl_uint{epoch});
+    setKernelArgs(forwardKernel_.get(), buffers.halt, buffers.state, buffers.slots, buffers.ids, buffers.cellOf,
+                  buffers.cells, step, events_.get(), pending_[0].get(), pendingMarks_.get(), dirty_.get(),
+                  dirtyMarks_.get(), counts_.get(), cl_uint{epoch});
     enqueue1d(queue, forwardKernel_.get(), particleCount_, groupSize_, "findEventsForward", profiler_);
     searchListed(queue, CAROM_SEARCH_ALL, dirty_.get(), 0, 2, epoch);
     for (unsigned int round = 1; round <= launchedRounds_; ++round) enqueueRound(queue, round);
@@ -126,6 +139,7 @@ void DevicePairwise::enqueueStep(cl_command_queue queue, const StepBuffers& buff
 cl_uint DevicePairwise::nonFiniteIndex() { return kCounts; }
 
 cl_uint DevicePairwise::speedIndex() { return kCounts + kNonFiniteWords; }
+cl_uint DevicePairwise::takenIndex() { return kCounts + kNonFiniteWords + kSpeedWords; }
 
 cl_uint DevicePairwise::lengthCount() { return kCounts; }
 

@@ -2,14 +2,16 @@
 // for both pipelines: the same passes as the CPU backend's, so the same
 // events in the same rounds, bit for bit.
 //
-// A step enqueues the first search, the first rounds as launches of their
-// three passes, and the rest in one launch of resolveRoundsInGroup, without
+// A step enqueues its start (startPairwiseStep: a check, the lengths
+// zeroed), the first search, the first rounds as launches of their three
+// passes, and the rest in one launch of resolveRoundsInGroup, without
 // waiting: one work-group runs them with barriers until no event is left, so
 // every step's rounds are done when its last kernel is. Long lists need the
 // whole device, short ones not the three launches a round (about 17 us on
 // an H200): a round runs as launches when its pending list was long in the
 // step before (kLaunchedRoundLength). Which kernel runs a round changes no
-// result. complete() later reads the lists' lengths, once.
+// result. complete() later reads the lists' lengths, once a step or once a
+// chunk of steps.
 #pragma once
 
 #include <cstddef>
@@ -30,11 +32,26 @@ public:
 
     // The grid and state of a step: `state[slots[k]]` is the disk at
     // sorted position k, `ids[k]` its id, `cellOf[slots[k]]` its cell.
+    // `halt`: one word, CAROM_RUNNING while a chunk of steps runs on; its
+    // kernels do nothing once it says the chunk stopped (startPairwiseStep).
     struct StepBuffers {
-        cl_mem state, slots, ids, cellOf, cells, tallies;
+        cl_mem state, slots, ids, cellOf, cells, tallies, halt;
     };
 
-    // Enqueues the rounds of one (sub)step: afterwards a finish kernel may follow.
+    // What startPairwiseStep checks of the state a substep starts from, in
+    // a chunk of substeps enqueued without a wait: nothing (the chunk's
+    // first), that no disk is non-finite, or that too and that its largest
+    // speed (the word speedWord of lengths()) needs `substeps` under `rule`
+    // (a step's first substep). A failed check writes stepIndex to halt.
+    static constexpr cl_uint kNoCheck = 0, kCheckFinite = 1, kCheckSubsteps = 2;
+    struct StartCheck {
+        cl_uint check = kNoCheck;
+        CaromSubstepRule rule{};
+        cl_uint substeps = 0, speedWord = 0, stepIndex = 0;
+    };
+    // Enqueues the start of a (sub)step: the check, then the lengths zeroed.
+    void enqueueStart(cl_command_queue queue, cl_mem halt, const StartCheck& check);
+    // Enqueues the rounds of one (sub)step after its start: afterwards a finish kernel may follow.
     void enqueueStep(cl_command_queue queue, const StepBuffers& buffers, const CaromStepParams& step);
     // The list lengths, where a finish kernel also records (nonFiniteIndex, speedIndex).
     cl_mem lengths() const { return counts_.get(); }
@@ -45,22 +62,31 @@ public:
     // speedIndex() + parity, the other word zeroed for the step after. The
     // caller sets them once; complete() reads them back with the lengths,
     // so the record costs no read of its own.
+    // stepSmallPairwise also records the substeps it took, at takenIndex();
+    // it and finishPairwiseAndCount the most rounds a substep used, at
+    // roundsIndex(), the word after (clearRoundsRecord() zeroes it).
     static constexpr std::size_t kNonFiniteWords = 2, kSpeedWords = 2;  // a speed word for each parity
+    static constexpr std::size_t kTakenWords = 2;
     static constexpr std::size_t kRecordWords =
-        kNonFiniteWords + kSpeedWords;  // nonFiniteIndex()'s, then speedIndex()'s
+        kNonFiniteWords + kSpeedWords + kTakenWords;  // nonFiniteIndex()'s, speedIndex()'s, takenIndex()'s
     static cl_uint nonFiniteIndex();
     static cl_uint speedIndex();
+    static cl_uint takenIndex();
+    static cl_uint roundsIndex() { return takenIndex() + 1; }
     const cl_uint* nonFiniteRecord() const;
     float speedSquaredRecord(unsigned int parity) const;
+    cl_uint substepsTakenRecord() const { return hostCounts_[takenIndex()]; }
+    cl_uint mostRoundsRecord() const { return hostCounts_[roundsIndex()]; }
+    void clearRoundsRecord(cl_command_queue queue);
 
     // Waits for the step's rounds and returns how many resolved an event.
     unsigned int complete(cl_command_queue queue);
 
-    // For a kernel that runs a whole step in one work-group instead of
+    // For a kernel that runs whole steps in one work-group instead of
     // enqueueStep (stepSmallPairwise, kernels/small_system.cl): the lists,
     // the number of lengths it zeroes, and `count` epochs for its rounds,
     // from the one returned (the marks are cleared when they would wrap).
-    // complete() then reads its rounds.
+    // complete() then reads its record.
     struct Lists {
         cl_mem events, pending0, pending1, changed, dirty, pendingMarks, changedMarks, dirtyMarks, lengths;
     };
@@ -82,7 +108,7 @@ private:
     std::size_t groupSize_ = 64;
     std::size_t listItems_ = 64;        // work-items of a list kernel, which stride over its list
     std::size_t roundsGroupSize_ = 64;  // resolveRoundsInGroup's one work-group
-    Kernel forwardKernel_, listedKernel_, resolveKernel_, roundsInGroupKernel_;
+    Kernel startKernel_, forwardKernel_, listedKernel_, resolveKernel_, roundsInGroupKernel_;
     Buffer events_, pending_[2], changed_, dirty_, pendingMarks_, changedMarks_, dirtyMarks_, counts_;
     std::vector<cl_uint> hostCounts_;
     unsigned int epoch_ = 0;

@@ -1,6 +1,7 @@
 #include "backends/opencl/resident.h"
 
 #include <algorithm>
+#include <chrono>
 #include <numeric>
 #include <utility>
 
@@ -16,6 +17,11 @@ namespace {
 // memory latency; each work-item strides over several particles, so few
 // work-groups reduce the largest speed.
 constexpr std::size_t kFinishGroupsPerComputeUnit = 16;
+// A chunk of pairwise steps lasts about this long: far longer than the
+// wait that ends it (tens of microseconds), and short enough that a stop
+// request between chunks is not kept waiting. The chunk's length follows
+// its last duration; it changes no result.
+constexpr auto kChunkSeconds = 0.01;
 
 }  // namespace
 
@@ -48,7 +54,6 @@ void OpenClResidentBackend::loadState(std::vector<Particle> particles) {
     deviceGrid_ = DeviceGrid(context_.get(), device_, program_.get(), grid_.geometry, n, profiler_.get());
     deviceGrid_.count(queue_.get(), state_.get());
     speedKnown_ = false;
-    unconfirmed_ = false;
     inOneGroup_ = n <= kSmallSystemParticles;
     if (world_.collisions != CollisionScheme::Pairwise) return;
     pairwise_ = DevicePairwise(context_.get(), device_, program_.get(), n, queue_.get(), profiler_.get());
@@ -87,7 +92,7 @@ std::uint64_t OpenClResidentBackend::stepSmallSystem(std::uint64_t steps, float 
 
 void OpenClResidentBackend::stepSimultaneous(float dt) {
     const CaromStepParams step = stepParams(dt);
-    deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get());
+    deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get(), halt_.get());
     // next_ receives the new state in this step's cell order: slot k holds particle sortedIds_[k].
     setKernelArgs(fusedKernel_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), deviceGrid_.cells(),
                   step, next_.get(), tallies_.get(), deviceGrid_.nextCounts(), deviceGrid_.cellOf(),
@@ -99,52 +104,108 @@ void OpenClResidentBackend::stepSimultaneous(float dt) {
     deviceGrid_.advance();
 }
 
-// The rounds resolve the events in state_ (in the cell order of the step
-// before), then every disk finishes the step into slot k of next_, in this
-// step's cell order, counted into the next grid, as stepSimultaneous does.
-// The host does not wait: confirmStep, before anything reads the result,
-// does (one wait per step, which also reads the largest speed for the next one).
+// A pairwise (sub)step alone: a chunk of one, without checks.
 void OpenClResidentBackend::stepPairwise(float dt) {
-    confirmStep();
     if (nonFinite()) return;
+    stepPairwiseChunk(1, 1, dt, CaromSubstepRule{});
+}
+
+std::uint64_t OpenClResidentBackend::advanceWhileSubstepsHold(std::uint64_t steps, std::uint64_t substeps, float dt,
+                                                              const CaromSubstepRule& rule) {
+    if (world_.collisions != CollisionScheme::Pairwise)
+        return Backend::advanceWhileSubstepsHold(steps, substeps, dt, rule);
+    steps = std::clamp<std::uint64_t>(chunkSubsteps_ / substeps, 1, steps);
+    const auto start = std::chrono::steady_clock::now();
+    // A chunk cut short in a step leaves a disk non-finite, which step() reports.
+    const std::uint64_t taken = stepPairwiseChunk(steps * substeps, substeps, dt, rule) / substeps;
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (seconds < kChunkSeconds / 2 && taken == steps)
+        chunkSubsteps_ = std::min(2 * chunkSubsteps_, kSmallPairwiseSubsteps);
+    else if (seconds > 2 * kChunkSeconds)
+        chunkSubsteps_ = std::max<std::uint64_t>(chunkSubsteps_ / 2, 1);
+    return taken;
+}
+
+// Every substep is enqueued at once, and the host waits once, at the end:
+// the device checks each substep's start (startPairwiseStep, or within
+// stepSmallPairwise) and stops the chunk where the plan no longer holds.
+std::uint64_t OpenClResidentBackend::stepPairwiseChunk(std::uint64_t substeps, std::uint64_t substepsPerStep, float dt,
+                                                       const CaromSubstepRule& rule) {
     const CaromStepParams step = stepParams(dt);
-    speedParity_ = 1 - speedParity_;
-    const cl_uint stepIndex = nextStepIndex();
+    const cl_uint firstStepIndex = reserveStepIndices(substeps);
+    std::uint64_t taken = substeps;
     if (inOneGroup_) {
-        smallSystem_.enqueuePairwiseStep(queue_.get(), smallStepBuffers(), deviceGrid_, pairwise_, step,
-                                         cl_uint{speedParity_}, stepIndex);
+        smallSystem_.enqueuePairwiseSteps(queue_.get(), smallStepBuffers(), deviceGrid_, pairwise_, step, rule,
+                                          cl_uint(substeps), cl_uint(substepsPerStep), cl_uint{speedParity_},
+                                          firstStepIndex);
+        pairwise_.complete(queue_.get());
+        taken = pairwise_.substepsTakenRecord();
+        if (taken % 2 == 1) swapStepBuffers();
     } else {
-        deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get());
-        pairwise_.enqueueStep(queue_.get(),
-                              {state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), deviceGrid_.cellOf(),
-                               deviceGrid_.cells(), tallies_.get()},
-                              step);
-        enqueuePairwiseFinish(step, stepIndex);
+        pairwise_.clearRoundsRecord(queue_.get());
+        for (std::uint64_t s = 0; s < substeps; ++s) {
+            DevicePairwise::StartCheck check;
+            check.check = s == 0                     ? DevicePairwise::kNoCheck
+                          : s % substepsPerStep == 0 ? DevicePairwise::kCheckSubsteps
+                                                     : DevicePairwise::kCheckFinite;
+            check.rule = rule;
+            check.substeps = cl_uint(substepsPerStep);
+            check.speedWord = DevicePairwise::speedIndex() + speedParity_;
+            check.stepIndex = firstStepIndex + cl_uint(s);
+            enqueuePairwiseSubstep(step, check);
+        }
+        cl_uint halt = CAROM_RUNNING;
+        check(clEnqueueReadBuffer(queue_.get(), halt_.get(), CL_FALSE, 0, sizeof(halt), &halt, 0, nullptr, nullptr),
+              "clEnqueueReadBuffer(halt)");
+        pairwise_.complete(queue_.get());  // waits, and reads the record
+        if (halt != CAROM_RUNNING) {
+            taken = halt - firstStepIndex;
+            resumeAfterHalt();
+            if ((substeps - taken) % 2 == 1) {  // undo the skipped substeps' swaps
+                swapStepBuffers();
+                speedParity_ = 1 - speedParity_;
+            }
+        }
     }
-    check(clFlush(queue_.get()), "clFlush");
-    unconfirmed_ = true;
-}
-
-// The kernel records a disk left non-finite and the largest speed after the
-// pairwise lengths, which confirmStep reads anyway.
-void OpenClResidentBackend::enqueuePairwiseFinish(const CaromStepParams& step, cl_uint stepIndex) {
-    setKernelArgs(finishAndCountKernel_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), step,
-                  next_.get(), tallies_.get(), deviceGrid_.nextCounts(), deviceGrid_.cellOf(), deviceGrid_.rankInCell(),
-                  pairwise_.lengths(), DevicePairwise::speedIndex(), cl_uint{speedParity_}, stepIndex,
-                  DevicePairwise::nonFiniteIndex());
-    setLocalArg(finishAndCountKernel_.get(), 14, reductionGroupSize_ * sizeof(cl_float));
-    enqueue1d(queue_.get(), finishAndCountKernel_.get(), finishItems_, reductionGroupSize_, "finishPairwiseAndCount",
-              profiler_.get());
-}
-
-void OpenClResidentBackend::confirmStep() {
-    if (!unconfirmed_) return;
-    unconfirmed_ = false;
-    const unsigned int rounds = pairwise_.complete(queue_.get());
+    returnStepIndices(substeps - taken);
     std::copy_n(pairwise_.nonFiniteRecord(), DevicePairwise::kNonFiniteWords, firstNonFiniteRead_);
     checkNonFinite();
-    recordRounds(rounds);
+    recordRounds(pairwise_.mostRoundsRecord());
     speedKnown_ = true;
+    return taken;
+}
+
+// The start (and its check), the grid, the rounds, and the finish into
+// next_ in this substep's cell order, counted into the next grid; the
+// buffers swap roles as if it ran (stepPairwiseChunk undoes that for the
+// substeps a halt skipped).
+void OpenClResidentBackend::enqueuePairwiseSubstep(const CaromStepParams& step,
+                                                   const DevicePairwise::StartCheck& check) {
+    pairwise_.enqueueStart(queue_.get(), halt_.get(), check);
+    deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get(), halt_.get());
+    pairwise_.enqueueStep(queue_.get(),
+                          {state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), deviceGrid_.cellOf(),
+                           deviceGrid_.cells(), tallies_.get(), halt_.get()},
+                          step);
+    speedParity_ = 1 - speedParity_;
+    setKernelArgs(finishAndCountKernel_.get(), halt_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(),
+                  step, next_.get(), tallies_.get(), deviceGrid_.nextCounts(), deviceGrid_.cellOf(),
+                  deviceGrid_.rankInCell(), pairwise_.lengths(), DevicePairwise::speedIndex(), cl_uint{speedParity_},
+                  check.stepIndex, DevicePairwise::nonFiniteIndex(), DevicePairwise::roundsIndex());
+    setLocalArg(finishAndCountKernel_.get(), 16, reductionGroupSize_ * sizeof(cl_float));
+    enqueue1d(queue_.get(), finishAndCountKernel_.get(), finishItems_, reductionGroupSize_, "finishPairwiseAndCount",
+              profiler_.get());
+    swapStepBuffers();
+}
+
+void OpenClResidentBackend::resumeAfterHalt() {
+    check(clEnqueueFillBuffer(queue_.get(), halt_.get(), &kRunning, sizeof kRunning, 0, sizeof kRunning, 0, nullptr,
+                              nullptr),
+          "clEnqueueFillBuffer(halt)");
+    deviceGrid_.resetScan(queue_.get());
+}
+
+void OpenClResidentBackend::swapStepBuffers() {
     std::swap(state_, next_);
     std::swap(ids_, sortedIds_);
     deviceGrid_.advance();
@@ -152,7 +213,6 @@ void OpenClResidentBackend::confirmStep() {
 
 // Slot s holds particle ids[s].
 void OpenClResidentBackend::readParticles(std::vector<Particle>& particles) {
-    confirmStep();
     particles.resize(particleCount_);
     std::vector<Particle> slots(particleCount_);
     std::vector<cl_uint> ids(particleCount_);
@@ -167,14 +227,12 @@ void OpenClResidentBackend::readParticles(std::vector<Particle>& particles) {
 
 // A pairwise step takes the largest speed as it finishes; otherwise the reduction.
 float OpenClResidentBackend::maxSpeedSquared() {
-    confirmStep();
     if (!speedKnown_) return OpenClBackend::maxSpeedSquared();
     return pairwise_.speedSquaredRecord(speedParity_);
 }
 
 Grid OpenClResidentBackend::readDeviceGrid() {
-    confirmStep();
-    deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get());
+    deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get(), halt_.get());
     return deviceGrid_.read(queue_.get(), sortedIds_.get());
 }
 

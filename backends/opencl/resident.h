@@ -3,11 +3,12 @@
 // there (DeviceGrid, kernels/grid.cl) and one fused kernel resolves,
 // integrates and counts the new positions into the next grid
 // (kernels/resident.cl; pairwise: the rounds, then a kernel that finishes
-// the step and counts). A small system's steps run whole in one
-// work-group instead (DeviceSmallSystem, kernels/small_system.cl): one
-// launch per pairwise step, several simultaneous steps per launch. The host
-// reads the state only when asked (readParticles). Bitwise equal to the
-// host-grid pipeline.
+// the step and counts). Pairwise steps run in chunks with one wait each,
+// the device checking each step's substep count (stepPairwiseChunk). A
+// small system's steps run whole in one work-group instead
+// (DeviceSmallSystem, kernels/small_system.cl): a chunk of pairwise steps,
+// or several simultaneous steps, per launch. The host reads the state only
+// when asked (readParticles). Bitwise equal to the host-grid pipeline.
 #pragma once
 
 #include "backends/opencl/backend.h"
@@ -34,13 +35,9 @@ private:
     void loadState(std::vector<Particle> particles) override;
     void enqueueStep(float dt) override;
     std::uint64_t enqueueSteps(std::uint64_t steps, float dt) override;
-    // A pairwise step ends in a wait of its own (confirmStep).
     cl_mem slotIds() const override { return ids_.get(); }
+    // A pairwise step waits for its chunk's end (stepPairwiseChunk).
     bool waitsEachStep() const override { return world_.collisions == CollisionScheme::Pairwise; }
-    // Pairwise: waits for the last step (one read brings its list lengths,
-    // non-finite record and largest speed), then makes its result the
-    // current state.
-    void confirmStep() override;
     float maxSpeedSquared() override;
     void stepSimultaneous(float dt);
     // Simultaneous steps of a small system, up to kSmallSystemSteps in one
@@ -50,8 +47,20 @@ private:
         return {state_.get(), next_.get(), ids_.get(), sortedIds_.get(), tallies_.get()};
     }
     void stepPairwise(float dt);
-    void enqueuePairwiseFinish(const CaromStepParams& step, cl_uint stepIndex);
-
+    // Pairwise steps run in chunks, their substep counts checked on the
+    // device, with one wait a chunk (stepPairwiseChunk).
+    std::uint64_t advanceWhileSubstepsHold(std::uint64_t steps, std::uint64_t substeps, float dt,
+                                           const CaromSubstepRule& rule) override;
+    // Enqueues up to `substeps` pairwise substeps of dt, `substepsPerStep`
+    // to a step, a step after the first only while its state needs that
+    // many under `rule` and no disk is non-finite; waits once, and returns
+    // how many ran. A small system runs them in one launch
+    // (DeviceSmallSystem::enqueuePairwiseSteps).
+    std::uint64_t stepPairwiseChunk(std::uint64_t substeps, std::uint64_t substepsPerStep, float dt,
+                                    const CaromSubstepRule& rule);
+    void enqueuePairwiseSubstep(const CaromStepParams& step, const opencl::DevicePairwise::StartCheck& check);
+    void swapStepBuffers();                // next_, sortedIds_ and the next counts become current
+    void resumeAfterHalt();                // running again after a chunk stopped early
     opencl::Kernel fusedKernel_;           // resolveIntegrateAndCount
     opencl::Kernel finishAndCountKernel_;  // pairwise: finishPairwiseAndCount
     opencl::DeviceSmallSystem smallSystem_;
@@ -61,12 +70,12 @@ private:
     opencl::Buffer sortedIds_;         // sortedIndices, then the ids of next_'s slots
     opencl::DevicePairwise pairwise_;  // pairwise
     // Pairwise: the finish records a disk left non-finite and the largest
-    // v^2 after the pairwise lengths, which its step reads anyway
+    // v^2 after the pairwise lengths, which a chunk reads anyway
     // (DevicePairwise::nonFiniteIndex, speedIndex).
-    unsigned int speedParity_ = 0;  // the speed word the last step wrote
-    bool speedKnown_ = false;       // whether that word holds the current state's
-    bool unconfirmed_ = false;      // a pairwise step was enqueued and not yet confirmed
-    std::size_t finishItems_ = 0;   // work-items of finishPairwiseAndCount, which stride over the particles
+    unsigned int speedParity_ = 0;     // the speed word the last step wrote
+    bool speedKnown_ = false;          // whether that word holds the current state's
+    std::uint64_t chunkSubsteps_ = 1;  // the most a chunk of pairwise substeps takes (kChunkSeconds)
+    std::size_t finishItems_ = 0;      // work-items of finishPairwiseAndCount, which stride over the particles
 };
 
 }  // namespace carom

@@ -1,8 +1,8 @@
 // Whole steps of a small system in one work-group on an OpenCL device
 // (kernels/small_system.cl), for the resident pipeline, which owns one:
 // stepSmallSystem runs several simultaneous steps per launch,
-// stepSmallPairwise one pairwise step (grid, every round, finish and largest
-// speed). They take the resident pipeline's state and its DeviceGrid's and
+// stepSmallPairwise several pairwise substeps (grid, every round, finish and
+// largest speed each), checking their count on the device. They take the resident pipeline's state and its DeviceGrid's and
 // DevicePairwise's buffers, and leave them as its launches do, bit for bit.
 #pragma once
 
@@ -24,8 +24,11 @@ namespace carom::opencl {
 // 136 against 172 at 2 000, 209 against 176 at 4 000. One limit for both
 // keeps each path tested on either side of it.
 constexpr std::size_t kSmallSystemParticles = 2048;
-// The most steps one launch of stepSmallSystem runs.
+// The most steps one launch of stepSmallSystem runs, and the most substeps
+// one chunk of pairwise steps takes (one launch of stepSmallPairwise in a
+// small system): a launch stays short (a device may stop a long one).
 constexpr std::uint64_t kSmallSystemSteps = 16;
+constexpr std::uint64_t kSmallPairwiseSubsteps = 64;
 
 class DeviceSmallSystem {
 public:
@@ -49,15 +52,20 @@ public:
     // `firstNonFinite`.
     void enqueueSteps(cl_command_queue queue, const StepBuffers& buffers, const DeviceGrid& grid,
                       const CaromStepParams& step, cl_uint steps, cl_uint firstStepIndex, cl_mem firstNonFinite);
-    // Enqueues one pairwise step (stepSmallPairwise) with `pairwise`'s lists
-    // and epochs: its result goes to `next`, counted into `grid`'s next
-    // counts; its largest speed to word speedIndex() + `speedParity` of
-    // pairwise.lengths() and a disk it leaves non-finite under `stepIndex`,
-    // as finishPairwiseAndCount records them; pairwise.complete() then reads
-    // its rounds.
-    void enqueuePairwiseStep(cl_command_queue queue, const StepBuffers& buffers, const DeviceGrid& grid,
-                             DevicePairwise& pairwise, const CaromStepParams& step, cl_uint speedParity,
-                             cl_uint stepIndex);
+    // Enqueues up to `substeps` pairwise substeps of `step` in one launch
+    // (stepSmallPairwise), `substepsPerStep` to a step, with `pairwise`'s
+    // lists and epochs: a step after the first runs only while its state
+    // needs substepsPerStep substeps under `rule` and no disk is
+    // non-finite. Substep s records a disk it leaves non-finite under
+    // firstStepIndex + s, as finishPairwiseAndCount does; the last state's
+    // largest speed goes to word speedIndex() + `speedParity` of
+    // pairwise.lengths(), the substeps taken and the most rounds to
+    // takenIndex(); pairwise.complete() reads them. The buffers swap roles
+    // each substep: after an odd number the result is in `next`,
+    // `sortedIds` and `grid`'s next counts.
+    void enqueuePairwiseSteps(cl_command_queue queue, const StepBuffers& buffers, const DeviceGrid& grid,
+                              DevicePairwise& pairwise, const CaromStepParams& step, const CaromSubstepRule& rule,
+                              cl_uint substeps, cl_uint substepsPerStep, cl_uint speedParity, cl_uint firstStepIndex);
 
 private:
     Profiler* profiler_ = nullptr;
