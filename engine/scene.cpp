@@ -2,6 +2,7 @@
 // scenes and particles (the initial conditions are placed in scene_placement.cpp).
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <sstream>
 
 #include "engine/scene.h"
@@ -168,36 +169,67 @@ void validate(const SceneDef& scene) {
              "], the range where results are valid: speeds must square to finite float32 numbers (README, Limits)");
 }
 
+namespace {
+
+// Whether particle p fits `world`: checkParticle's conditions, without its
+// messages, so that millions of particles are checked in parallel.
+bool particleFits(const Particle& p, const WorldDef& world) {
+    const float r = p.radius;
+    const auto within = [](float v, float least, float most) { return std::isfinite(v) && v >= least && v <= most; };
+    if (!within(r, kMinLength, kMaxLength) || !within(p.mass, kMinMass, kMaxMass) || !(r > 0.0f) || !(p.mass > 0.0f) ||
+        !std::isfinite(p.velocity.x) || !std::isfinite(p.velocity.y) || 2.0f * r > world.width ||
+        2.0f * r > world.height)
+        return false;
+    const float2 x = p.position;
+    if (world.boundary == Boundary::Periodic)
+        return x.x >= 0.0f && x.x < world.width && x.y >= 0.0f && x.y < world.height;
+    return x.x >= r && x.x <= world.width - r && x.y >= r && x.y <= world.height - r;
+}
+
+// Throws the Error that names particle i's first problem, if it has one.
+void checkParticle(const Particle& p, std::size_t i, const WorldDef& world, const std::string& what) {
+    const float r = p.radius;
+    const std::string particle = what + ": particle " + std::to_string(i) + ": ";
+    requirePositive(particle + "radius", r);
+    requirePositive(particle + "mass", p.mass);
+    if (!std::isfinite(p.velocity.x) || !std::isfinite(p.velocity.y))
+        fail(particle, "velocity must be finite, got (", p.velocity.x, ", ", p.velocity.y, ")");
+    requireWithin(particle + "radius", r, kMinLength, kMaxLength, kLengthReason);
+    requireWithin(particle + "mass", p.mass, kMinMass, kMaxMass, kMassReason);
+    if (2.0f * r > world.width || 2.0f * r > world.height)
+        fail(what, ": particle ", i, ": radius ", r, " does not fit in the ", world.width, " x ", world.height, " box");
+    const float2 x = p.position;
+    if (world.boundary == Boundary::Periodic) {
+        // Where the wrap in integrate keeps centres.
+        if (!(x.x >= 0.0f && x.x < world.width && x.y >= 0.0f && x.y < world.height))
+            fail(what, ": particle ", i, ": position (", x.x, ", ", x.y, ") is outside the periodic box; ",
+                 "the centre must lie in [0, ", world.width, ") x [0, ", world.height, ")");
+        return;
+    }
+    // The same bounds the walls clamp to, so a saved final state reads back.
+    if (!(x.x >= r && x.x <= world.width - r && x.y >= r && x.y <= world.height - r))
+        fail(what, ": particle ", i, ": position (", x.x, ", ", x.y,
+             ") puts the disk outside the box; the centre must lie in [", r, ", ", world.width - r, "] x [", r, ", ",
+             world.height - r, "]");
+}
+
+// Particles per thread below which the check runs on one thread.
+constexpr std::int64_t kParallelChecks = 1 << 16;
+
+}  // namespace
+
 void validateParticles(const std::vector<Particle>& particles, const WorldDef& world, const std::string& what) {
     validate(world);
     if (particles.empty()) fail(what, ": no particles (at least 1 is needed)");
-    for (std::size_t i = 0; i < particles.size(); ++i) {
-        const Particle& p = particles[i];
-        const float r = p.radius;
-        const std::string particle = what + ": particle " + std::to_string(i) + ": ";
-        requirePositive(particle + "radius", r);
-        requirePositive(particle + "mass", p.mass);
-        if (!std::isfinite(p.velocity.x) || !std::isfinite(p.velocity.y))
-            fail(particle, "velocity must be finite, got (", p.velocity.x, ", ", p.velocity.y, ")");
-        requireWithin(particle + "radius", r, kMinLength, kMaxLength, kLengthReason);
-        requireWithin(particle + "mass", p.mass, kMinMass, kMaxMass, kMassReason);
-        if (2.0f * r > world.width || 2.0f * r > world.height)
-            fail(what, ": particle ", i, ": radius ", r, " does not fit in the ", world.width, " x ", world.height,
-                 " box");
-        const float2 x = p.position;
-        if (world.boundary == Boundary::Periodic) {
-            // Where the wrap in integrate keeps centres.
-            if (!(x.x >= 0.0f && x.x < world.width && x.y >= 0.0f && x.y < world.height))
-                fail(what, ": particle ", i, ": position (", x.x, ", ", x.y, ") is outside the periodic box; ",
-                     "the centre must lie in [0, ", world.width, ") x [0, ", world.height, ")");
-            continue;
-        }
-        // The same bounds the walls clamp to, so a saved final state reads back.
-        if (!(x.x >= r && x.x <= world.width - r && x.y >= r && x.y <= world.height - r))
-            fail(what, ": particle ", i, ": position (", x.x, ", ", x.y,
-                 ") puts the disk outside the box; the centre must lie in [", r, ", ", world.width - r, "] x [", r,
-                 ", ", world.height - r, "]");
-    }
+    // The lowest id that does not fit, found in parallel; then its message.
+    const auto n = static_cast<std::int64_t>(particles.size());
+    std::int64_t first = n;
+#pragma omp parallel for reduction(min : first) schedule(static) if (n >= kParallelChecks)
+    for (std::int64_t i = 0; i < n; ++i)
+        if (!particleFits(particles[i], world)) first = std::min(first, i);
+    if (first == n) return;
+    checkParticle(particles[first], std::size_t(first), world, what);
+    fail(what, ": particle ", first, " does not fit the world");  // the two checks disagree: refuse anyway
 }
 
 std::vector<std::string> validateStart(const std::vector<Particle>& particles, const WorldDef& world,

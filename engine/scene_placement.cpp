@@ -3,8 +3,10 @@
 // a region shuffled over it) and [[disk]]s.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <sstream>
+#include <vector>
 
 #include <carom/random.h>
 
@@ -188,6 +190,28 @@ void requireNoOverlap(const SceneFileDef& scene, const std::vector<Particle>& pa
 
 }  // namespace
 
+namespace {
+
+// Calls place(k, u) for every disk k < count, where u holds the disk's
+// `perDisk` numbers from `random` (Random::unit), drawn in the order a loop
+// over the disks draws them: block by block, the draws in stream order on
+// one thread, the disks (their trigonometry) in parallel. The same numbers,
+// so the same placement, as one loop; many times faster at 10^8 disks.
+template <class Place>
+void inBlocks(Random& random, std::uint32_t count, std::uint32_t perDisk, Place&& place) {
+    constexpr std::uint32_t kBlock = 1 << 16;
+    std::vector<double> draws(std::size_t(kBlock) * perDisk);
+    for (std::uint32_t first = 0; first < count; first += kBlock) {
+        const std::uint32_t disks = std::min(kBlock, count - first);
+        for (std::size_t d = 0; d < std::size_t(disks) * perDisk; ++d) draws[d] = random.unit();
+        const auto n = static_cast<std::int64_t>(disks);
+#pragma omp parallel for schedule(static) if (n >= 4096)
+        for (std::int64_t j = 0; j < n; ++j) place(first + std::uint32_t(j), draws.data() + j * perDisk);
+    }
+}
+
+}  // namespace
+
 InitialState makeInitialState(const SceneDef& scene) {
     validate(scene);
     Random random(scene.seed);
@@ -232,23 +256,24 @@ InitialState makeInitialState(const SceneDef& scene) {
     // the free space around its site (a lone site has infinite free space).
     const double jitter = std::min(freeSpace, std::min(innerWidth, innerHeight)) / 2;
     const std::uint64_t sites = std::uint64_t(lattice.cols) * lattice.rows;
-    for (std::uint32_t k = 0; k < scene.particles; ++k) {
+    inBlocks(random, scene.particles, 2, [&](std::uint32_t k, const double* u) {
         Particle& p = state.particles[k];
         const std::uint64_t site = std::uint64_t(k) * sites / scene.particles;
         const int col = static_cast<int>(site % lattice.cols);
         const int row = static_cast<int>(site / lattice.cols);
-        const double angle = 2 * kPi * random.unit();
-        const double distance = jitter * std::sqrt(random.unit());
+        const double angle = 2 * kPi * u[0];
+        const double distance = jitter * std::sqrt(u[1]);
         const double x = lattice.siteX(col, row, state.width, rmax) + distance * std::cos(angle);
         const double y = lattice.siteY(row, state.height, rmax) + distance * std::sin(angle);
         p.position.x = static_cast<float>(std::clamp(x, double(p.radius), state.width - double(p.radius)));
         p.position.y = static_cast<float>(std::clamp(y, double(p.radius), state.height - double(p.radius)));
-    }
-    for (Particle& p : state.particles) {
-        const double angle = 2 * kPi * random.unit();
+    });
+    inBlocks(random, scene.particles, 1, [&](std::uint32_t k, const double* u) {
+        Particle& p = state.particles[k];
+        const double angle = 2 * kPi * u[0];
         p.velocity.x = static_cast<float>(scene.speed * std::cos(angle));
         p.velocity.y = static_cast<float>(scene.speed * std::sin(angle));
-    }
+    });
     return state;
 }
 
