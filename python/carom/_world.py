@@ -34,7 +34,8 @@ def _real_array(name: str, value, shape: tuple) -> np.ndarray:
     if bad.any():
         index = np.unravel_index(int(np.argmax(bad)), bad.shape)
         raise InputError(f"{name}[{_where(index)}] = {array[index].item()!r} is not finite; allowed: finite float32 numbers")
-    narrow = np.ascontiguousarray(wide, dtype=np.float32)
+    with np.errstate(over="ignore"):  # refused below, by name
+        narrow = np.ascontiguousarray(wide, dtype=np.float32)
     changed = ((narrow == 0) & (wide != 0)) | np.isinf(narrow)
     if changed.any():  # _carom.to_float refuses it, naming why
         index = np.unravel_index(int(np.argmax(changed)), changed.shape)
