@@ -67,6 +67,8 @@ carom_input_test(speed_hex "--speed: '0x10' is not a number; allowed: a decimal 
 carom_input_test(dt_plus "--dt: '\\+0.5' is not a number; allowed: a decimal number" "${base}|--steps|1|--dt|+0.5")
 carom_input_test(dt_space "--dt: ' 0.5' is not a number; allowed: a decimal number" "${base}|--steps|1|--dt| 0.5")
 carom_input_test(gravity_hex "--gravity: '0x1p3' is not a number" "${base}|--steps|1|--gravity|0|0x1p3")
+carom_input_test(bench_budget_hex "--budget-ms: '0x10' is not a number" "bench|--quick|--methods|cpu|--budget-ms|0x10")
+carom_input_test(validate_dt_plus "--dt: '\\+0.01' is not a number" "validate|--quick|--dt|+0.01")
 carom_input_test(bench_sizes_hex "--sizes: '0x10' is not a number of particles"
                  "bench|--quick|--methods|cpu|--sizes|0x10")
 carom_input_test(bench_sizes_empty_entry "--sizes: '1000,,2000' has an empty entry"
