@@ -199,24 +199,42 @@ int listMethods() {
     return 0;
 }
 
+// A comma-separated list: CLI11's delimiter would skip empty entries
+// ("1000,,2000", "cpu,"), so the entries are split here and an empty one is
+// refused; `each` (a CLI11 transform) may rewrite each entry.
+void addListOption(CLI::App& command, const std::string& name, std::vector<std::string>& entries,
+                   const std::string& description, const CLI::Validator& each = CLI::Validator()) {
+    command.add_option_function<std::vector<std::string>>(
+        name,
+        [&entries, name, each](const std::vector<std::string>& given) {
+            for (const std::string& list : given) {
+                std::string entry;
+                for (std::istringstream split(list + ','); std::getline(split, entry, ',');) {
+                    if (entry.empty())
+                        throw CLI::ValidationError(name, "'" + io::printable(list) +
+                                                             "' has an empty entry; allowed: entries separated by "
+                                                             "single commas");
+                    const std::string refusal = each(entry);
+                    if (!refusal.empty()) throw CLI::ValidationError(name, refusal);
+                    entries.push_back(entry);
+                }
+            }
+        },
+        description);
+}
+
 }  // namespace
 
 void addBenchOptions(CLI::App& command, BenchOptions& o) {
-    command.add_option("--methods", o.methods, "Methods to compare, comma-separated (see --list; default: all)")
-        ->delimiter(',')
-        ->transform(renamedValue("--methods", "opencl-seed", "opencl-host-grid"));
-    command
-        .add_option("--collisions", o.collisions,
-                    "Collision schemes to measure each method under, comma-separated: simultaneous, pairwise, "
-                    "events (default: all; the naive methods run simultaneous only, the events method events "
-                    "only). The table gives pw/sim, a pairwise step's time over a simultaneous one's, and the "
-                    "events method's collisions, events and particle-time per second")
-        ->delimiter(',');
-    command
-        .add_option("--sizes", o.sizes,
-                    "Particle counts N, comma-separated, e.g. 1e3,1e6,1.6e7 "
-                    "(default: 1e3 to 1.6e7)")
-        ->delimiter(',');
+    addListOption(command, "--methods", o.methods, "Methods to compare, comma-separated (see --list; default: all)",
+                  renamedValue("--methods", "opencl-seed", "opencl-host-grid"));
+    addListOption(command, "--collisions", o.collisions,
+                  "Collision schemes to measure each method under, comma-separated: simultaneous, pairwise, "
+                  "events (default: all; the naive methods run simultaneous only, the events method events "
+                  "only). The table gives pw/sim, a pairwise step's time over a simultaneous one's, and the "
+                  "events method's collisions, events and particle-time per second");
+    addListOption(command, "--sizes", o.sizes,
+                  "Particle counts N, comma-separated, e.g. 1e3,1e6,1.6e7 (default: 1e3 to 1.6e7)");
     command.add_option("--packing", o.packing, "Area fraction of the disks")
         ->transform(realNumber())
         ->capture_default_str();

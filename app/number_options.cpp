@@ -32,7 +32,8 @@ CLI::Validator wholeNumber(std::uint64_t min, std::uint64_t max) {
 }
 
 CLI::Validator realNumber() {
-    return refusingErrors([](std::string& text) { io::parseRealNumber(text); });
+    // CLI11 reads the text through a long double, which could round twice: it gets the float's exact text.
+    return refusingErrors([](std::string& text) { text = io::shortestText(io::parseFloat(text)); });
 }
 
 }  // namespace carom::app

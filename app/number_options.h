@@ -14,7 +14,8 @@ namespace carom::app {
 // as plain decimal digits; its refusal names the value and the range.
 CLI::Validator wholeNumber(std::uint64_t min, std::uint64_t max = std::numeric_limits<std::uint64_t>::max());
 
-// A real number, all of the text; the option's own checks judge its range.
+// A real number, all of the text, as the 32-bit float carom computes with
+// (io::parseFloat, carom/io.h); the option's own checks judge its range.
 CLI::Validator realNumber();
 
 }  // namespace carom::app

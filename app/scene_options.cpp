@@ -3,7 +3,6 @@
 #include <carom/io.h>
 
 #include <cctype>
-#include <cstdlib>
 
 #include "app/number_options.h"
 #include "app/output_plan.h"
@@ -164,10 +163,11 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
                 o.dtAuto = true;
                 return;
             }
-            char* end = nullptr;
-            o.world.dt = std::strtof(text.c_str(), &end);
-            if (text.empty() || *end != '\0')
-                throw CLI::ValidationError("--dt", "must be a number > 0 or auto, got '" + text + "'");
+            try {
+                o.world.dt = io::parseFloat(text);
+            } catch (const Error& e) {  // thrown while parsing: CLI11 reports it as a usage error
+                throw CLI::ValidationError("--dt", std::string(e.what()) + " (--dt also takes auto)");
+            }
         },
         "Time step, or auto: the default step (0.01), split into substeps of at most --max-travel radii");
     auto* maxTravel =
@@ -279,8 +279,8 @@ Setup makeSetupOf(const SceneOptions& o) {
         scene.height = o.box[1];
         // A zero would silently mean "size the box from the packing".
         if (!(scene.width > 0.0f && scene.height > 0.0f))
-            throw Error("--box must be two finite numbers > 0, got " + std::to_string(o.box[0]) + " " +
-                        std::to_string(o.box[1]));
+            throw Error("--box must be two finite numbers > 0, got " + io::shortestText(o.box[0]) + " " +
+                        io::shortestText(o.box[1]));
     }
     requireRoomFor(scene.particles, "--particles");
     Scene placed = makeScene(scene);

@@ -25,10 +25,10 @@ constexpr const char* kLengthReason = "squared distances must stay normal, finit
 constexpr const char* kMassReason = "sums of masses and the momentum tallies must stay finite float32 numbers";
 
 // A range [min, max] within [least, most]; `name` stands for both ends when
-// they are equal (`--radius 2` sets both).
+// they are the same (`--radius 2` sets both, as `--radius nan` does).
 void requireRange(const char* name, const char* minName, float min, const char* maxName, float max, float least,
                   float most, const char* reason) {
-    if (min == max) return requireWithin(name, min, least, most, reason);
+    if (min == max || (std::isnan(min) && std::isnan(max))) return requireWithin(name, min, least, most, reason);
     requireWithin(minName, min, least, most, reason);
     requireWithin(maxName, max, least, most, reason);
     if (min > max) fail(minName, " (", min, ") must not exceed ", maxName, " (", max, ")");
@@ -199,6 +199,8 @@ void checkParticle(const Particle& p, std::size_t i, const WorldDef& world, cons
     if (2.0f * r > world.width || 2.0f * r > world.height)
         fail(what, ": particle ", i, ": radius ", r, " does not fit in the ", world.width, " x ", world.height, " box");
     const float2 x = p.position;
+    if (!std::isfinite(x.x) || !std::isfinite(x.y))
+        fail(particle, "position must be finite, got (", x.x, ", ", x.y, ")");
     if (world.boundary == Boundary::Periodic) {
         // Where the wrap in integrate keeps centres.
         if (!(x.x >= 0.0f && x.x < world.width && x.y >= 0.0f && x.y < world.height))

@@ -28,11 +28,8 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <cfloat>
 #include <cmath>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <initializer_list>
 #include <sstream>
 #include <utility>
@@ -41,14 +38,13 @@
 
 #include "engine/scene.h"
 #include "engine/constants.h"
-#include "io/output_paths.h"
 #include "engine/text_format.h"
 
 namespace carom {
 namespace {
 
-constexpr std::uintmax_t kMaxSceneFileBytes = 64u << 20;
-constexpr std::size_t kMaxGroups = 10000;  // regions are compared pairwise
+constexpr std::size_t kMaxSceneFileBytes = 64u << 20;  // for many explicit disks, a state CSV
+constexpr std::size_t kMaxGroups = 10000;              // regions are compared pairwise
 
 enum class Bound { Any, NonNegative, Positive };
 
@@ -105,16 +101,21 @@ public:
                 fail(*collisions, "collisions", "allowed: \"pairwise\", \"simultaneous\" or \"events\"");
             }
         }
+        const toml::node* maxTravel = root.get("max_travel");
+        if (maxTravel) scene.world.maxTravel = real(*maxTravel, "max_travel", Bound::NonNegative);  // 0: off
         if (const toml::node* dt = root.get("dt")) {
             if (dt->is_string()) {
                 if (text(*dt, "dt") != "auto") fail(*dt, "dt", "must be a finite number > 0 or \"auto\"");
-                if (scene.world.maxTravel == 0.0f) scene.world.maxTravel = kDefaultMaxTravel;
+                if (maxTravel && scene.world.maxTravel == 0.0f)
+                    fail(*maxTravel, "max_travel",
+                         "dt = \"auto\" splits each step so that no disk moves more than max_travel radii, and 0 "
+                         "turns that off: give max_travel > 0 (without it, " +
+                             io::shortestText(kDefaultMaxTravel) + ") or a fixed dt");
+                if (!maxTravel) scene.world.maxTravel = kDefaultMaxTravel;
             } else {
                 scene.world.dt = real(*dt, "dt", Bound::Positive);
             }
         }
-        if (const toml::node* maxTravel = root.get("max_travel"))
-            scene.world.maxTravel = real(*maxTravel, "max_travel", Bound::Positive);
         if (const toml::node* gravity = root.get("gravity"))
             scene.world.gravity = pair(*gravity, "gravity", Bound::Any);
         if (const toml::node* steps = root.get("steps")) scene.steps = integer(*steps, "steps", 0, INT64_MAX);
@@ -191,12 +192,11 @@ private:
                              : bound == Bound::Positive ? std::isfinite(value) && value > 0
                                                         : std::isfinite(value) && value >= 0;
         if (!inBound) fail(node, key, std::string("must be ") + describe(bound));
-        if (std::fabs(value) > FLT_MAX)
-            fail(node, key, "is out of range: carom computes in 32-bit floats (|x| < 3.4e38)");
-        const auto single = static_cast<float>(value);
-        if (bound == Bound::Positive && !(single > 0.0f))
-            fail(node, key, "is too small for a 32-bit float (at least 1.2e-38)");
-        return single;
+        try {
+            return io::toFloat(value);  // carom computes in 32-bit floats
+        } catch (const Error& e) {
+            failAt(line(node), key + " = " + e.what());
+        }
     }
 
     std::int64_t integer(const toml::node& node, const std::string& key, std::int64_t min, std::int64_t max) const {
@@ -326,14 +326,7 @@ SceneFileDef parseSceneFile(std::string_view text, const std::string& path) {
 }
 
 SceneFileDef readSceneFile(const std::string& path) {
-    std::streamoff size = 0;
-    std::ifstream in = openRegularFile(path, "scene file", size);
-    if (static_cast<std::uintmax_t>(size) > kMaxSceneFileBytes)
-        throw Error("scene file '" + path + "' has " + std::to_string(size) + " bytes; a scene file is at most " +
-                    std::to_string(kMaxSceneFileBytes >> 20) + " MiB (use a state CSV for many explicit disks)");
-    std::string text(static_cast<std::size_t>(size), '\0');
-    if (!in.read(text.data(), size)) throw Error("reading scene file '" + path + "' failed");
-    return parseSceneFile(text, path);
+    return parseSceneFile(TextFile(path, "scene file").readAll(kMaxSceneFileBytes), path);
 }
 
 }  // namespace io

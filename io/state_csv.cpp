@@ -1,21 +1,8 @@
 #include <carom/io.h>
 #include "io/state_csv.h"
 
-#include <cerrno>
-#include <cmath>
-#include <cstdio>
-#include <cstdlib>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
+#include <algorithm>
 #include <sstream>
-
-#if __has_include(<unistd.h>)
-#include <fcntl.h>
-#include <poll.h>
-#include <sys/stat.h>
-#include <unistd.h>
-#endif
 
 #include <carom/files.h>
 #include <carom/world.h>
@@ -24,12 +11,10 @@
 namespace carom {
 namespace {
 
+const char* const kWhat = "state file";
 const char* const kHeader = "id,x,y,vx,vy,mass,radius";
 const char* const kColumns[] = {"id", "x", "y", "vx", "vy", "mass", "radius"};
 constexpr int kColumnCount = 7;
-// A row of seven floats in their longest spelling is under 200 bytes; the
-// cap stops a file without newlines (/dev/zero, a binary) from filling memory.
-constexpr std::size_t kMaxLineBytes = 4096;
 
 std::string trim(const std::string& s) {
     const auto first = s.find_first_not_of(" \t\r");
@@ -51,34 +36,11 @@ public:
     }
 
     float number(std::size_t line, int column, const std::string& text) const {
-        // strtof reads the C locale's decimal point: carom never changes the locale.
-        char* end = nullptr;
-        errno = 0;
-        const float value = std::strtof(text.c_str(), &end);
-        if (text.empty() || end != text.c_str() + text.size())
-            fail(line, std::string("column '") + kColumns[column] + "': '" + io::printable(text) + "' is not a number");
-        if (errno == ERANGE && std::isinf(value))
-            fail(line,
-                 std::string("column '") + kColumns[column] + "': " + io::printable(text) + " is out of float range");
-        if (errno == ERANGE && value == 0.0f)  // it would read as 0 without a word
-            fail(line, std::string("column '") + kColumns[column] + "': " + io::printable(text) +
-                           " is too small for a float (the smallest above 0 is 1.4e-45); write 0 for zero");
-        return value;
-    }
-
-    // Reads the next line into `line`, without its newline; false at the end
-    // of the input. Refuses a line longer than kMaxLineBytes before storing more.
-    bool nextLine(std::istream& in, std::string& line, std::size_t lineNumber) {
-        in.getline(buffer_, sizeof buffer_);
-        const auto got = static_cast<std::size_t>(in.gcount());
-        if (in.bad()) throw Error("reading state file '" + path_ + "' failed");
-        if (in.fail() && !in.eof() && got > 0)
-            fail(lineNumber, "line longer than " + std::to_string(kMaxLineBytes) +
-                                 " bytes; a state file's lines are at most " + std::to_string(kMaxLineBytes) +
-                                 " bytes (is it a state CSV?)");
-        if (got == 0 && in.fail()) return false;
-        line.assign(buffer_, in.eof() ? got : got - 1);  // getline counted the newline it took
-        return true;
+        try {
+            return io::parseFloat(text);
+        } catch (const Error& e) {
+            fail(line, std::string("column '") + kColumns[column] + "': " + e.what());
+        }
     }
 
     std::uint64_t id(std::size_t line, const std::string& text) const {
@@ -89,83 +51,20 @@ public:
 
 private:
     std::string path_;
-    char buffer_[kMaxLineBytes + 1];  // a line and the terminating zero getline writes
 };
 
 }  // namespace
-
-#if __has_include(<unistd.h>)
-namespace {
-
-// Reads a file descriptor, which it closes. A read error throws, which the
-// istream turns into badbit: the reader then reports it, never a short file.
-class DescriptorBuffer : public std::streambuf {
-public:
-    explicit DescriptorBuffer(int fd) : fd_(fd) {}
-    ~DescriptorBuffer() override { ::close(fd_); }
-    DescriptorBuffer(const DescriptorBuffer&) = delete;
-    DescriptorBuffer& operator=(const DescriptorBuffer&) = delete;
-
-protected:
-    int_type underflow() override {
-        ssize_t got;
-        do got = ::read(fd_, buffer_, sizeof buffer_);
-        while (got < 0 && errno == EINTR);
-        if (got < 0) throw Error(std::strerror(errno));
-        if (got == 0) return traits_type::eof();
-        setg(buffer_, buffer_, buffer_ + got);
-        return traits_type::to_int_type(buffer_[0]);
-    }
-
-private:
-    int fd_;
-    char buffer_[1 << 16];
-};
-
-// A FIFO nobody writes to would block open() for ever: it is opened
-// without blocking, and read once data arrives (or its writer closes it)
-// within kFifoWaitSeconds. A pipe from process substitution, <(...), has
-// its writer running already.
-constexpr int kFifoWaitSeconds = 10;
-
-std::vector<Disk> readFifo(const std::string& path, std::uint64_t availableBytes) {
-    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK);
-    if (fd < 0) throw Error("cannot read state file '" + path + "': " + std::strerror(errno));
-    DescriptorBuffer buffer(fd);
-    pollfd waiting{fd, POLLIN, 0};
-    int ready;
-    do ready = ::poll(&waiting, 1, kFifoWaitSeconds * 1000);
-    while (ready < 0 && errno == EINTR);
-    if (ready == 0)
-        throw Error("state file '" + path + "' is a FIFO (named pipe) that no program wrote to within " +
-                    std::to_string(kFifoWaitSeconds) + " s; start the program that writes it, or give a regular file");
-    ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
-    std::istream in(&buffer);
-    return parseStateCsv(in, path, availableBytes);
-}
-
-}  // namespace
-#endif
 
 std::vector<Disk> readStateCsv(const std::string& path, std::uint64_t availableBytes) {
-    std::error_code error;
-    if (std::filesystem::is_directory(path, error))
-        throw Error("cannot read state file '" + path + "': it is a directory");
-#if __has_include(<unistd.h>)
-    struct stat info {};
-    if (stat(path.c_str(), &info) == 0 && S_ISFIFO(info.st_mode)) return readFifo(path, availableBytes);
-#endif
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error("cannot read state file '" + path + "': " + std::strerror(errno));
-    return parseStateCsv(in, path, availableBytes);
+    io::TextFile file(path, kWhat);
+    return parseStateCsv(file.stream(), path, availableBytes);
 }
 
 std::vector<Disk> parseStateCsv(std::istream& in, const std::string& path, std::uint64_t availableBytes) {
     Reader reader(path);
+    io::TextLines lines(in, path, kWhat);
     std::string line;
-    std::size_t lineNumber = 1;
-    if (!reader.nextLine(in, line, lineNumber))
-        reader.fail(1, std::string("empty file; expected the header '") + kHeader + "'");
+    if (!lines.next(line)) reader.fail(1, std::string("empty file; expected the header '") + kHeader + "'");
     skipByteOrderMark(line);
     if (trim(line) != kHeader)
         reader.fail(1, "header is '" + io::printable(trim(line)) + "'; expected '" + kHeader + "'");
@@ -177,8 +76,8 @@ std::vector<Disk> parseStateCsv(std::istream& in, const std::string& path, std::
     };
     std::vector<Row> rows;
     const std::string where = path + ": particle rows";
-    while (reader.nextLine(in, line, lineNumber + 1)) {
-        ++lineNumber;
+    while (lines.next(line)) {
+        const std::size_t lineNumber = lines.number();
         if (trim(line).empty()) continue;
         std::vector<std::string> fields;
         std::stringstream split(line);
@@ -198,8 +97,7 @@ std::vector<Disk> parseStateCsv(std::istream& in, const std::string& path, std::
         d.radius = reader.number(lineNumber, 6, fields[6]);
         rows.push_back(row);
     }
-    if (in.bad()) throw Error("reading state file '" + path + "' failed");
-    if (rows.empty()) reader.fail(lineNumber, "no particle rows after the header");
+    if (rows.empty()) reader.fail(std::max<std::size_t>(lines.number(), 1), "no particle rows after the header");
 
     std::vector<Disk> disks(rows.size());
     std::vector<std::size_t> seenOnLine(rows.size(), 0);

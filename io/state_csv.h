@@ -14,10 +14,10 @@ namespace carom {
 // Reads a state file. Rows may come in any order; the ids must be exactly
 // 0..N-1. Throws Error naming the file, line and column of anything wrong.
 // Physical checks (inside the box, positive mass) are World::setDisks' job.
-// Bounded whatever the file: a line longer than 4096 bytes, more rows than
-// kMaxParticles or than `availableBytes` of memory hold (requireRoomFor;
-// 0 = unknown) are refused as they are read, and a FIFO that nothing writes
-// to within 10 s is refused instead of waited on for ever.
+// Bounded whatever the file (io::TextLines: a line too long or with a NUL
+// byte, a FIFO that nothing writes to), and more rows than kMaxParticles or
+// than `availableBytes` of memory hold (requireRoomFor; 0 = unknown) are
+// refused as they are read.
 std::vector<Disk> readStateCsv(const std::string& path, std::uint64_t availableBytes = 0);
 
 // The same, from a stream; `path` names it in messages.

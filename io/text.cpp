@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <charconv>
 #include <cstdio>
 #include <cstdlib>
@@ -13,6 +14,8 @@
 
 namespace carom::io {
 namespace {
+
+constexpr const char* kRealNumbersAllowed = "allowed: a decimal number such as 2, -0.5 or 1e-3, or inf or nan";
 
 // The length of the valid UTF-8 sequence `text` starts with (1 to 4
 // bytes), or 0 where it starts with an invalid one: a stray continuation
@@ -43,6 +46,38 @@ std::size_t utf8SequenceLength(std::string_view text) {
     return codePoint < smallest || codePoint > 0x10FFFF || surrogate ? 0 : length;
 }
 
+// Refuses what strtod reads beyond carom's numbers: hexadecimal ("0x10"),
+// a leading '+' or space, an empty text, anything after the number.
+void requireDecimal(std::string_view text) {
+    std::size_t i = !text.empty() && text[0] == '-' ? 1 : 0;
+    std::string word(text.substr(i));
+    for (char& c : word) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (word == "inf" || word == "infinity" || word == "nan") return;
+    const auto digitsFrom = [&text](std::size_t& at) {
+        const std::size_t start = at;
+        while (at < text.size() && std::isdigit(static_cast<unsigned char>(text[at]))) ++at;
+        return at - start;
+    };
+    std::size_t digits = digitsFrom(i);
+    if (i < text.size() && text[i] == '.') digits += digitsFrom(++i);
+    bool valid = digits > 0;
+    if (valid && i < text.size() && (text[i] == 'e' || text[i] == 'E')) {
+        if (++i < text.size() && (text[i] == '+' || text[i] == '-')) ++i;
+        valid = digitsFrom(i) > 0;
+    }
+    if (!valid || i != text.size()) throw Error("'" + printable(text) + "' is not a number; " + kRealNumbersAllowed);
+}
+
+// Refuses a float that means another number than the one written (`shown`):
+// one not 0 that reads as 0, a finite one that reads as infinite.
+void requireSameNumber(float value, bool zero, bool infinite, const std::string& shown) {
+    if (value == 0.0f && !zero)
+        throw Error(shown +
+                    " is too small for a 32-bit float and would read as 0 (the smallest above 0 is 1.4e-45); "
+                    "write 0 for zero");
+    if (std::isinf(value) && !infinite) throw Error(shown + " is too large for a 32-bit float (the largest is 3.4e38)");
+}
+
 }  // namespace
 
 std::string wholeNumbersAllowed(std::uint64_t min, std::uint64_t max) {
@@ -63,14 +98,27 @@ std::uint64_t parseWholeNumber(std::string_view text, std::uint64_t min, std::ui
 }
 
 double parseRealNumber(std::string_view text) {
+    requireDecimal(text);
     const std::string terminated(text);
-    char* end = nullptr;
     // strtod reads the C locale's decimal point: carom never changes the locale.
-    const double value = std::strtod(terminated.c_str(), &end);
-    const bool leadingSpace = !text.empty() && std::isspace(static_cast<unsigned char>(text[0]));
-    if (text.empty() || leadingSpace || end != terminated.c_str() + terminated.size())
-        throw Error("'" + printable(text) + "' is not a number");
+    return std::strtod(terminated.c_str(), nullptr);
+}
+
+float parseFloat(std::string_view text) {
+    requireDecimal(text);
+    const std::string terminated(text);
+    // strtof rounds once, to the nearest float: through a double it could round twice.
+    const float value = std::strtof(terminated.c_str(), nullptr);
+    const bool zero = text.substr(0, text.find_first_of("eE")).find_first_of("123456789") == std::string::npos;
+    const bool infinite = text.find_first_of("iI") != std::string::npos;
+    requireSameNumber(value, zero, infinite, "'" + printable(text) + "'");
     return value;
+}
+
+float toFloat(double value) {
+    const auto single = static_cast<float>(value);
+    requireSameNumber(single, value == 0.0, std::isinf(value), shortestText(value));
+    return single;
 }
 
 std::string shortestText(float value) {

@@ -14,8 +14,11 @@ endforeach()
 set(traj "--trajectory|${out}")
 carom_cli_test(scene_typo fail "scene_typo.toml:5: unknown key 'group\\[1\\].raduis'; allowed in group\\[1\\]: count"
                "run|--backend|cpu|--scene|${data}/scene_typo.toml|${traj}")
-carom_cli_test(scene_missing fail "cannot read scene file '.*no-such.toml': no such file"
+carom_cli_test(scene_missing fail "cannot read scene file '.*no-such.toml': No such file or directory"
                "run|--backend|cpu|--scene|${data}/no-such.toml|--output-state|${out}")
+# A scene file is read as every text input is: a device without end is refused at its first NUL byte.
+carom_cli_test(scene_dev_zero fail "scene file '/dev/zero': a NUL byte, which no text file has"
+               "run|--backend|cpu|--scene|/dev/zero|--output-state|${out}")
 carom_cli_test(scene_group_option_ambiguous fail
                "--particles sets the particle group of a scene, but '.*two_groups.toml' has 2 \\[\\[group\\]\\] tables"
                "run|--backend|cpu|--scene|${data}/two_groups.toml|--particles|5|--output-state|${out}")

@@ -54,8 +54,35 @@ carom_input_test(validate_particles_cap
                  "validate|--quick|--particles|100000000")
 # A file without a newline (here endless zero bytes) is refused at the line cap.
 carom_input_test(input_state_endless_line
-                 "/dev/zero:1: line longer than 4096 bytes; a state file's lines are at most 4096 bytes"
+                 "/dev/zero:1: line longer than 4096 bytes; in a state file lines are at most 4096 bytes"
                  "run|--backend|cpu|--steps|1|--output-state|${out}|--input-state|/dev/zero|--box|10|10")
 
 # Empty values, memory figures, FIFOs and a forged checkpoint need a script
 # to set up: outputs_test.py, registered in io_tests.cmake.
+
+# Real numbers are decimal, as a person types them: strtod's hexadecimal and
+# leading '+' or space are refused, in every option and in bench --sizes,
+# whose empty entries are refused too instead of skipped.
+carom_input_test(speed_hex "--speed: '0x10' is not a number; allowed: a decimal number" "${base}|--steps|1|--speed|0x10")
+carom_input_test(dt_plus "--dt: '\\+0.5' is not a number; allowed: a decimal number" "${base}|--steps|1|--dt|+0.5")
+carom_input_test(dt_space "--dt: ' 0.5' is not a number; allowed: a decimal number" "${base}|--steps|1|--dt| 0.5")
+carom_input_test(gravity_hex "--gravity: '0x1p3' is not a number" "${base}|--steps|1|--gravity|0|0x1p3")
+carom_input_test(bench_budget_hex "--budget-ms: '0x10' is not a number" "bench|--quick|--methods|cpu|--budget-ms|0x10")
+carom_input_test(validate_dt_plus "--dt: '\\+0.01' is not a number" "validate|--quick|--dt|+0.01")
+carom_input_test(bench_sizes_hex "--sizes: '0x10' is not a number of particles"
+                 "bench|--quick|--methods|cpu|--sizes|0x10")
+carom_input_test(bench_sizes_empty_entry "--sizes: '1000,,2000' has an empty entry"
+                 "bench|--quick|--methods|cpu|--sizes|1000,,2000")
+carom_input_test(bench_methods_empty_entry "--methods: 'cpu,' has an empty entry" "bench|--quick|--methods|cpu,")
+# A value a 32-bit float turns into 0 or infinity would change its meaning
+# (a disk at rest, gravity or substeps off): refused, naming the value typed.
+carom_input_test(speed_underflow "--speed: '1e-50' is too small for a 32-bit float and would read as 0"
+                 "${base}|--steps|1|--speed|1e-50")
+carom_input_test(gravity_underflow "--gravity: '-1e-50' is too small for a 32-bit float"
+                 "${base}|--steps|1|--gravity|0|-1e-50")
+carom_input_test(max_travel_underflow "--max-travel: '1e-50' is too small for a 32-bit float"
+                 "${base}|--steps|1|--max-travel|1e-50")
+carom_input_test(dt_underflow "--dt: '1e-50' is too small for a 32-bit float" "${base}|--steps|1|--dt|1e-50")
+carom_input_test(speed_overflow "--speed: '1e50' is too large for a 32-bit float" "${base}|--steps|1|--speed|1e50")
+# A refusal shows the value as typed, not as std::to_string prints a float.
+carom_input_test(box_zero "--box must be two finite numbers > 0, got 0 10" "${base}|--steps|1|--box|0|10")

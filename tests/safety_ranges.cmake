@@ -25,7 +25,10 @@ carom_cli_test(range_gravity_at_rest pass "carom run: 1000 disks"
                "run|--backend|cpu|--steps|2|--speed|0|--gravity|0|-1")
 carom_cli_test(range_subnormal_radius fail "subnormal_radius.csv: particle 0: radius 9.99995e-41 is outside \\[1e-18, 1e\\+18\\]"
                "${run}|--input-state|${data}/subnormal_radius.csv|--box|10|10")
-carom_cli_test(range_radius_below_float fail "radius_below_float.csv:2: column 'radius': 1e-50 is too small for a float"
+# A NaN centre is no place, not one "outside the box".
+carom_cli_test(range_nan_position fail "nan_position.csv: particle 0: position must be finite, got \\(nan, 5\\)"
+               "${run}|--input-state|${data}/nan_position.csv|--box|10|10")
+carom_cli_test(range_radius_below_float fail "radius_below_float.csv:2: column 'radius': '1e-50' is too small for a 32-bit float"
                "${run}|--input-state|${data}/radius_below_float.csv|--box|10|10")
 carom_cli_test(range_subnormal_mass fail "subnormal_mass.csv: particle 0: mass 9.99995e-41 is outside \\[1e-15, 1e\\+15\\]"
                "${run}|--input-state|${data}/subnormal_mass.csv|--box|10|10")

@@ -64,15 +64,45 @@ TEST_CASE("number text: whole numbers never wrap, and an empty text is not 0") {
     CHECK(refusal("1001", 1, 1000) == "'1001' is out of range; allowed: whole numbers from 1 to 1000");
 }
 
-TEST_CASE("number text: a real number is the whole text") {
+TEST_CASE("number text: a real number is the whole text, in decimal") {
     CHECK(io::parseRealNumber("1.5") == 1.5);
     CHECK(io::parseRealNumber("-2e3") == -2000.0);
+    CHECK(io::parseRealNumber(".5") == 0.5);
+    CHECK(io::parseRealNumber("5.") == 5.0);
+    CHECK(io::parseRealNumber("1E+2") == 100.0);
     CHECK(std::isinf(io::parseRealNumber("inf")));  // the options' own checks name the range
+    CHECK(std::isinf(io::parseRealNumber("-Infinity")));
     CHECK(std::isnan(io::parseRealNumber("nan")));
-    for (const char* malformed : {"", " 1", "1 ", "1.5x", "fast", "1,5"})
-        CHECK_MESSAGE(
-            errorOf([&] { io::parseRealNumber(malformed); }) == "'" + std::string(malformed) + "' is not a number",
-            malformed);
+    const std::string allowed = "allowed: a decimal number such as 2, -0.5 or 1e-3, or inf or nan";
+    // strtod reads hexadecimal, a leading '+' or space: none is a number a person types here.
+    for (const char* malformed : {"", " 1", "1 ", "1.5x", "fast", "1,5", "0x10", "0x1p3", "+0.5", "+inf", "-", ".",
+                                  "1e", "1e+", "e5", "--1", "nan(1)", "infinit"})
+        CHECK_MESSAGE(errorOf([&] { io::parseRealNumber(malformed); }) ==
+                          "'" + std::string(malformed) + "' is not a number; " + allowed,
+                      malformed);
+    for (const char* malformed : {"0x10", "+0.5", " 0.5"})
+        CHECK_MESSAGE(errorOf([&] { io::parseFloat(malformed); }).find("is not a number") != std::string::npos,
+                      malformed);
+}
+
+TEST_CASE("number text: a float that would be another number is refused, naming the text") {
+    CHECK(io::parseFloat("0.1") == 0.1f);
+    CHECK(io::parseFloat("-0") == 0.0f);
+    CHECK(io::parseFloat("0e-999") == 0.0f);  // zero written small is still zero
+    CHECK(io::parseFloat("1e-45") > 0.0f);    // the smallest subnormal is a number
+    CHECK(io::parseFloat("3.4028235e38") == std::numeric_limits<float>::max());
+    CHECK(std::isinf(io::parseFloat("inf")));
+    CHECK(std::isnan(io::parseFloat("nan")));
+    const std::string small = " is too small for a 32-bit float and would read as 0";
+    CHECK(errorOf([] { io::parseFloat("1e-50"); }).find("'1e-50'" + small) == 0);
+    CHECK(errorOf([] { io::parseFloat("-0.00000000000000000000000000000000000000000000001"); }).find(small) !=
+          std::string::npos);
+    CHECK(errorOf([] { io::parseFloat("1e50"); }).find("'1e50' is too large for a 32-bit float") == 0);
+    CHECK(io::toFloat(0.1) == 0.1f);
+    CHECK(io::toFloat(0.0) == 0.0f);
+    CHECK(std::isinf(io::toFloat(HUGE_VAL)));
+    CHECK(errorOf([] { io::toFloat(1e-50); }).find("1e-50" + small) == 0);
+    CHECK(errorOf([] { io::toFloat(-1e39); }).find("-1e+39 is too large for a 32-bit float") == 0);
 }
 
 TEST_CASE("printable: valid UTF-8 as it is; control characters and invalid bytes escaped") {
@@ -93,7 +123,7 @@ TEST_CASE("printable: valid UTF-8 as it is; control characters and invalid bytes
 
 TEST_CASE("state CSV: a line longer than 4096 bytes is refused as it is read") {
     CHECK(stateCsvError(std::string(1 << 20, '\0')) ==
-          "in.csv:1: line longer than 4096 bytes; a state file's lines are at most 4096 bytes (is it a state CSV?)");
+          "in.csv:1: line longer than 4096 bytes; in a state file lines are at most 4096 bytes (is it a state file?)");
     CHECK(stateCsvError(kHeaderLine + "0,1,1,0,0,1,1\n" + std::string(5000, '1'))
               .find("in.csv:3: line longer than 4096") == 0);
     // A line of exactly 4096 bytes is read (trailing spaces are trimmed), with or without its newline.
@@ -103,6 +133,15 @@ TEST_CASE("state CSV: a line longer than 4096 bytes is refused as it is read") {
         std::istringstream in(kHeaderLine + row + end);
         CHECK(parseStateCsv(in, "in.csv").size() == 1);
     }
+}
+
+TEST_CASE("state CSV: a NUL byte is refused, and numbers are decimal floats") {
+    CHECK(stateCsvError(kHeaderLine + "0,1,1" + std::string(1, '\0') + ",0,0,1,1\n") ==
+          "in.csv:2: a NUL byte, which no text file has (is it a state file?)");
+    CHECK(stateCsvError(kHeaderLine + "0,0x10,1,0,0,1,1\n").find("in.csv:2: column 'x': '0x10' is not a number") == 0);
+    CHECK(stateCsvError(kHeaderLine + "0,+5,1,0,0,1,1\n").find("in.csv:2: column 'x': '+5' is not a number") == 0);
+    CHECK(stateCsvError(kHeaderLine + "0,5,1,1e-50,0,1,1\n")
+              .find("in.csv:2: column 'vx': '1e-50' is too small for a 32-bit float") == 0);
 }
 
 TEST_CASE("state CSV: rows past the memory available are refused before they are stored") {

@@ -216,7 +216,9 @@ TEST_CASE("state CSV: shortest numbers, a byte order mark, long and binary value
     CHECK(longValue.size() < 200);
     CHECK(errorOf(std::string("id,x,y,vx,vy,mass,radius\n0,1,\x01\xff,0,0,1,1\n"))
               .find("column 'y': '\\x01\\xFF' is not a number") != std::string::npos);
-    CHECK(errorOf(std::string("\x00\x01\x02", 3)).find("bad.csv:1: header is '\\x00\\x01\\x02'") != std::string::npos);
+    CHECK(errorOf(std::string("\x01\x02\x7F", 3)).find("bad.csv:1: header is '\\x01\\x02\\x7F'") != std::string::npos);
+    CHECK(errorOf(std::string("\x00\x01\x02", 3)) ==
+          "bad.csv:1: a NUL byte, which no text file has (is it a state file?)");
     CHECK_THROWS_WITH_AS(readStateCsv("."), doctest::Contains("it is a directory"), Error);
 }
 

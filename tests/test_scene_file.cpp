@@ -3,8 +3,10 @@
 // in scenes/ run on the CPU and compared with each OpenCL pipeline.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 
 #include "engine/diagnostics.h"
 #include <carom/io.h>
@@ -186,8 +188,8 @@ TEST_CASE("scene file: bad input is refused with file, line, key, value and what
              Case{"box = [60, -4]\n", "s.toml:1: box[1] = -4: must be a finite number > 0"},
              Case{"box = [60, \"wide\"]\n", "box[1] = \"wide\": must be a finite number > 0"},
              Case{"box = [60, inf]\n", "box[1] = inf: must be a finite number > 0"},
-             Case{"box = [60, 1e39]\n", "box[1] = 1e+39: is out of range: carom computes in 32-bit floats"},
-             Case{"box = [60, 1e-50]\n", "box[1] = 1e-50: is too small for a 32-bit float"},
+             Case{"box = [60, 1e39]\n", "s.toml:1: box[1] = 1e+39 is too large for a 32-bit float"},
+             Case{"box = [60, 1e-50]\n", "box[1] = 1e-50 is too small for a 32-bit float"},
              Case{"packing = 0.8\n", "s.toml:1: packing = 0.8: must be in (0, 0.7]"},
              Case{"packing = 0.1\n[[group]]\ncount = 2\nradius = 3e38\n",
                   "group[1]: radius 3e+38 is outside [1e-18, 1e+18]"},
@@ -197,6 +199,13 @@ TEST_CASE("scene file: bad input is refused with file, line, key, value and what
              Case{"box = [60, 40]\ndt = \"fast\"\n",
                   "s.toml:2: dt = \"fast\": must be a finite number > 0 or \"auto\""},
              Case{"box = [60, 40]\nmax_travel = -1\n", "s.toml:2: max_travel = -1"},
+             Case{"box = [60, 40]\ndt = \"auto\"\nmax_travel = 0\n",
+                  "s.toml:3: max_travel = 0: dt = \"auto\" splits each step so that no disk moves more than "
+                  "max_travel radii, and 0 turns that off"},
+             // a value a 32-bit float turns into 0 would change its meaning
+             Case{"box = [60, 40]\nmax_travel = 1e-50\n",
+                  "s.toml:2: max_travel = 1e-50 is too small for a 32-bit float and would read as 0"},
+             Case{"box = [60, 40]\ngravity = [0, -1e-50]\n", "s.toml:2: gravity[1] = -1e-50 is too small"},
              Case{"box = [60, 40]\nboundary = 3\n", "boundary = 3: must be a non-empty string"},
              Case{"box = [60, 40]\ncollisions = \"elastic\"\n",
                   "s.toml:2: collisions = \"elastic\": allowed: \"pairwise\", \"simultaneous\" or \"events\""},
@@ -223,6 +232,7 @@ TEST_CASE("scene file: bad input is refused with file, line, key, value and what
              Case{g + "count = 3\nradius = [1, 2, 3]\n", "must be a number > 0 or a range [min, max]"},
              Case{g + "count = 3\nmass = [1, -2]\n", "group[1].mass[1] = -2: must be a finite number > 0"},
              Case{g + "count = 3\nspeed = -1\n", "group[1].speed = -1: must be a finite number >= 0"},
+             Case{g + "count = 3\nspeed = 1e-50\n", "s.toml:4: group[1].speed = 1e-50 is too small"},
              Case{g + "count = 3\ntemperature = 0\n", "group[1].temperature = 0: must be a finite number > 0"},
              Case{g + "count = 3\nspeed = 1\ntemperature = 1\n", "give speed or temperature, not both"},
              Case{g + "count = 3\nname = \"\"\n", "group[1].name = \"\": must be a non-empty string"},
@@ -271,6 +281,21 @@ TEST_CASE("scene file: values in messages are cut short and made printable") {
     CHECK(message.find(std::string(30, 'w')) != std::string::npos);
     CHECK(message.find(std::string(60, 'w')) == std::string::npos);
     CHECK(message.find("...") != std::string::npos);
+}
+
+TEST_CASE("scene file: max_travel = 0 turns substeps off, as --max-travel 0 does") {
+    const SceneFileDef s =
+        io::parseSceneFile("box = [60, 40]\nmax_travel = 0\n[[disk]]\nposition = [5, 5]\n", "s.toml");
+    CHECK(s.world.maxTravel == 0.0f);
+    CHECK(io::parseSceneFile("box = [60, 40]\ndt = \"auto\"\nmax_travel = 0.5\n[[disk]]\nposition = [5, 5]\n", "s.toml")
+              .world.maxTravel == 0.5f);
+}
+
+TEST_CASE("scene file: a binary file is refused at its first NUL byte") {
+    { std::ofstream("nul.toml", std::ios::binary) << std::string("box = [60, 40]\n\0\0\0", 18); }
+    CHECK_THROWS_WITH_AS(io::readSceneFile("nul.toml"),
+                         "scene file 'nul.toml': a NUL byte, which no text file has (is it a scene file?)", Error);
+    std::remove("nul.toml");
 }
 
 TEST_CASE("scene file: a missing or oversized file is refused") {

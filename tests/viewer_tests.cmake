@@ -132,14 +132,30 @@ carom_view_test(reset "${view_moving_window}|--events|${data}/view_reset.events"
 add_test(NAME view.camera COMMAND carom_view_check -tc=camera*)
 
 carom_cli_test(view_without_display fail "carom view needs a display" "view|--backend|cpu" DISPLAY=)
-carom_cli_test(view_bad_window fail "--window 10 10: each side must be in \\[64, 16384\\] pixels" "view|--window|10|10")
+carom_cli_test(view_bad_window fail "--window: '10' is out of range; allowed: whole numbers from 64 to 16384"
+               "view|--window|10|10")
+# A negative side is refused with the same range, not the parser's (0 to 2^31 - 1).
+carom_cli_test(view_negative_window fail "--window: '-1' is out of range; allowed: whole numbers from 64 to 16384"
+               "view|--window|-1|100")
+carom_cli_test(view_negative_steps_per_frame fail
+               "--steps-per-frame: '-1' is out of range; allowed: whole numbers from 0 to 100000"
+               "view|--steps-per-frame|-1")
 carom_cli_test(view_bad_colouring fail "--color 'rainbow' is not a colouring" "view|--color|rainbow|--frames|1")
 carom_cli_test(view_bad_switch fail "unknown collision scheme 'bogus'" "view|--switch-collisions|1|bogus|--frames|1")
 carom_cli_test(view_switch_after_last fail "--switch-collisions frame 9 is after the last one; allowed: 1 to --frames \\(3\\)"
                "view|--switch-collisions|9|pairwise|--frames|3")
-carom_cli_test(view_events_folder fail "--events '[^']*data' is a folder; allowed: a text file of input events"
+carom_cli_test(view_events_folder fail "cannot read --events file '[^']*data': it is a directory"
                "view|--events|${CMAKE_CURRENT_SOURCE_DIR}/data|--frames|3")
 carom_cli_test(view_bad_events fail
                "--events [^ ]*view_bad.events line 2 '2 press left 500 100': X '500' is out of range; allowed: whole numbers from 0 to 399"
                "view|--backend|cpu|--window|400|300|--frames|3|--events|${data}/view_bad.events")
+# An --events file is read as every text input is: a line without end
+# (/dev/zero) or a NUL byte is refused at once, and its text is shown escaped.
+carom_cli_test(view_events_dev_zero fail "/dev/zero:1: line longer than 4096 bytes; in a --events file lines are at most"
+               "view|--backend|cpu|--frames|1|--events|/dev/zero")
+set_tests_properties(cli.view_events_dev_zero PROPERTIES TIMEOUT 60)
+carom_cli_test(view_events_nul fail "view_nul.events:2: a NUL byte, which no text file has \\(is it a --events file\\?\\)"
+               "view|--backend|cpu|--frames|3|--events|${data}/view_nul.events")
+carom_cli_test(view_events_escape fail "line 2 '1 .x1B\\[2J 5': '.x1B\\[2J' is not an action"
+               "view|--backend|cpu|--frames|3|--events|${data}/view_escape.events")
 carom_cli_test(view_screenshot_needs_frames fail "--screenshot requires --frames" "view|--screenshot|x.png")

@@ -10,7 +10,6 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
-#include <fstream>
 #include <iterator>
 #include <limits>
 #include <sstream>
@@ -91,7 +90,7 @@ int parseWheelSteps(const std::string& text) {
         const int steps = int(io::parseWholeNumber(std::string_view(text).substr(out ? 1 : 0), 1, 100));
         return out ? -steps : steps;
     } catch (const Error&) {
-        throw Error("wheel steps '" + text + "' are not a whole number from -100 to 100 other than 0");
+        throw Error("wheel steps '" + io::printable(text) + "' are not a whole number from -100 to 100 other than 0");
     }
 }
 
@@ -99,7 +98,7 @@ Uint8 parseButton(const std::string& name) {
     if (name == "left") return SDL_BUTTON_LEFT;
     if (name == "middle") return SDL_BUTTON_MIDDLE;
     if (name == "right") return SDL_BUTTON_RIGHT;
-    throw Error("'" + name + "' is not a mouse button; allowed: left, middle, right");
+    throw Error("'" + io::printable(name) + "' is not a mouse button; allowed: left, middle, right");
 }
 
 // The SDL event of one --events line's words after the frame; `cursor` is
@@ -122,7 +121,8 @@ SDL_Event parseScriptedEvent(const std::vector<std::string>& words, const std::v
         event.key.state = SDL_PRESSED;
         event.key.keysym.sym = SDL_GetKeyFromName(words[2].c_str());
         if (event.key.keysym.sym == SDLK_UNKNOWN)
-            throw Error("'" + words[2] + "' is not a key; allowed: SDL's key names (Space, P, N, R, F, ...)");
+            throw Error("'" + io::printable(words[2]) +
+                        "' is not a key; allowed: SDL's key names (Space, P, N, R, F, ...)");
         event.key.keysym.scancode = SDL_GetScancodeFromKey(event.key.keysym.sym);
     } else if (action == "press" || action == "release") {
         expectArguments(3, "BUTTON X Y");
@@ -148,24 +148,26 @@ SDL_Event parseScriptedEvent(const std::vector<std::string>& words, const std::v
         event.wheel.y = parseWheelSteps(words[2]);
         event.wheel.direction = SDL_MOUSEWHEEL_NORMAL;
     } else {
-        throw Error("'" + action + "' is not an action; allowed: key, press, release, move, wheel");
+        throw Error("'" + io::printable(action) + "' is not an action; allowed: key, press, release, move, wheel");
     }
     return event;
 }
+
+const char* const kEventsFile = "--events file";
+constexpr int kSmallestWindowSide = 64, kLargestWindowSide = 16384;  // pixels
+constexpr int kMostStepsPerFrame = 100000;
 
 // --events FILE: one input event a line, "FRAME ACTION ARGUMENTS", handled
 // before frame FRAME (1 to `frames`); points are window points; '#' starts a
 // comment. Read before the window opens, so a bad line costs no frames.
 std::vector<ScriptedEvent> readEventScript(const std::string& path, std::uint64_t frames,
                                            const std::vector<int>& window) {
-    if (std::filesystem::is_directory(path))
-        throw Error("--events '" + path + "' is a folder; allowed: a text file of input events, a line each");
-    std::ifstream in(path);
-    if (!in) throw Error("--events '" + path + "': cannot read it");
+    io::TextFile file(path, kEventsFile);
+    io::TextLines lines(file.stream(), path, kEventsFile);
     std::vector<ScriptedEvent> script;
     std::array<int, 2> cursor{};
     std::string line;
-    for (int number = 1; std::getline(in, line); ++number) {
+    while (lines.next(line)) {
         std::istringstream text(line.substr(0, line.find('#')));
         const std::vector<std::string> words{std::istream_iterator<std::string>(text), {}};
         if (words.empty()) continue;
@@ -181,7 +183,8 @@ std::vector<ScriptedEvent> readEventScript(const std::string& path, std::uint64_
                 script.push_back({frame, release});
             }
         } catch (const Error& e) {
-            throw Error("--events " + path + " line " + std::to_string(number) + " '" + line + "': " + e.what());
+            throw Error("--events " + path + " line " + std::to_string(lines.number()) + " '" + io::printable(line) +
+                        "': " + e.what());
         }
     }
     std::stable_sort(script.begin(), script.end(),
@@ -202,12 +205,12 @@ void addViewOptions(CLI::App& command, ViewOptions& o) {
     app::addSceneOptions(command, o.scene);
     command.add_option("--window", o.window, "Window size W H in pixels")
         ->expected(2)
-        ->transform(app::wholeNumber(0, std::numeric_limits<int>::max()))  // the constructor checks the range
+        ->transform(app::wholeNumber(kSmallestWindowSide, kLargestWindowSide))
         ->capture_default_str();
     command
         .add_option("--steps-per-frame", o.stepsPerFrame,
                     "Simulation steps per 1/60 s frame (the speed of the animation)")
-        ->transform(app::wholeNumber(0, std::numeric_limits<int>::max()))  // the constructor checks the range
+        ->transform(app::wholeNumber(0, kMostStepsPerFrame))
         ->capture_default_str();
     command.add_option("--color", o.colouring, "Colouring: speed, mass, radius or id")->capture_default_str();
     command.add_flag("--hide-panels", o.hidePanels, "Start with the panels hidden (as H)");
@@ -245,11 +248,14 @@ void addViewOptions(CLI::App& command, ViewOptions& o) {
 }
 
 Viewer::Viewer(const ViewOptions& options) : options_(options) {
-    if (options_.window[0] < 64 || options_.window[1] < 64 || options_.window[0] > 16384 || options_.window[1] > 16384)
-        throw Error("--window " + std::to_string(options_.window[0]) + " " + std::to_string(options_.window[1]) +
-                    ": each side must be in [64, 16384] pixels");
-    if (options_.stepsPerFrame < 0 || options_.stepsPerFrame > 100000)
-        throw Error("--steps-per-frame must be in [0, 100000], got " + std::to_string(options_.stepsPerFrame));
+    // The command line checks the same ranges; a program may fill ViewOptions itself.
+    for (const int side : options_.window)
+        if (side < kSmallestWindowSide || side > kLargestWindowSide)
+            throw Error("--window " + std::to_string(options_.window[0]) + " " + std::to_string(options_.window[1]) +
+                        ": " + io::wholeNumbersAllowed(kSmallestWindowSide, kLargestWindowSide) + " pixels each");
+    if (options_.stepsPerFrame < 0 || options_.stepsPerFrame > kMostStepsPerFrame)
+        throw Error("--steps-per-frame " + std::to_string(options_.stepsPerFrame) + ": " +
+                    io::wholeNumbersAllowed(0, kMostStepsPerFrame));
     colouring_ = parseColouring(options_.colouring);
     headless_ = options_.frames > 0;
     hidePanels_ = options_.hidePanels;

@@ -12,7 +12,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <istream>
 #include <memory>
+#include <streambuf>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -155,6 +157,61 @@ private:
 // wraps around ("-1" is not 2^64 - 1), nothing is octal or hexadecimal, and
 // an empty text is not 0.
 
+/// Text files a person gives a program (carom's state CSV, scene files and
+/// `view --events` scripts are read so), bounded whatever the file: a device
+/// such as /dev/zero, a binary file, a FIFO nobody writes to.
+
+/// Longer than any line of carom's text inputs (a state row of seven floats
+/// in their longest spelling is under 200 bytes): a longer line is refused as
+/// it is read, so a file without newlines cannot fill memory.
+constexpr std::size_t kMaxTextLineBytes = 4096;
+
+/// A FIFO nobody writes to is waited on this long, then refused.
+constexpr int kFifoWaitSeconds = 10;
+
+/// A text input file opened for reading. `what` names it in messages ("state
+/// file"). Refuses (Error naming the file) a folder and a file that cannot be
+/// opened; a FIFO (or a pipe from process substitution, <(...)) is read once
+/// data arrives or its writer closes it, within kFifoWaitSeconds; devices and
+/// regular files are read as they are. A read error throws Error.
+class TextFile {
+public:
+    TextFile(const std::string& path, const std::string& what);
+    ~TextFile();
+    TextFile(const TextFile&) = delete;
+    TextFile& operator=(const TextFile&) = delete;
+
+    std::istream& stream() { return in_; }
+
+    /// The whole file; refuses one of more than `maxBytes` bytes, or with a
+    /// NUL byte, before reading more.
+    std::string readAll(std::size_t maxBytes);
+
+private:
+    std::string path_, what_;
+    std::unique_ptr<std::streambuf> buffer_;
+    std::istream in_;
+};
+
+/// The lines of a text stream, each refused (Error "PATH:LINE: ...") when it
+/// is longer than kMaxTextLineBytes or holds a NUL byte, before more of it is
+/// stored. `what` says what the file should be ("state file").
+class TextLines {
+public:
+    TextLines(std::istream& in, std::string path, std::string what);
+
+    /// The next line, without its newline; false at the end.
+    bool next(std::string& line);
+    /// The number of the line next() returned last, counting from 1.
+    std::size_t number() const { return number_; }
+
+private:
+    std::istream& in_;
+    std::string path_, what_;
+    std::size_t number_ = 0;
+    char buffer_[kMaxTextLineBytes + 1];  // a line and the terminating zero getline writes
+};
+
 /// "allowed: whole numbers from 1 to 1000": the range in a refusal.
 std::string wholeNumbersAllowed(std::uint64_t min, std::uint64_t max);
 
@@ -163,10 +220,20 @@ std::string wholeNumbersAllowed(std::uint64_t min, std::uint64_t max);
 /// ...") or lies outside [min, max] ("'-1' is out of range; allowed: ...").
 std::uint64_t parseWholeNumber(std::string_view text, std::uint64_t min, std::uint64_t max);
 
-/// The number `text` spells as strtod reads it (decimal, exponent, inf, nan):
-/// throws Error "'1.5x' is not a number" for an empty text, leading spaces or
+/// The number `text` spells in decimal ("2", "-0.5", "1e-3", ".5"), or inf,
+/// infinity or nan in any case: throws Error "'0x10' is not a number;
+/// allowed: ..." for an empty text, hexadecimal, a leading '+' or space, or
 /// anything after the number. Ranges are the caller's to check.
 double parseRealNumber(std::string_view text);
+
+/// The same number as the 32-bit float nearest it, carom's precision; also
+/// throws Error, naming the text, where the float would be another number:
+/// a number other than 0 below 1.4e-45 (it would read as 0), a finite number
+/// beyond 3.4e38 (it would read as infinite).
+float parseFloat(std::string_view text);
+
+/// `value` as a 32-bit float, refused as parseFloat refuses, naming the value.
+float toFloat(double value);
 
 /// The shortest decimal that reads back to the same bits, whatever the C
 /// locale's decimal point: 0.1f is "0.1", never "0.100000001" or "0,1".

@@ -30,19 +30,21 @@ def _real_array(name: str, value, shape: tuple) -> np.ndarray:
         wanted = "(" + ", ".join("N" if d == -1 else str(d) for d in shape) + ("," if len(shape) == 1 else "") + ")"
         raise InputError(f"{name}: shape {array.shape}; allowed: {wanted}")
     wide = array.astype(np.float64, copy=False)
-    for bad, why in ((~np.isfinite(wide), "is not finite"),
-                     (np.abs(wide) > _FLOAT32_MAX, f"is beyond float32's range (+-{_FLOAT32_MAX:.4g})")):
-        if bad.any():
-            index = np.unravel_index(int(np.argmax(bad)), bad.shape)
-            where = ", ".join(str(int(i)) for i in index)
-            raise InputError(f"{name}[{where}] = {array[index].item()!r} {why}; allowed: finite float32 numbers")
-    narrow = np.ascontiguousarray(wide, dtype=np.float32)
-    lost = (narrow == 0) & (wide != 0)
-    if lost.any():
-        index = np.unravel_index(int(np.argmax(lost)), lost.shape)
-        where = ", ".join(str(int(i)) for i in index)
-        raise InputError(f"{name}[{where}] = {array[index].item()!r} rounds to 0 in float32; allowed: 0 or |x| >= 1.2e-38")
+    bad = ~np.isfinite(wide)
+    if bad.any():
+        index = np.unravel_index(int(np.argmax(bad)), bad.shape)
+        raise InputError(f"{name}[{_where(index)}] = {array[index].item()!r} is not finite; allowed: finite float32 numbers")
+    with np.errstate(over="ignore"):  # refused below, by name
+        narrow = np.ascontiguousarray(wide, dtype=np.float32)
+    changed = ((narrow == 0) & (wide != 0)) | np.isinf(narrow)
+    if changed.any():  # _carom.to_float refuses it, naming why
+        index = np.unravel_index(int(np.argmax(changed)), changed.shape)
+        _carom.to_float(f"{name}[{_where(index)}]", float(wide[index]))
     return narrow
+
+
+def _where(index: tuple) -> str:
+    return ", ".join(str(int(i)) for i in index)
 
 
 def _disk_arrays(positions, velocities, masses, radii):
@@ -53,14 +55,20 @@ def _disk_arrays(positions, velocities, masses, radii):
 
 
 def _number(name: str, value) -> float:
-    """A finite number that float32 holds (the engine's precision), refused naming the value otherwise."""
+    """A finite number as the float32 nearest it (the engine's precision), refused naming the value
+    where there is none or it would be another number (carom/io.h: parseFloat, toFloat)."""
+    if isinstance(value, str):
+        return _finite(name, value, _carom.parse_float(name, value))
     try:
         number = float(value)
     except (TypeError, ValueError):
         raise InputError(f"{name}: {value!r} is not a number; allowed: a finite number") from None
+    return _finite(name, value, _carom.to_float(name, number))
+
+
+def _finite(name: str, value, number: float) -> float:
     if not (abs(number) <= _FLOAT32_MAX):
-        raise InputError(f"{name}: {value!r} is not finite in float32; allowed: finite numbers within "
-                         f"+-{_FLOAT32_MAX:.4g}")
+        raise InputError(f"{name}: {value!r} is not finite; allowed: finite numbers within +-{_FLOAT32_MAX:.4g}")
     return number
 
 
@@ -173,10 +181,11 @@ class World:
         if collisions == "events" and engine != "cpu":
             raise InputError(f"collisions='events' runs on engine='cpu' only (one thread, in double); got engine={engine!r}")
         engine_name, selector = _engine_name(engine, device, pipeline)
-        if not _number("max_travel", max_travel) >= 0:
+        travel = _number("max_travel", max_travel)
+        if not travel >= 0:
             raise InputError(f"max_travel: {max_travel!r}; allowed: >= 0 (0 = off)")
         core = _carom.World(width, height, _number("dt", dt), _pair("gravity", gravity), boundary, collisions,
-                            engine_name, selector, float(max_travel))
+                            engine_name, selector, travel)
         self._adopt(core, selector, seed)
 
     def _adopt(self, core: "_carom.World", device: str, seed: Optional[int]) -> None:
@@ -324,11 +333,11 @@ class World:
         not both. Random from world.seed."""
         if temperature is not None and speed is not None:
             raise InputError(f"speed={speed!r} and temperature={temperature!r}; allowed: one of them")
-        if temperature is not None and not _number("temperature", temperature) > 0:
+        kt = 0.0 if temperature is None else _number("temperature", temperature)
+        if temperature is not None and not kt > 0:
             raise InputError(f"temperature: {temperature!r}; allowed: > 0 (kT), or None for one speed")
         self._core.place(_whole("count", count, 1, 2**32 - 1), _range("radius", radius), _range("mass", mass),
-                         _number("speed", 1.0 if speed is None else speed),
-                         0.0 if temperature is None else float(temperature), self.seed)
+                         _number("speed", 1.0 if speed is None else speed), kt, self.seed)
 
     def __len__(self) -> int:
         return self._core.disk_count

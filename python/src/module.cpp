@@ -150,6 +150,16 @@ nb::dict dictOf(const carom::EventCounts& c) {
     return d;
 }
 
+// convert(value), its refusal prefixed with the argument's name.
+template <class Convert, class Value>
+float named(const std::string& name, Convert convert, const Value& value) {
+    try {
+        return convert(value);
+    } catch (const carom::Error& e) {
+        throw carom::Error(name + ": " + e.what());
+    }
+}
+
 WorldDef worldDef(float width, float height, float dt, std::array<float, 2> gravity, const std::string& boundary,
                   const std::string& collisions, const std::string& engine, const std::string& device,
                   float maxTravel) {
@@ -187,6 +197,15 @@ NB_MODULE(_carom, m) {
         }
     });
 
+    // The package's real-valued arguments go through carom's one reader of
+    // numbers (carom/io.h), each refusal naming the argument.
+    m.def(
+        "parse_float",
+        [](const std::string& name, const std::string& text) { return named(name, carom::io::parseFloat, text); },
+        "name"_a, "text"_a);
+    m.def(
+        "to_float", [](const std::string& name, double value) { return named(name, carom::io::toFloat, value); },
+        "name"_a, "value"_a);
     m.attr("VERSION") = carom::version();
     m.def(
         "engine_available",
