@@ -103,6 +103,20 @@ Device findDevice(const std::string& selector);
 /// Both give the same bits.
 ComputeEngine openClEngineFor(const Device& device);
 
+/// The engine chosen for a world that names none (the command line's
+/// --backend auto, Python's engine="auto"), and why, in words.
+struct EngineChoice {
+    EngineDef engine;
+    std::string reason;
+};
+/// The rule, on the devices `devices` (as listDevices() gives them): the
+/// first GPU, on openClEngineFor's pipeline; without a GPU the CPU engine,
+/// which outruns OpenCL on a CPU device (PoCL: 2-3 times slower).
+EngineChoice chooseEngine(const std::vector<Device>& devices);
+/// The rule on this machine's devices: none where this build has no OpenCL
+/// or the machine no OpenCL platform.
+EngineChoice chooseEngine();
+
 /// The disks where the CPU engine keeps them, for reading without a copy
 /// (World::diskMemory): `count` records of `stride` floats from `base`, in id
 /// order, each holding position x, y, velocity x, y, mass and radius at the
