@@ -93,6 +93,7 @@ Overlaps findOverlaps(const std::vector<Particle>& particles, const WorldDef& wo
     };
     const std::size_t counted = kOverlapsCountedPerDisk * particles.size();
     found.allCounted = forEachOverlappingPair(particles.data(), cells, [&](std::uint32_t i, std::uint32_t j) {
+        if (found.pairs == counted) return false;  // one more than counted: "more than"
         const Particle& a = particles[i];
         const Particle& b = particles[j];
         const double distance = std::hypot(separation(double(a.position.x) - b.position.x, world.width),
@@ -103,7 +104,8 @@ Overlaps findOverlaps(const std::vector<Particle>& particles, const WorldDef& wo
             found.deepest = overlap;
             found.deepestPair = pair;
         }
-        return ++found.pairs < counted;
+        ++found.pairs;
+        return true;
     });
     return found;
 }

@@ -27,7 +27,7 @@ struct Diagnostics {
 constexpr std::size_t kOverlapsCountedPerDisk = 8;
 struct Overlaps {
     std::size_t pairs = 0;                          // pairs with r_i + r_j > |x_i - x_j|
-    bool allCounted = true;                         // false where counting stopped: pairs is a lower bound,
+    bool allCounted = true;                         // false where counting stopped: more than `pairs` overlap,
                                                     //   deepest the deepest among them
     double deepest = 0.0;                           // the largest r_i + r_j - |x_i - x_j|, 0 if none
     std::array<std::uint32_t, 2> deepestPair{};     // the ids of that pair (the lowest on ties)
