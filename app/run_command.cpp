@@ -71,7 +71,8 @@ struct Start {
     std::uint64_t step = 0;                        // steps the scene has taken before this run
     std::uint64_t steps = 0;                       // steps this run takes
     OutputDef outputs;
-    OutputPlan plan;  // the files the run reads and writes, under the options (or scene keys) that name them
+    OutputPlan plan;            // the files the run reads and writes, under the options (or scene keys) that name them
+    std::string backendReason;  // why the world runs on its engine (engineChoiceOf)
 };
 
 // A command-line path wins over the scene file's.
@@ -121,7 +122,9 @@ Start planRun(const RunOptions& o) {
 // The world the run steps, on the engine the options ask for: the
 // checkpoint's, continuing bit for bit, or the new scene's.
 World startWorld(Start& start, const RunOptions& o) {
-    const WorldDef def = withEngine(start.world, o.scene);
+    const EngineChoice choice = engineChoiceOf(start.world, o.scene);
+    start.backendReason = choice.reason;
+    const WorldDef def = onEngine(start.world, choice.engine);
     if (start.checkpoint) {
         World world = io::loadCheckpoint(std::move(*start.checkpoint), def);
         start.checkpoint.reset();  // spent
@@ -401,15 +404,18 @@ nlohmann::json pair(double x, double y) { return nlohmann::json::array({x, y}); 
 // A run whose energy changes by more than this fraction gets a warning.
 constexpr double kEnergyWarningChange = 0.01;
 
+// The relative change from `initial` to `final`; 0 when it started at 0.
+double changeFrom(double initial, double final) {
+    return initial != 0.0 ? (final - initial) / std::fabs(initial) : 0.0;
+}
+
 // The events scheme's own account of a run: what happened, and the total
 // energy of its double state, whose change the float32 samples show only to
 // their rounding.
 struct EventsResult {
     EventCounts counts;
     double initialEnergy = 0.0, finalEnergy = 0.0;  // World::totalEnergy
-    double relativeChange() const {
-        return initialEnergy != 0.0 ? (finalEnergy - initialEnergy) / std::fabs(initialEnergy) : 0.0;
-    }
+    double relativeChange() const { return changeFrom(initialEnergy, finalEnergy); }
 };
 
 // The energies and momentum of the float disks.
@@ -428,9 +434,10 @@ struct Result {
     double maxOverlap = 0.0;  // at the end
     std::size_t escaped = 0;  // at the end
     Measurements run;         // over this run: collisions, pressure, Z and rates at the mean of the first and last kT
-    double finalTemperature = 0.0;
+    double initialTemperature = 0.0, finalTemperature = 0.0;
     bool interrupted = false;
     std::optional<EventsResult> events;  // with the events scheme
+    std::string backendReason;           // Start::backendReason
 };
 
 // The command line's name of the world's backend.
@@ -439,11 +446,14 @@ const char* backendName(const World& world) { return world.def().engine == Compu
 bool hasGravity(const WorldDef& w) { return w.gravity.x != 0.0f || w.gravity.y != 0.0f; }
 
 // The relative change of the total energy (kinetic without gravity) over the
-// run; 0 when it started at 0.
-double energyChange(const Result& r) {
-    const double initial = r.initial.totalEnergy();
-    return initial != 0.0 ? (r.final.totalEnergy() - initial) / std::fabs(initial) : 0.0;
-}
+// run.
+double energyChange(const Result& r) { return changeFrom(r.initial.totalEnergy(), r.final.totalEnergy()); }
+
+// A periodic box has no floor: gravity accelerates the centre of mass
+// forever, and -sum m g.x jumps by m g H whenever a disk wraps. What the
+// collisions conserve there is the kinetic energy in the centre of mass's
+// (freely falling) frame, (N - 1) kT.
+bool fallsFreely(const WorldDef& w) { return w.boundary == Boundary::Periodic && hasGravity(w); }
 
 void printSummary(const World& world, const Result& r, const std::string& resumedFrom, const Outputs& outputs) {
     const WorldDef& w = world.def();
@@ -456,7 +466,8 @@ void printSummary(const World& world, const Result& r, const std::string& resume
     if (!resumedFrom.empty())
         std::printf("  resumed      from %s at step %llu, now at step %llu\n", resumedFrom.c_str(),
                     static_cast<unsigned long long>(r.firstStep), static_cast<unsigned long long>(r.lastStep));
-    std::printf("  backend      %s on %s\n", backendName(world), world.deviceName().c_str());
+    std::printf("  backend      %s on %s (%s)\n", backendName(world), world.deviceName().c_str(),
+                r.backendReason.c_str());
     if (w.collisions == CollisionScheme::Pairwise)
         std::printf("  scheme       pairwise (at most %u collision rounds per substep, %llu late contacts)\n",
                     r.run.maxRounds, static_cast<unsigned long long>(r.run.lateContacts));
@@ -482,6 +493,12 @@ void printSummary(const World& world, const Result& r, const std::string& resume
     else
         std::printf("  energy       %.9g -> %.9g (relative change %+.2e)\n", r.initial.kineticEnergy,
                     r.final.kineticEnergy, energyChange(r));
+    if (fallsFreely(w))
+        std::printf(
+            "               in the centre-of-mass frame (conserved: the box is periodic) %.9g -> %.9g "
+            "(relative change %+.2e)\n",
+            r.initialTemperature * (double(world.diskCount()) - 1),
+            r.finalTemperature * (double(world.diskCount()) - 1), changeFrom(r.initialTemperature, r.finalTemperature));
     if (r.events)
         std::printf("               %s in double, the engine's state: %.17g -> %.17g (relative change %+.2e)\n",
                     hasGravity(w) ? "total" : "kinetic", r.events->initialEnergy, r.events->finalEnergy,
@@ -509,6 +526,7 @@ void printJson(const World& world, const Result& r) {
     const double n = double(world.diskCount());
     nlohmann::json summary = {
         {"backend", backendName(world)},
+        {"backend_reason", r.backendReason},
         {"device", world.deviceName()},
         {"exact_arithmetic", world.bitwiseReproducible()},
         {"particles", world.diskCount()},
@@ -603,10 +621,16 @@ std::uint64_t runSteps(World& world, bool resumed, std::uint64_t last, Outputs& 
 // heats them); the pairwise and events schemes do, so a change there is a
 // bug (the events scheme's measured in double, on its exact state).
 void warnAboutEnergy(const Result& r, const WorldDef& world) {
-    const double change = r.events ? r.events->relativeChange() : energyChange(r);
+    const bool free = fallsFreely(world);
+    const double change = free       ? changeFrom(r.initialTemperature, r.finalTemperature)
+                          : r.events ? r.events->relativeChange()
+                                     : energyChange(r);
     if (!(std::fabs(change) > kEnergyWarningChange)) return;
-    std::fprintf(stderr, "carom: warning: the %s energy changed by %+.3g %% over this run",
-                 hasGravity(world) ? "total" : "kinetic", 100 * change);
+    std::fprintf(stderr, "carom: warning: the %s changed by %+.3g %% over this run",
+                 free                ? "kinetic energy in the centre-of-mass frame"
+                 : hasGravity(world) ? "total energy"
+                                     : "kinetic energy",
+                 100 * change);
     if (world.collisions == CollisionScheme::Simultaneous)
         std::fprintf(stderr,
                      ": the simultaneous collision scheme does not conserve it in dense or crowded "
@@ -657,8 +681,10 @@ int runCommand(const RunOptions& o) {
     stopSignals.setFirstSignal(StopSignals::FirstSignal::Stops);
 
     Result r;
+    r.backendReason = start.backendReason;
     r.firstStep = start.step;
     r.initial = motionOf(world);
+    r.initialTemperature = world.temperature();
     const bool events = world.def().collisions == CollisionScheme::Events;
     if (events) r.events.emplace().initialEnergy = world.totalEnergy();
     const std::uint64_t last = start.step + start.steps;

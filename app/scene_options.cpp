@@ -107,11 +107,13 @@ std::vector<std::string> backendKinds() {
 }
 
 void addSceneOptions(CLI::App& command, SceneOptions& o) {
-    const std::vector<std::string> backends = backendKinds();
-    o.backend.kind = backends.back();  // OpenCL when this build has it
+    std::vector<std::string> backends = backendKinds();
+    backends.insert(backends.begin(), "auto");
     tracked(command
                 .add_option("--backend", o.backend.kind,
-                            "Compute backend (--collisions events runs on the CPU, its default)")
+                            "Compute backend, or auto: OpenCL on a GPU, else cpu (which outruns OpenCL on CPU "
+                            "devices such as PoCL); --device or --pipeline asks for OpenCL, --collisions events "
+                            "for the CPU")
                 ->check(CLI::IsMember(backends))
                 ->capture_default_str(),
             o.given);
@@ -215,17 +217,26 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
         tracked(overriding, o.given);
 }
 
-WorldDef withEngine(WorldDef world, const SceneOptions& o) {
+EngineChoice engineChoiceOf(const WorldDef& world, const SceneOptions& o) {
     BackendOptions def = o.backend;
-    const bool openclAsked = o.given.count("--backend") || !def.device.empty() || def.pipeline != "auto";
-    if (world.collisions == CollisionScheme::Events && !openclAsked) def.kind = "cpu";
-    if (world.collisions == CollisionScheme::Events && def.kind != "cpu")
+    const bool openclAsked = def.kind == "opencl" || !def.device.empty() || def.pipeline != "auto";
+    if (world.collisions == CollisionScheme::Events && def.kind != "cpu" && openclAsked)
         throw Error(
             "--collisions events runs on the CPU only (one thread, double precision): use --backend cpu "
-            "with it, or --collisions pairwise on --backend " +
-            def.kind);
-    return onEngine(world, engineOf(def));
+            "with it, or --collisions pairwise on --backend opencl");
+    if (def.kind != "auto") return {engineOf(def), "--backend " + def.kind};
+    if (openclAsked) {
+        def.kind = "opencl";
+        return {engineOf(def), "--backend auto: OpenCL, which --device or --pipeline asks for"};
+    }
+    if (world.collisions == CollisionScheme::Events)
+        return {EngineDef{}, "--backend auto: the events scheme runs on the CPU"};
+    EngineChoice choice = chooseEngine();
+    choice.reason = "--backend auto: " + choice.reason;
+    return choice;
 }
+
+WorldDef withEngine(WorldDef world, const SceneOptions& o) { return onEngine(world, engineChoiceOf(world, o).engine); }
 
 EngineDef engineOf(const BackendOptions& backend) {
     if (backend.kind == "cpu") return EngineDef{};

@@ -16,7 +16,7 @@ namespace carom::app {
 
 // --backend, --device and --pipeline as given.
 struct BackendOptions {
-    std::string kind = "cpu";       // "cpu" (OpenMP) or "opencl"
+    std::string kind = "auto";      // "cpu" (OpenMP), "opencl", or "auto": carom::chooseEngine's
     std::string device;             // OpenCL only: index from `carom devices` or part of the
                                     //   device name; empty = first GPU, else first device
     std::string pipeline = "auto";  // OpenCL only: "host-grid" (host builds the grid, state read
@@ -38,7 +38,7 @@ struct SceneOptions {
 };
 
 // The --backend values this build has: "cpu", and "opencl" where it was
-// built with OpenCL (the last is the default).
+// built with OpenCL (addSceneOptions adds "auto", its default).
 std::vector<std::string> backendKinds();
 
 // Adds --backend, --device, --pipeline, --particles, --packing, --box, --radius...,
@@ -76,10 +76,13 @@ Setup sceneFileSetup(SceneFileDef scene);
 // carom::openClEngineFor, so it throws Error when no device matches.
 EngineDef engineOf(const BackendOptions& backend);
 
-// `world` with the compute engine and device the options ask for
-// (--backend, default OpenCL where this build has it; --pipeline), but on
-// the CPU for the events scheme; refuses an OpenCL --backend, --device or
-// --pipeline given with that scheme.
+// The compute engine and device the options ask for, and why: --backend
+// cpu or opencl (with --pipeline and --device) as given; --backend auto (the
+// default) on OpenCL where --device or --pipeline asks for it, on the CPU
+// for the events scheme, else carom::chooseEngine's. Refuses an OpenCL
+// --backend, --device or --pipeline with the events scheme.
+EngineChoice engineChoiceOf(const WorldDef& world, const SceneOptions& options);
+// `world` on that engine.
 WorldDef withEngine(WorldDef world, const SceneOptions& options);
 
 // The events scheme has no steps to split: throws Error, naming `asked` (what

@@ -70,31 +70,42 @@ ViewSums measureView(const std::vector<Particle>& particles, const WorldDef& wor
 
 Overlaps findOverlaps(const std::vector<Particle>& particles, const WorldDef& world) {
     Overlaps found;
-    float maxRadius = 0.0f;
-    for (const Particle& p : particles) maxRadius = std::max(maxRadius, p.radius);
+    const DiskCells cells = sortIntoCells(particles.data(), particles.size(), caromBoxOf(world));
+    // Equal centres lie next to each other, ids ascending: a run of k is
+    // k (k - 1) / 2 pairs, its first two ids the lowest pair.
+    for (auto first = cells.sorted.begin(); first != cells.sorted.end();) {
+        const auto last = std::find_if(first, cells.sorted.end(),
+                                       [&](const DiskCells::Entry& e) { return e.x != first->x || e.y != first->y; });
+        const std::size_t k = std::size_t(last - first);
+        if (k > 1) {
+            const std::array<std::uint32_t, 2> pair{first[0].id, first[1].id};
+            if (found.coincident == 0 || pair < found.coincidentPair) found.coincidentPair = pair;
+            found.coincident += k * (k - 1) / 2;
+        }
+        first = last;
+    }
 
-    Grid grid;
-    grid.geometry = gridGeometryFor(world.width, world.height, maxRadius, particles.size(), world.boundary);
-    buildGrid(particles.data(), particles.size(), grid);
     const bool periodic = world.boundary == Boundary::Periodic;
-    const CaromBox box = caromBoxOf(world);
     // The separation along one axis, to the nearest image in a periodic box.
     const auto separation = [&](double d, double extent) {
         if (!periodic) return d;
         return d - extent * std::round(d / extent);
     };
-    forEachOverlappingPair(particles.data(), particles.size(), grid, box, [&](std::uint32_t i, std::uint32_t j) {
+    const std::size_t counted = kOverlapsCountedPerDisk * particles.size();
+    found.allCounted = forEachOverlappingPair(particles.data(), cells, [&](std::uint32_t i, std::uint32_t j) {
+        if (found.pairs == counted) return false;  // one more than counted: "more than"
         const Particle& a = particles[i];
         const Particle& b = particles[j];
         const double distance = std::hypot(separation(double(a.position.x) - b.position.x, world.width),
                                            separation(double(a.position.y) - b.position.y, world.height));
         const double overlap = double(a.radius) + b.radius - distance;
-        ++found.pairs;
-        if (overlap > found.deepest) {
+        const std::array<std::uint32_t, 2> pair{i, j};
+        if (overlap > found.deepest || (overlap == found.deepest && found.pairs > 0 && pair < found.deepestPair)) {
             found.deepest = overlap;
-            found.deepestPair = {i, j};
+            found.deepestPair = pair;
         }
-        if (distance == 0.0 && found.coincident++ == 0) found.coincidentPair = {i, j};
+        ++found.pairs;
+        return true;
     });
     return found;
 }

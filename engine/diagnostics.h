@@ -20,13 +20,20 @@ struct Diagnostics {
     double totalEnergy() const { return kineticEnergy + potentialEnergy; }
 };
 
-// The overlapping pairs of a state, found with the grid in O(N).
+// The overlapping pairs of a state, found in O(N log N) (sortIntoCells).
+// A pile of disks can overlap in ~N^2 pairs: counting stops after
+// kOverlapsCountedPerDisk x N, far more than any state a run leaves (whose
+// overlaps are a step's, a few per disk).
+constexpr std::size_t kOverlapsCountedPerDisk = 8;
 struct Overlaps {
     std::size_t pairs = 0;                          // pairs with r_i + r_j > |x_i - x_j|
+    bool allCounted = true;                         // false where counting stopped: more than `pairs` overlap,
+                                                    //   deepest the deepest among them
     double deepest = 0.0;                           // the largest r_i + r_j - |x_i - x_j|, 0 if none
-    std::array<std::uint32_t, 2> deepestPair{};     // the ids of that pair (the first found on ties)
-    std::size_t coincident = 0;                     // pairs whose centres are equal (no collision normal)
-    std::array<std::uint32_t, 2> coincidentPair{};  // the first of them found (the lowest first id)
+    std::array<std::uint32_t, 2> deepestPair{};     // the ids of that pair (the lowest on ties)
+    std::size_t coincident = 0;                     // pairs whose centres are equal (no collision normal),
+                                                    //   all counted
+    std::array<std::uint32_t, 2> coincidentPair{};  // the one with the lowest first id, then second id
 };
 Overlaps findOverlaps(const std::vector<Particle>& particles, const WorldDef& world);
 

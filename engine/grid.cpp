@@ -101,6 +101,40 @@ float gridTravelAllowance(const GridGeometry& geometry, float width, float heigh
     return static_cast<float>(std::max(0.0, allowance));
 }
 
+DiskCells sortIntoCells(const Particle* particles, std::size_t count, CaromBox box) {
+    DiskCells cells;
+    cells.box = box;
+    float maxRadius = 0.0f;
+    for (std::size_t i = 0; i < count; ++i) maxRadius = std::max(maxRadius, particles[i].radius);
+    // A hair more than the diameter, as in gridGeometryFor; at most 2^20 cells
+    // a side, so that the cell's number fits (wider cells are still correct).
+    const double diameter = 2.0 * maxRadius * (1.0 + 1e-5);
+    const auto cellsAlong = [&](float extent) {
+        return diameter > 0.0 ? std::clamp(std::floor(extent / diameter), 1.0, 1048576.0) : 1.0;
+    };
+    const double cols = cellsAlong(box.width), rows = cellsAlong(box.height);
+    cells.cols = std::uint64_t(cols);
+    cells.rows = std::uint64_t(rows);
+    // Clamped into the box: a disk outside it stays next to its neighbours.
+    const auto coord = [](float x, float extent, double n) {
+        return std::uint64_t(std::clamp(std::floor(double(x) * n / extent), 0.0, n - 1.0));
+    };
+    cells.sorted.reserve(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        const float x = particles[i].position.x + 0.0f, y = particles[i].position.y + 0.0f;
+        if (!std::isfinite(x) || !std::isfinite(y)) continue;
+        const std::uint64_t cell = coord(y, box.height, rows) * cells.cols + coord(x, box.width, cols);
+        cells.sorted.push_back({cell, x, y, static_cast<std::uint32_t>(i)});
+    }
+    std::sort(cells.sorted.begin(), cells.sorted.end(), [](const DiskCells::Entry& a, const DiskCells::Entry& b) {
+        if (a.cell != b.cell) return a.cell < b.cell;
+        if (a.x != b.x) return a.x < b.x;
+        if (a.y != b.y) return a.y < b.y;
+        return a.id < b.id;
+    });
+    return cells;
+}
+
 void buildGrid(const Particle* particles, std::size_t count, Grid& grid) {
     const GridGeometry& g = grid.geometry;
     grid.cells.assign(std::size_t(g.cols) * g.rows, GridCell{0, 0});

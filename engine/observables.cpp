@@ -15,7 +15,7 @@ double temperature(const std::vector<Particle>& particles, Boundary boundary) {
     if (boundary == Boundary::Walls) return n > 0 ? kinetic / n : 0.0;
     // Periodic: the centre-of-mass motion is conserved, so it is not heat.
     if (n < 2) return 0.0;
-    return (kinetic - (px * px + py * py) / (2.0 * mass)) / (n - 1.0);
+    return centreOfMassFrameKinetic(kinetic, {px, py}, mass) / (n - 1.0);
 }
 
 Thermodynamics thermodynamics(const ContactTotals& contacts, double kT, std::size_t particleCount,

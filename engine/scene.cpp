@@ -44,11 +44,15 @@ double largestBoxFor(double spacing) { return std::exp2(std::floor(std::log2(spa
 
 // What the particles and the world imply for the motion, for the range checks.
 struct MotionScale {
-    double fastest = 0.0;  // a bound on any disk's speed: the fastest now, plus a step of gravity and a fall
-                           //   across the box diagonal
-    double typical = 0.0;  // the speed the heaviest disks settle at: sqrt(sum m v^2 / (N m_max)) with the
-                           //   energy of a fall across the box, |g_x| W + |g_y| H, added to its square
-    double step = 0.0;     // dt, or the substep --max-travel splits it into (as the backend does at the start)
+    double fastest = 0.0;     // a bound on any disk's speed: the fastest now, plus a step of gravity and a fall
+                              //   across the box diagonal
+    double typical = 0.0;     // the speed the heaviest disks settle at: sqrt(sum m v^2 / (N m_max)) with the
+                              //   energy of a fall across the box, |g_x| W + |g_y| H, added to its square; or,
+                              //   when smaller, the moving disks' median speed (the same fall added): one fast
+                              //   disk holds most of the energy, but the slow ones move (or not) at their own
+    double fastestNow = 0.0;  // the fastest disk's speed now, plus a step of gravity
+    double smallestRadius = 0.0;
+    double step = 0.0;  // dt, or the substep --max-travel splits it into (as the backend does at the start)
     double diagonal = 0.0;
     double spacing = 0.0;                           // of the positions near the far side of the box
     double move() const { return typical * step; }  // a typical disk's displacement per step
@@ -56,21 +60,30 @@ struct MotionScale {
 };
 
 MotionScale motionScale(const std::vector<Particle>& particles, const WorldDef& world) {
+    const double fall =
+        std::fabs(double(world.gravity.x)) * world.width + std::fabs(double(world.gravity.y)) * world.height;
     double fastest = 0.0, twiceKinetic = 0.0, heaviest = 0.0, smallestRadius = HUGE_VAL;
+    std::vector<double> moving;  // the squared speeds of the disks that move, the fall added
     for (const Particle& p : particles) {
         const double speed = std::hypot(double(p.velocity.x), double(p.velocity.y));
         fastest = std::max(fastest, speed);
         twiceKinetic += p.mass * speed * speed;
         heaviest = std::max(heaviest, double(p.mass));
         smallestRadius = std::min(smallestRadius, double(p.radius));
+        if (speed * speed + fall > 0.0) moving.push_back(speed * speed + fall);
     }
     const double gravity = std::hypot(double(world.gravity.x), double(world.gravity.y));
     MotionScale m;
     m.diagonal = std::hypot(double(world.width), double(world.height));
-    m.fastest = fastest + gravity * world.dt + std::sqrt(2 * gravity * m.diagonal);
-    m.typical =
-        std::sqrt(twiceKinetic / (double(particles.size()) * heaviest) +
-                  std::fabs(double(world.gravity.x)) * world.width + std::fabs(double(world.gravity.y)) * world.height);
+    m.fastestNow = fastest + gravity * world.dt;
+    m.fastest = m.fastestNow + std::sqrt(2 * gravity * m.diagonal);
+    m.smallestRadius = smallestRadius;
+    m.typical = std::sqrt(twiceKinetic / (double(particles.size()) * heaviest) + fall);
+    if (!moving.empty()) {
+        const auto median = moving.begin() + moving.size() / 2;
+        std::nth_element(moving.begin(), median, moving.end());
+        m.typical = std::min(m.typical, std::sqrt(*median));
+    }
     m.step = world.dt;
     if (world.maxTravel > 0.0f) {
         const double substeps =
@@ -256,16 +269,36 @@ std::vector<std::string> validateStart(const std::vector<Particle>& particles, c
              << 50.0 / kWarnStepSpacings << " % at these speeds and dt (README, Limits)";
         warnings.push_back(text.str());
     }
+    // The simultaneous scheme finds collisions as overlaps at the ends of
+    // steps: two disks that close by more than their contact distance in one
+    // step can land past each other's centre, or clear through.
+    if (world.collisions == CollisionScheme::Simultaneous && m.fastestNow * m.step > m.smallestRadius) {
+        text.str("");
+        text << "a step moves the fastest disk (speed " << m.fastestNow << ", step " << m.step << ") by "
+             << m.fastestNow * m.step << ", more than the smallest radius " << m.smallestRadius
+             << ": two disks meeting head-on at this speed close by more than their contact distance in one step, "
+                "and the simultaneous scheme, which looks for collisions only at the ends of steps, can let them "
+                "pass through each other; steps up to "
+             << m.smallestRadius / m.fastestNow
+             << " avoid it (or split each step into substeps: WorldDef::maxTravel <= 1, on the command line "
+                "--max-travel or --dt auto; or use the pairwise scheme)";
+        warnings.push_back(text.str());
+    }
     // Overlaps up to what two disks close in one step, plus rounding, are
     // what a step leaves behind (the simultaneous scheme's overlaps, the
     // pairwise scheme's late contacts); deeper ones did not come from a run.
-    const double stepClosing = 2 * (m.fastest * world.dt) + 1e-6 * (double(world.width) + world.height);
+    // The events scheme moves disks exactly: only rounding leaves overlaps.
+    const bool exact = world.collisions == CollisionScheme::Events;
+    const double rounding = 1e-6 * (double(world.width) + world.height);
+    const double stepClosing = exact ? rounding : 2 * (m.fastest * world.dt) + rounding;
     if (overlaps.deepest > stepClosing) {
         const auto [i, j] = overlaps.deepestPair;
         text.str("");
-        text << overlaps.pairs << " pair(s) of disks overlap, the deepest particles " << i << " and " << j << " by "
-             << overlaps.deepest << " (" << 100 * overlaps.deepest / (double(particles[i].radius) + particles[j].radius)
-             << " % of their contact distance), more than a step closes (" << stepClosing << ")";
+        text << (overlaps.allCounted ? "" : "more than ") << overlaps.pairs
+             << " pair(s) of disks overlap, the deepest particles " << i << " and " << j << " by " << overlaps.deepest
+             << " (" << 100 * overlaps.deepest / (double(particles[i].radius) + particles[j].radius)
+             << " % of their contact distance), more than " << (exact ? "rounding leaves" : "a step closes") << " ("
+             << stepClosing << ")";
         if (deepOverlaps == DeepOverlaps::Refuse) fail(what, ": ", text.str(), "; allowed: overlaps up to that depth");
         text << "; they separate as they move apart (the simultaneous scheme also pushes them apart)";
         warnings.push_back(text.str());

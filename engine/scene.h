@@ -53,7 +53,8 @@ void requireValidMotion(const std::vector<Particle>& particles, const WorldDef& 
 // Returns warnings where results are less accurate than usual: a step of
 // fewer than kWarnStepSpacings spacings, and overlaps deeper than a step
 // closes (a checkpoint holds the small ones a step leaves; a scene file
-// refuses any), with the pair and the overlap. O(N): one grid search.
+// refuses any), with the pair and the overlap. O(N log N) however the disks
+// lie (findOverlaps).
 // Not part of validateParticles, so that the viewer can upload a flicked or
 // dropped disk without being refused.
 // With DeepOverlaps::Refuse, such an overlap is refused rather than warned of.

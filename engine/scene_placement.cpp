@@ -163,11 +163,6 @@ Placed placeMixed(const std::vector<const GroupDef*>& groups, float width, float
 // overlap by construction).
 void requireNoOverlap(const SceneFileDef& scene, const std::vector<Particle>& particles, std::size_t firstDisk,
                       float width, float height) {
-    float maxRadius = 0.0f;
-    for (const Particle& p : particles) maxRadius = std::max(maxRadius, p.radius);
-    Grid grid;
-    grid.geometry = gridGeometryFor(width, height, maxRadius, particles.size());
-    buildGrid(particles.data(), particles.size(), grid);
     auto name = [&](std::uint32_t id) {
         std::ostringstream text;
         if (id >= firstDisk) {
@@ -179,13 +174,12 @@ void requireNoOverlap(const SceneFileDef& scene, const std::vector<Particle>& pa
     };
     // Disks are placed inside the box, so an overlap across a periodic edge is
     // not possible: the walled search finds every one.
-    forEachOverlappingPair(particles.data(), particles.size(), grid, carom_box(width, height, 0),
-                           [&](std::uint32_t i, std::uint32_t j) {
-                               const DiskDef& d = scene.disks[j - firstDisk];  // j > i, so j is a [[disk]]
-                               fail(scene.path, ':', d.line, ": ", name(j), " at (", d.position.x, ", ", d.position.y,
-                                    ") overlaps ", name(i), " at (", particles[i].position.x, ", ",
-                                    particles[i].position.y, "); disks may touch but not overlap");
-                           });
+    const DiskCells cells = sortIntoCells(particles.data(), particles.size(), carom_box(width, height, 0));
+    forEachOverlappingPair(particles.data(), cells, [&](std::uint32_t i, std::uint32_t j) -> bool {
+        const DiskDef& d = scene.disks[j - firstDisk];  // j > i, so j is a [[disk]]
+        fail(scene.path, ':', d.line, ": ", name(j), " at (", d.position.x, ", ", d.position.y, ") overlaps ", name(i),
+             " at (", particles[i].position.x, ", ", particles[i].position.y, "); disks may touch but not overlap");
+    });
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // outside them are refused with the value and the range named, a step lost
 // in the float spacing of the positions is refused or warned about, and
 // coincident or overlapping disks are refused or reported.
+#include <chrono>
 #include <cmath>
 #include <string>
 
@@ -24,6 +25,14 @@ std::string errorOf(Check&& check) {
 }
 
 bool mentions(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// The seconds `work` takes.
+template <class Work>
+double secondsOf(Work&& work) {
+    const auto start = std::chrono::steady_clock::now();
+    work();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 std::string joined(const std::vector<std::string>& lines) {
     std::string all;
@@ -167,4 +176,78 @@ TEST_CASE("ranges: the overlap search over a million disks uses the grid") {
     const WorldDef w = box(s.width, s.height);
     CHECK(mentions(errorOf([&] { validateStart(s.particles, w, "big"); }),
                    "particles 0 and 999999 have the same centre"));
+}
+
+// A grid capped at ~4 cells per disk put a pile of disks into one cell and
+// checked all N^2 / 2 pairs: 10^5 coincident disks took 40 s to refuse.
+TEST_CASE("ranges: the checks of piled-up disks cost O(N log N), not N^2") {
+    const int n = 100'000;
+    const WorldDef w = box(1000, 1000);
+    std::vector<Particle> same(n, disk(500, 500, 1, 0));
+    std::string refused;
+    CHECK(secondsOf([&] { refused = errorOf([&] { validateStart(same, w, "s.csv"); }); }) < 5.0);
+    CHECK(mentions(refused, "s.csv: particles 0 and 1 have the same centre (500, 500)"));
+    CHECK(mentions(refused, "4999950000 such pair(s) in all"));
+
+    // A heap of distinct centres, every pair overlapping: counting stops.
+    std::vector<Particle> heap;
+    for (int k = 0; k < n; ++k) heap.push_back(disk(500.0f + 0.001f * (k % 300), 500.0f + 0.001f * (k / 300), 1, 0));
+    Overlaps overlaps;
+    CHECK(secondsOf([&] { overlaps = findOverlaps(heap, w); }) < 5.0);
+    CHECK_FALSE(overlaps.allCounted);
+    CHECK(overlaps.pairs == kOverlapsCountedPerDisk * n);
+    CHECK(mentions(joined(validateStart(heap, w, "s.csv")), "more than 800000 pair(s) of disks overlap"));
+
+    // Tiny disks that do not overlap, heaped in a corner of a large box.
+    std::vector<Particle> dust = heap;
+    for (Particle& p : dust) p.radius = 0.0004f;
+    CHECK(secondsOf([&] { overlaps = findOverlaps(dust, w); }) < 5.0);
+    CHECK(overlaps.pairs == 0);
+    CHECK(overlaps.allCounted);
+}
+
+// The typical speed came from the total energy alone: one fast disk holding
+// most of it hid that 199 slow disks far out in a wide box could not move.
+TEST_CASE("ranges: slow disks are judged at their own speed, not at a fast disk's share of the energy") {
+    std::vector<Particle> disks = row(199, 900000.0f, 1.0f);  // 0.01 a step; positions there are 0.0625 apart
+    disks.push_back(disk(10, 10, 10000, 0));
+    const WorldDef w = box(1e6f, 1000);
+    CHECK(mentions(errorOf([&] { validateStart(disks, w, "s.csv"); }),
+                   "s.csv: a step moves a typical disk (speed 1, step 0.01) by 0.01, less than the float32 spacing "
+                   "0.0625"));
+    for (std::size_t k = 0; k + 1 < disks.size(); ++k) disks[k].velocity.x *= 20;  // 0.2 a step: up to 16 % off
+    CHECK(mentions(joined(validateStart(disks, w, "s.csv")), "a step moves a typical disk by 0.2, only 3.2"));
+    for (std::size_t k = 0; k + 1 < disks.size(); ++k) disks[k].velocity = float2{0.0f, 0.0f};  // at rest: nothing lost
+    CHECK(validateStart(disks, w, "s.csv").empty());
+}
+
+// Nothing said that two disks closing by more than their contact distance in
+// a step can pass through each other under the simultaneous scheme.
+TEST_CASE("ranges: the simultaneous scheme warns when a step can carry two disks through each other") {
+    const std::vector<Particle> headOn = {disk(10, 10, 150, 0), disk(18.5f, 10, -150, 0)};
+    WorldDef w = box(60, 40);
+    w.collisions = CollisionScheme::Simultaneous;
+    const std::string warned = joined(validateStart(headOn, w, "s.csv"));
+    CHECK(mentions(warned,
+                   "a step moves the fastest disk (speed 150, step 0.01) by 1.5, more than the smallest "
+                   "radius 1: two disks meeting head-on"));
+    CHECK(mentions(warned, "can let them pass through each other; steps up to 0.00666667 avoid it"));
+    w.maxTravel = 1.0f;  // substeps of at most a radius
+    CHECK(validateStart(headOn, w, "s.csv").empty());
+    w.maxTravel = 0.0f;
+    w.collisions = CollisionScheme::Pairwise;  // finds the contact within the step
+    CHECK(validateStart(headOn, w, "s.csv").empty());
+}
+
+// The events scheme never leaves overlaps but rounding's, yet it was allowed
+// the depth a step of dt closes, and said nothing of shallower ones.
+TEST_CASE("ranges: the events scheme reports any overlap deeper than rounding") {
+    const std::vector<Particle> disks = {disk(10, 10, 0, 0), disk(11.999f, 10, 1, 0)};
+    WorldDef w = box(60, 40);
+    w.collisions = CollisionScheme::Events;
+    CHECK(mentions(joined(validateStart(disks, w, "s.csv")),
+                   "1 pair(s) of disks overlap, the deepest particles 0 and 1 by 0.0010"));
+    CHECK(mentions(joined(validateStart(disks, w, "s.csv")), "more than rounding leaves (0.0001)"));
+    w.collisions = CollisionScheme::Pairwise;  // what a step of 0.01 leaves behind
+    CHECK(validateStart(disks, w, "s.csv").empty());
 }

@@ -641,3 +641,22 @@ TEST_CASE("io: trajectories and statistics of a resumed world continue the files
     CHECK_THROWS_AS(io::TrajectoryWriter(path("whole.xyz"), early), Error);
     std::filesystem::remove_all(folder);
 }
+
+// The default engine was OpenCL wherever there was an OpenCL device, PoCL on
+// a CPU too, 2.3 times slower than the CPU engine there.
+TEST_CASE("world: chooseEngine picks OpenCL on a GPU, the CPU engine otherwise") {
+    const Device pocl{0, "pthread-skylake", "Portable Computing Language", "CPU", "OpenCL 3.0", 1u << 30, true};
+    const Device gpu{1, "NVIDIA H200", "NVIDIA CUDA", "GPU", "OpenCL 3.0", 1u << 30, false};
+    EngineChoice choice = chooseEngine({pocl, gpu});
+    CHECK(choice.engine.engine == ComputeEngine::OpenClResident);
+    CHECK(choice.engine.device == "1");
+    CHECK(choice.reason == "the OpenCL GPU [1] NVIDIA H200");
+    choice = chooseEngine({pocl});
+    CHECK(choice.engine.engine == ComputeEngine::Cpu);
+    CHECK(choice.reason == "no OpenCL GPU, and OpenCL on pthread-skylake (CPU) runs slower than the CPU engine");
+    choice = chooseEngine({});
+    CHECK(choice.engine.engine == ComputeEngine::Cpu);
+    CHECK(choice.reason == "no OpenCL device");
+    // This machine has no GPU (CI): the CPU engine.
+    CHECK(chooseEngine().engine.engine == ComputeEngine::Cpu);
+}

@@ -83,6 +83,28 @@ ComputeEngine openClEngineFor(const Device& device) {
     return device.type == "GPU" ? ComputeEngine::OpenClResident : ComputeEngine::OpenClHostGrid;
 }
 
+EngineChoice chooseEngine(const std::vector<Device>& devices) {
+    std::string others;
+    for (const Device& d : devices) {
+        if (d.type == "GPU")
+            return {EngineDef{openClEngineFor(d), std::to_string(d.index)},
+                    "the OpenCL GPU [" + std::to_string(d.index) + "] " + d.name};
+        others += (others.empty() ? "" : ", ") + d.name + " (" + d.type + ")";
+    }
+    if (others.empty()) return {EngineDef{}, "no OpenCL device"};
+    return {EngineDef{}, "no OpenCL GPU, and OpenCL on " + others + " runs slower than the CPU engine"};
+}
+
+EngineChoice chooseEngine() {
+    if (!engineAvailable(ComputeEngine::OpenClHostGrid)) return {EngineDef{}, "this carom was built without OpenCL"};
+    std::vector<Device> devices;
+    try {
+        devices = listDevices();
+    } catch (const Error&) {  // no platform: no GPU
+    }
+    return chooseEngine(devices);
+}
+
 const char* computeEngineName(ComputeEngine engine) {
     switch (engine) {
         case ComputeEngine::Cpu: return "cpu";

@@ -237,7 +237,7 @@ void Viewer::drawPanels() {
                         static_cast<unsigned long long>(counts.cellCrossings));
         }
         energyPlot(energyHistory_, gravityOn_, {motionAtDriftStart_.kinetic, motionAtDriftStart_.potential});
-        ImGui::Text("total energy %.6g, drift %s", motion_.kinetic + motion_.potential, energyDriftText().c_str());
+        ImGui::Text("total energy %.6g; %s", motion_.kinetic + motion_.potential, energyDriftText().c_str());
         tooltip(
             "(E - E0) / |E0|: the total energy's relative change since E0 was measured; n/a when E0 is 0 "
             "(then the change itself). Near 0 with the pairwise and events schemes; not with the simultaneous "

@@ -398,13 +398,20 @@ void Viewer::restartEnergyDrift() {
 }
 
 std::string Viewer::energyDriftText() const {
-    const double start = motionAtDriftStart_.kinetic + motionAtDriftStart_.potential;
-    const double change = motion_.kinetic + motion_.potential - start;
-    char text[64];
+    // A periodic box under gravity has no floor: what is conserved there is
+    // the kinetic energy in the centre-of-mass frame.
+    const bool fallsFreely = gravityOn_ && world_->def().boundary == Boundary::Periodic;
+    const auto conserved = [&](const Motion& m) {
+        return fallsFreely ? centreOfMassFrameKinetic(m.kinetic, m.momentum, m.mass) : m.kinetic + m.potential;
+    };
+    const double start = conserved(motionAtDriftStart_);
+    const double change = conserved(motion_) - start;
+    const char* name = fallsFreely ? "kinetic energy in the centre-of-mass frame" : "total energy";
+    char text[128];
     if (start == 0.0)
-        std::snprintf(text, sizeof text, "n/a (from 0, change %+.3g)", change);
+        std::snprintf(text, sizeof text, "%s drift n/a (from 0, change %+.3g)", name, change);
     else
-        std::snprintf(text, sizeof text, "%+.3g", change / std::abs(start));
+        std::snprintf(text, sizeof text, "%s drift %+.3g", name, change / std::abs(start));
     return text;
 }
 
@@ -636,7 +643,7 @@ void Viewer::readView() {
                   "a colouring is the value it colours by");
     views_.resize(world_->diskCount());
     viewSums_ = world_->readView(ViewValue(colouring_), views_.data(), views_.size());
-    motion_ = {viewSums_.kineticEnergy, viewSums_.potentialEnergy, viewSums_.momentum};
+    motion_ = {viewSums_.kineticEnergy, viewSums_.potentialEnergy, viewSums_.momentum, viewSums_.mass};
 }
 
 const std::vector<DiskView>& Viewer::speedViews() {
@@ -761,7 +768,7 @@ int Viewer::run() {
     const std::string groups = sceneFileEdit_ ? " (the scene's groups: " + groupsText(*sceneFileEdit_) + ")" : "";
     if (headless_)
         std::printf(
-            "carom view: %llu frames of %zu disks%s, %s collisions, total energy drift %s over %.4g time "
+            "carom view: %llu frames of %zu disks%s, %s collisions, %s over %.4g time "
             "units (kinetic %+.4g, potential %+.4g); median frame %.2f ms (stepping %.2f ms, reading back %.2f ms, "
             "drawing %.2f ms)\n",
             static_cast<unsigned long long>(rendered), world_->diskCount(), groups.c_str(),

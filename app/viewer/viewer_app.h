@@ -24,6 +24,7 @@ struct EnergySample {
 struct Motion {
     double kinetic = 0, potential = 0;
     std::array<double, 2> momentum{};
+    double mass = 0;
 };
 
 class Viewer {
@@ -92,8 +93,10 @@ private:
     // Where the last mouse event put the cursor, in drawable pixels.
     Vec2 cursorPixel() const;
     double simulatedSecondsPerSecond() const;
-    // (E - E0) / |E0| of the total energy since restartEnergyDrift, as
-    // "%+.3g"; E - E0 where E0 is 0 (a relative change is undefined there).
+    // "total energy drift %+.3g": (E - E0) / |E0| of the total energy since
+    // restartEnergyDrift (in a periodic box under gravity, of the kinetic
+    // energy in the centre-of-mass frame, which that names); E - E0 where E0
+    // is 0 (a relative change is undefined there).
     std::string energyDriftText() const;
 
     ViewOptions options_;

@@ -71,6 +71,15 @@ struct ViewSums {
     float minValue = 0.0f, maxValue = 0.0f;  ///< of DiskView::value; 0 without disks
 };
 
+/// The kinetic energy in the centre-of-mass frame, E_kin - |P|^2 / 2M, of
+/// disks of kinetic energy `kinetic`, momentum `momentum` and mass `mass`
+/// (> 0): what the collisions conserve in a periodic box, under gravity too
+/// (which there only accelerates the centre of mass: -sum m g.x jumps by
+/// m g H whenever a disk wraps).
+inline double centreOfMassFrameKinetic(double kinetic, std::array<double, 2> momentum, double mass) {
+    return kinetic - (momentum[0] * momentum[0] + momentum[1] * momentum[1]) / (2.0 * mass);
+}
+
 /// The most disks a world may hold: disk ids and grid cell offsets are
 /// 32-bit, and the grid's up to 4 cells per disk must stay countable in an int.
 constexpr std::uint64_t kMaxParticles = 500'000'000;

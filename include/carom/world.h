@@ -103,6 +103,20 @@ Device findDevice(const std::string& selector);
 /// Both give the same bits.
 ComputeEngine openClEngineFor(const Device& device);
 
+/// The engine chosen for a world that names none (the command line's
+/// --backend auto, Python's engine="auto"), and why, in words.
+struct EngineChoice {
+    EngineDef engine;
+    std::string reason;
+};
+/// The rule, on the devices `devices` (as listDevices() gives them): the
+/// first GPU, on openClEngineFor's pipeline; without a GPU the CPU engine,
+/// which outruns OpenCL on a CPU device (PoCL: 2-3 times slower).
+EngineChoice chooseEngine(const std::vector<Device>& devices);
+/// The rule on this machine's devices: none where this build has no OpenCL
+/// or the machine no OpenCL platform.
+EngineChoice chooseEngine();
+
 /// The disks where the CPU engine keeps them, for reading without a copy
 /// (World::diskMemory): `count` records of `stride` floats from `base`, in id
 /// order, each holding position x, y, velocity x, y, mass and radius at the
@@ -144,8 +158,9 @@ public:
     }
     /// What the last setDisks or restore found less accurate or slower than
     /// usual, though allowed: a step of few float spacings, disks overlapping
-    /// deeper than a step closes, one disk so large that the grid's cells
-    /// hold far too many.
+    /// deeper than a step closes (than rounding, in the events scheme), a
+    /// step that can carry two disks through each other (simultaneous
+    /// scheme), one disk so large that the grid's cells hold far too many.
     const std::vector<std::string>& warnings() const;
 
     /// Everything the world needs to continue bit for bit (carom/types.h
@@ -214,12 +229,16 @@ public:
     /// (energies in [mass length^2/time^2]).
     double kineticEnergy() const;  ///< sum of m v^2 / 2
     /// -sum of m g.x in the world's gravity (0 without). In a periodic box
-    /// under gravity, positions wrap and this is not a potential energy.
+    /// under gravity, positions wrap and this is not a potential energy:
+    /// what the collisions conserve there is the kinetic energy in the
+    /// centre-of-mass frame, (N - 1) temperature().
     double potentialEnergy() const;
     std::array<double, 2> momentum() const;  ///< sum of m v [mass length/time]
     /// The deepest overlap of two disks, max(r_i + r_j - |x_i - x_j|) over
-    /// touching pairs, 0 if none [length]: a grid search, O(N). The schemes
-    /// that step leave overlaps of the order of a step's travel.
+    /// touching pairs, 0 if none [length]: a sort, O(N log N). The schemes
+    /// that step leave overlaps of the order of a step's travel. A heap of
+    /// disks with more than 8 N overlapping pairs: the deepest of the first
+    /// 8 N found.
     double maxOverlap() const;
     /// Disks whose centre is outside the box or not finite: 0 unless a step
     /// was unstable (a dt too large for the speeds and the gravity).

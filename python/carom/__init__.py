@@ -23,10 +23,10 @@ import numpy as np
 from . import _carom
 from ._carom import Error, InputError
 from ._gsd import GSDWriter
-from ._world import World, _choice, _number, _pair, _path, _range, _whole
+from ._world import _PIPELINES, World, _choice, _number, _pair, _path, _range, _whole
 
 __version__ = _carom.VERSION
-__all__ = ["World", "Scene", "make_scene", "devices", "engines", "read_state", "write_state", "write_xyz",
+__all__ = ["World", "Scene", "make_scene", "devices", "choose_engine", "engines", "read_state", "write_state", "write_xyz",
            "GSDWriter", "Error", "InputError", "__version__"]
 
 
@@ -62,6 +62,16 @@ def devices() -> List[dict]:
         return _carom.devices()
     except Error:
         return []
+
+
+def choose_engine() -> dict:
+    """What World(engine="auto") runs on here, and why: {"engine": "cpu" or "opencl", "pipeline": "host-grid",
+    "resident" or None, "device": the OpenCL device's index or None, "reason": in words}. OpenCL on the first
+    GPU, else the CPU, which outruns OpenCL on CPU devices such as PoCL (`carom run --backend auto`'s rule)."""
+    name, selector, reason = _carom.choose_engine()
+    pipeline = {engine: pipeline for pipeline, engine in _PIPELINES.items()}.get(name)
+    return {"engine": "cpu" if name == "cpu" else "opencl", "pipeline": pipeline,
+            "device": int(selector) if selector else None, "reason": reason}
 
 
 def engines() -> List[str]:

@@ -122,12 +122,21 @@ def _path(name: str, value) -> str:
     return path
 
 
-def _engine_name(engine: str, device, pipeline: Optional[str]) -> Tuple[str, str]:
-    """The C++ engine name and device selector for `engine`, `device` and `pipeline`."""
-    _choice("engine", engine, ("cpu", "opencl"))
+def _engine_name(engine: str, device, pipeline: Optional[str], events: bool = False) -> Tuple[str, str]:
+    """The C++ engine name and device selector for `engine`, `device` and `pipeline` (and, for engine="auto",
+    whether the world runs the events scheme, which runs on the CPU)."""
+    _choice("engine", engine, ("auto", "cpu", "opencl"))
     if device is not None and (isinstance(device, bool) or not isinstance(device, (int, str))):
         raise InputError(f"device: {device!r}; allowed: an index of carom.devices(), part of a name, or None")
     selector = "" if device is None else str(device)
+    if engine == "auto":
+        if device is not None or pipeline is not None:  # they ask for OpenCL, as on the command line
+            engine = "opencl"
+        elif events:
+            return "cpu", ""
+        else:
+            name, selector, _ = _carom.choose_engine()
+            return name, selector
     if engine == "cpu":
         if device is not None or pipeline is not None:
             raise InputError("device and pipeline: OpenCL only; allowed with engine='opencl'")
@@ -154,7 +163,10 @@ class World:
         times, energy conserved to rounding), "simultaneous" (the seed's
         scheme, heats dense gases) or "events" (exact event-driven dynamics in
         double, CPU only; dt only says when to sample).
-    engine: "cpu" (OpenMP) or "opencl".
+    engine: "cpu" (OpenMP), "opencl", or "auto": OpenCL on the first GPU,
+        else the CPU (faster than OpenCL on CPU devices such as PoCL), as
+        carom.choose_engine() says; a device or pipeline asks for OpenCL,
+        collisions="events" for the CPU.
     device: OpenCL only, an index of carom.devices() or part of a device name;
         None: the first GPU, else the first device.
     pipeline: OpenCL only, "host-grid" (the host builds the grid, best on CPU
@@ -178,9 +190,9 @@ class World:
         width, height = _pair("box", box)
         _choice("boundary", boundary, ("walls", "periodic"))
         _choice("collisions", collisions, ("pairwise", "simultaneous", "events"))
-        if collisions == "events" and engine != "cpu":
+        if collisions == "events" and engine == "opencl":
             raise InputError(f"collisions='events' runs on engine='cpu' only (one thread, in double); got engine={engine!r}")
-        engine_name, selector = _engine_name(engine, device, pipeline)
+        engine_name, selector = _engine_name(engine, device, pipeline, collisions == "events")
         travel = _number("max_travel", max_travel)
         if not travel >= 0:
             raise InputError(f"max_travel: {max_travel!r}; allowed: >= 0 (0 = off)")

@@ -226,6 +226,12 @@ NB_MODULE(_carom, m) {
         },
         "selector"_a);
 
+    // carom::chooseEngine: (engine, device selector, reason), World(engine="auto")'s choice.
+    m.def("choose_engine", [] {
+        const carom::EngineChoice choice = carom::chooseEngine();
+        return nb::make_tuple(carom::computeEngineName(choice.engine.engine), choice.engine.device, choice.reason);
+    });
+
     m.def(
         "make_scene",
         [](std::uint32_t particles, float packing, float width, float height, std::array<float, 2> radius,

@@ -3,6 +3,7 @@ and every refusal naming the value."""
 import gc
 import json
 import subprocess
+import time
 
 import numpy as np
 import pytest
@@ -246,7 +247,7 @@ REFUSALS = [
     (lambda: carom.World(box=10), "box: 10 is not a pair of numbers"),
     (lambda: carom.World(box=(10, 10), boundary="open"), "'open'"),
     (lambda: carom.World(box=(10, 10), collisions="soft"), "'soft'"),
-    (lambda: carom.World(box=(10, 10), engine="cuda"), "engine: 'cuda'; allowed: 'cpu', 'opencl'"),
+    (lambda: carom.World(box=(10, 10), engine="cuda"), "engine: 'cuda'; allowed: 'auto', 'cpu', 'opencl'"),
     (lambda: carom.World(box=(10, 10), pipeline="resident"), "OpenCL only"),
     (lambda: carom.World(box=(10, 10), dt=0), "dt must be a finite number > 0, got 0"),
     (lambda: carom.World(box=(10, 10), seed=-2), "seed: -2 is out of range"),
@@ -335,6 +336,30 @@ def test_deep_overlaps_are_allowed_on_request_with_a_warning():
     world = carom.World(box=(10, 10))
     world.set_disks([[5, 5], [6, 5]], np.zeros((2, 2)), [1, 1], [1, 1], allow_overlaps=True)
     assert "particles 0 and 1 by 1" in world.warnings[0]
+
+
+def test_coincident_disks_are_refused_in_seconds():
+    """10^5 disks on one centre took 42 s to refuse (all pairs checked): the check sorts them."""
+    world = carom.World(box=(1000, 1000))
+    n = 100_000
+    start = time.perf_counter()
+    with pytest.raises(carom.InputError) as error:
+        world.set_disks(np.full((n, 2), 500.0), np.zeros((n, 2)), np.ones(n), np.ones(n))
+    assert time.perf_counter() - start < 5
+    assert "particles 0 and 1 have the same centre (500, 500)" in str(error.value)
+    assert f"{n * (n - 1) // 2} such pair(s)" in str(error.value)
+
+
+def test_auto_engine_follows_the_command_lines_rule():
+    """engine="auto" is carom::chooseEngine's choice, as `carom run --backend auto`'s: OpenCL on a GPU (a
+    doctest), else the CPU, as on this machine, which has no GPU; a device asks for OpenCL, events for the CPU."""
+    choice = carom.choose_engine()
+    assert choice["engine"] == "cpu" and choice["device"] is None and choice["pipeline"] is None
+    assert choice["reason"].startswith(("no OpenCL", "this carom was built without OpenCL"))
+    assert carom.World(box=(10, 10), engine="auto").engine == "cpu"
+    assert carom.World(box=(10, 10), engine="auto", collisions="events").engine == "cpu"
+    if carom.devices():
+        assert carom.World(box=(10, 10), engine="auto", device=0).engine == "opencl"
 
 
 def test_any_float_dtype_is_taken():
