@@ -1,6 +1,7 @@
 #include "backends/backend.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -56,27 +57,30 @@ double Backend::travelLimit() const {
 
 void Backend::step(std::uint64_t steps) {
     requireFinite();
+    stopped_ = false;
+    stopAllowed_ = true;
+    nextStopCheck_ = std::chrono::steady_clock::now() + kStopCheckInterval;
     const float dt = world_.dt;
     const double allowed = travelLimit();
     if (allowed == HUGE_VAL) {
         // Fixed dt: in batches, so that no tally sums more than kTallySubsteps.
-        for (std::uint64_t done = 0; done < steps;) {
-            const std::uint64_t batch = std::min(steps - done, kTallySubsteps);
-            advanceCounted(Batch{substepsTaken_, stepNumber_ + done + 1, 1}, batch, dt);
-            done += batch;
-        }
+        // Each substep is a step, so a stop between two leaves whole steps.
+        std::uint64_t done = 0;
+        while (done < steps && !stopped_)
+            done += advanceCounted(Batch{substepsTaken_, stepNumber_ + done + 1, 1},
+                                   std::min(steps - done, kTallySubsteps), dt);
         awaitSteps();
         requireFinite();
-        stepNumber_ += steps;
-        totals_.steps += steps;
-        totals_.time += double(dt) * double(steps);
+        stepNumber_ += done;
+        totals_.steps += done;
+        totals_.time += double(dt) * double(done);
         return;
     }
     // The fewest equal substeps in which the fastest disk, sped up by gravity
     // for the whole step, moves at most `allowed`. The maximum and this
     // arithmetic are the same on every backend, so the substeps are too.
     const double gravity = std::hypot(double(world_.gravity.x), double(world_.gravity.y));
-    for (std::uint64_t s = 0; s < steps; ++s) {
+    for (std::uint64_t s = 0; s < steps && !stopHere(); ++s) {
         const double speed = double(maxSpeed()) + gravity * dt;
         requireFinite();  // the wait for the largest speed may find the step before non-finite
         const double needed = std::ceil(speed * dt / allowed);
@@ -91,18 +95,46 @@ void Backend::step(std::uint64_t steps) {
                 "; at most " + std::to_string(kMaxSubsteps) +
                 " are allowed (the state may have blown up, or use a smaller dt)");
         const auto substeps = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(needed));
-        const float substepDt = substeps == 1 ? dt : static_cast<float>(double(dt) / double(substeps));
-        for (std::uint64_t done = 0; done < substeps;) {
-            const std::uint64_t batch = std::min(substeps - done, kTallySubsteps);
-            advanceCounted(Batch{substepsTaken_, stepNumber_ + 1, substeps}, batch, substepDt);
-            done += batch;
-        }
+        substepped(substeps, substeps == 1 ? dt : static_cast<float>(double(dt) / double(substeps)));
+        if (stopped_) break;
         ++stepNumber_;
         totals_.time += dt;
         ++totals_.steps;
     }
     awaitSteps();
     requireFinite();
+}
+
+void Backend::substepped(std::uint64_t substeps, float substepDt) {
+    const bool keep = stopCheckSet() && substeps >= kStoppableSubsteps;
+    // What the step changes besides the state and the tallies, as it began.
+    const ContactTotals totals = totals_;
+    const std::uint64_t taken = substepsTaken_, sinceDrain = substepsSinceDrain_;
+    const Batch batch = batch_, previousBatch = previousBatch_;
+    if (keep) keepStepStart();
+    stopAllowed_ = keep;
+    for (std::uint64_t done = 0; done < substeps && !stopped_;)
+        done += advanceCounted(Batch{substepsTaken_, stepNumber_ + 1, substeps},
+                               std::min(substeps - done, kTallySubsteps), substepDt);
+    stopAllowed_ = true;
+    if (!stopped_) return;
+    awaitSteps();
+    totals_ = totals;
+    substepsTaken_ = taken;
+    substepsSinceDrain_ = sinceDrain;
+    batch_ = batch;
+    previousBatch_ = previousBatch;
+    returnToStepStart();
+}
+
+bool Backend::stopHere() {
+    if (stopped_) return true;
+    if (!stopAllowed_ || !stopCheck_) return false;
+    const auto now = std::chrono::steady_clock::now();
+    if (now < nextStopCheck_) return false;
+    nextStopCheck_ = now + kStopCheckInterval;
+    stopped_ = stopCheck_();
+    return stopped_;
 }
 
 void Backend::recordNonFinite(std::uint64_t substep, std::uint32_t particle) {
@@ -138,18 +170,19 @@ CaromStepParams Backend::stepParams(float dt) const {
     return step;
 }
 
-void Backend::advanceCounted(const Batch& batch, std::uint64_t substeps, float dt) {
+std::uint64_t Backend::advanceCounted(const Batch& batch, std::uint64_t substeps, float dt) {
     if (substepsSinceDrain_ + substeps > kTallySubsteps) {
         drainTallies(totals_);
         substepsSinceDrain_ = 0;
     }
     previousBatch_ = batch_;
     batch_ = batch;
-    advance(substeps, dt);
+    const std::uint64_t taken = advance(substeps, dt);
     requireFinite();
-    substepsTaken_ += substeps;
-    substepsSinceDrain_ += substeps;
-    totals_.substeps += substeps;
+    substepsTaken_ += taken;
+    substepsSinceDrain_ += taken;
+    totals_.substeps += taken;
+    return taken;
 }
 
 const ContactTotals& Backend::contacts() {

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <utility>
@@ -18,6 +20,7 @@
 #include "engine/grid.h"
 #include "engine/observables.h"
 #include "engine/scene.h"
+#include "engine/snapshot_checks.h"
 #include "engine/text_format.h"
 #include "world/make_backend.h"
 #ifdef CAROM_HAVE_OPENCL
@@ -100,6 +103,7 @@ struct World::Impl {
     double motionTime = 0.0;
     std::uint64_t motionStep = 0;
     std::uint64_t collisionsBefore = 0;     // since the scene began, before the measurements' interval
+    std::function<bool()> stopCheck;        // every backend's (setStopCheck)
     std::vector<std::string> warnings;      // the last start's (validateStart)
     double intervalStartTemperature = 0.0;  // kT when the measurements' interval began
     // The state as last read from the backend, and its energies and
@@ -150,6 +154,14 @@ void requireDiskCount(const std::string& what, std::size_t count) {
     if (count > kMaxParticles)
         throw Error(what + ": " + std::to_string(count) + " disks; allowed: at most " + std::to_string(kMaxParticles) +
                     " (kMaxParticles)");
+}
+
+// Throws Error, naming `what` and the argument `name`, when `array` is null
+// but said to hold `count` `things`.
+void requireArray(const std::string& what, const char* name, const void* array, std::size_t count, const char* things) {
+    if (array == nullptr && count > 0)
+        throw Error(what + ": " + name + " is null, for " + std::to_string(count) + " " + things +
+                    "; allowed: a pointer to " + std::to_string(count) + " " + things);
 }
 
 // The definition `world` takes from `snapshot`: its dt and gravity. Throws
@@ -235,6 +247,7 @@ World& World::operator=(World&&) noexcept = default;
 
 void World::setDisks(const Disk* disks, std::size_t count, const std::string& source, DeepOverlaps deepOverlaps) {
     requireDiskCount("setDisks", count);
+    requireArray("setDisks", "disks", disks, count, "disks");
     std::vector<Particle> particles = particlesOf(disks, count);
     std::vector<std::string> found = Impl::checkStart(particles, impl_->def, source, deepOverlaps);
     impl_->backend->setParticles(particles);
@@ -255,11 +268,8 @@ Snapshot World::snapshot() const {
 void World::restore(const Snapshot& snapshot, const std::string& source) {
     const WorldDef restored = restoredDef(impl_->def, snapshot, source);
     requireDiskCount(source, snapshot.disks.size());
-    if (!std::isfinite(snapshot.time) || snapshot.time < 0) {
-        std::string time;
-        appendNumber(time, snapshot.time);
-        throw Error(source + ": time " + time + " must be a finite number >= 0");
-    }
+    if (const std::string problem = snapshotCountsProblem(snapshot); !problem.empty())
+        throw Error(source + ": " + problem);
     if (const std::string problem = eventStatePlaceProblem(snapshot); !problem.empty())
         throw Error(source + ": " + problem);
     std::vector<Particle> particles = particlesOf(snapshot.disks.data(), snapshot.disks.size());
@@ -276,6 +286,7 @@ void World::restore(const Snapshot& snapshot, const std::string& source) {
             throw Error(source + ": " + e.what());
         }
         spare->readParticles(particles);  // the float rounding of the exact state, as a step reads it
+        spare->setStopCheck(impl_->stopCheck);
         impl_->backend = std::move(spare);
     } else {
         impl_->backend->setMotion(restored.dt, restored.gravity);
@@ -295,6 +306,7 @@ void World::setDisk(std::size_t id, const Disk& disk) {
 }
 
 void World::editDisks(const Disk* disks, std::size_t count) {
+    requireArray("editDisks", "disks", disks, count, "disks");
     if (count != diskCount())
         throw Error("editDisks: " + std::to_string(count) + " disks; allowed: " + std::to_string(diskCount()) +
                     " (diskCount(): an edit keeps the number of disks)");
@@ -302,6 +314,7 @@ void World::editDisks(const Disk* disks, std::size_t count) {
 }
 
 void World::addDisks(const Disk* disks, std::size_t count) {
+    requireArray("addDisks", "disks", disks, count, "disks");
     if (diskCount() == 0) return setDisks(disks, count);
     std::vector<Particle> edited = impl_->current();
     if (count > kMaxParticles - edited.size())
@@ -312,6 +325,7 @@ void World::addDisks(const Disk* disks, std::size_t count) {
 }
 
 void World::getDisks(Disk* out, std::size_t capacity) const {
+    requireArray("getDisks", "out", out, capacity, "disks");
     const std::vector<Particle>& state = impl_->current();
     if (capacity < state.size())
         throw Error("getDisks: room for " + std::to_string(capacity) + " disks; the world has " +
@@ -322,6 +336,7 @@ void World::getDisks(Disk* out, std::size_t capacity) const {
 std::vector<Disk> World::disks() const { return disksOf(impl_->current()); }
 
 ViewSums World::readView(ViewValue value, DiskView* out, std::size_t capacity) const {
+    requireArray("readView", "out", out, capacity, "views");
     const std::size_t n = diskCount();
     if (capacity < n)
         throw Error("readView: room for " + std::to_string(capacity) + " views is less than diskCount() " +
@@ -354,6 +369,10 @@ DiskMemory World::diskMemory() const {
 
 void World::step(std::uint64_t steps) {
     if (diskCount() == 0) throw Error("step: the world has no disks yet; call setDisks first");
+    if (steps > std::numeric_limits<std::uint64_t>::max() - impl_->step)
+        throw Error("step: " + std::to_string(steps) + " steps from step " + std::to_string(impl_->step) +
+                    " would take the step count past 2^64 - 1; allowed: at most " +
+                    std::to_string(std::numeric_limits<std::uint64_t>::max() - impl_->step));
     impl_->stateCurrent = false;
     try {
         impl_->backend->step(steps);
@@ -363,6 +382,11 @@ void World::step(std::uint64_t steps) {
         throw;
     }
     impl_->step = impl_->backend->stepNumber();
+}
+
+void World::setStopCheck(std::function<bool()> check) {
+    impl_->stopCheck = std::move(check);
+    impl_->backend->setStopCheck(impl_->stopCheck);
 }
 
 std::uint64_t World::stepCount() const { return impl_->step; }

@@ -16,6 +16,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -200,6 +201,18 @@ public:
     /// reached (stepCount()), and after a non-finite step refuses to step
     /// further until setDisks.
     void step(std::uint64_t steps = 1);
+    /// Lets step() stop early: while it runs, step() calls `check` on its
+    /// own thread about every 20 ms, between two steps and within a long
+    /// step: between events with CollisionScheme::Events (the first step of
+    /// a call, and each after a step of at least one event per disk), and
+    /// between substeps in a step of at least 8 substeps. When `check`
+    /// returns true, step() returns at once, and the world holds the last
+    /// step it completed (stepCount()): a step cut short returns to its
+    /// start, so the disks, time(), the collision count and the
+    /// measurements are that step's, and stepping on (or a snapshot()) gives
+    /// bit for bit what an uninterrupted call gives. `check` may be empty
+    /// (the default): steps are then never stopped.
+    void setStopCheck(std::function<bool()> check);
 
     /// The step the state holds: steps taken since setDisks, or since the
     /// scene a snapshot continues (restore; carom/io.h loadCheckpoint).
