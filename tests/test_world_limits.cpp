@@ -145,3 +145,37 @@ TEST_CASE("snapshot: an events state with two disks on one centre is refused, th
     CHECK(refusalOf(world, same).find(") at the state's time: their collision has no direction") != std::string::npos);
     CHECK(world.stepCount() == 3);
 }
+
+TEST_CASE("world: an edit that puts two disks on one centre is refused, as setDisks refuses it, for every scheme") {
+    for (CollisionScheme scheme : {CollisionScheme::Pairwise, CollisionScheme::Simultaneous, CollisionScheme::Events}) {
+        CAPTURE(collisionSchemeName(scheme));
+        World world = twoDisks(scheme);
+        const std::vector<Disk> before = world.disks();
+        CHECK(refusalOf([&] {
+                  world.setDisk(1, Disk{{2, 2}, {0, 1}, 1, 1});
+              }) ==
+              "setDisk: disks 0 and 1 have the same centre (2, 2): their collision has no direction; allowed: "
+              "distinct centres");
+        const Disk onFirst{{-0.0f + 2, 2}, {0, 0}, 1, 0.5f};
+        CHECK(refusalOf([&] { world.addDisks(&onFirst, 1); }).find("addDisks: disks 0 and 2 have the same centre") ==
+              0);
+        // Many at once (a hash of the centres): two new ones on one centre, and one on an old one.
+        std::vector<Disk> many;
+        for (int i = 0; i < 20; ++i) many.push_back(Disk{{0.5f + 0.4f * i, 9}, {0, 0}, 1, 0.1f});
+        many[13].position = many[4].position;
+        CHECK(refusalOf([&] {
+                  world.addDisks(many.data(), many.size());
+              }).find("addDisks: disks 6 and 15 have the same centre (2.1, 9)") == 0);
+        many[13].position = {7, 6};
+        CHECK(refusalOf([&] {
+                  world.addDisks(many.data(), many.size());
+              }).find("addDisks: disks 1 and 15 have the same centre (7, 6)") == 0);
+        std::vector<Disk> edited = before;
+        edited[0].position = edited[1].position;
+        CHECK(refusalOf([&] {
+                  world.editDisks(edited.data(), edited.size());
+              }).find("editDisks: disks 0 and 1 have the same centre") == 0);
+        CHECK(world.diskCount() == 2);
+        CHECK(world.disks()[1].position.x == before[1].position.x);
+    }
+}

@@ -6,10 +6,13 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <memory>
+#include <sstream>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -139,8 +142,9 @@ struct World::Impl {
     // `time` of a scene in which `collisions` pairs collided so far.
     void start(std::vector<Particle> particles, std::uint64_t step, double time, std::uint64_t collisions,
                std::vector<std::string> startWarnings);
-    // Replaces the state with an edited one, at the same step and collision count.
-    void edit(std::vector<Particle> particles);
+    // Replaces the state with an edited one, at the same step and collision
+    // count: `what` (setDisk, addDisks, editDisks) changed its disks [first, last).
+    void edit(std::vector<Particle> particles, std::size_t first, std::size_t last, const char* what);
     // Takes `particles`, which the backend holds now, as the state at
     // `step`, with `collisions` so far.
     void loaded(std::vector<Particle> particles, std::uint64_t step, std::uint64_t collisions);
@@ -162,6 +166,43 @@ void requireArray(const std::string& what, const char* name, const void* array, 
     if (array == nullptr && count > 0)
         throw Error(what + ": " + name + " is null, for " + std::to_string(count) + " " + things +
                     "; allowed: a pointer to " + std::to_string(count) + " " + things);
+}
+
+// Throws Error, naming `what`, when a disk of particles[first, last) has the
+// centre of another disk: their collision would have no direction (setDisks
+// refuses that too, validateStart). Compared one by one for a few disks (a
+// drag), through a hash of the centres for more.
+void requireDistinctCentres(const std::vector<Particle>& particles, std::size_t first, std::size_t last,
+                            const char* what) {
+    const auto same = [&](std::size_t i, std::size_t j) {
+        const float2 a = particles[i].position, b = particles[j].position;
+        if (a.x != b.x || a.y != b.y) return;
+        std::ostringstream text;
+        text << what << ": disks " << std::min(i, j) << " and " << std::max(i, j) << " have the same centre (" << a.x
+             << ", " << a.y << "): their collision has no direction; allowed: distinct centres";
+        throw Error(text.str());
+    };
+    constexpr std::size_t kCompared = 16;
+    if (last - first <= kCompared) {
+        for (std::size_t i = first; i < last; ++i)
+            for (std::size_t j = 0; j < particles.size(); ++j)
+                if (j != i) same(i, j);
+        return;
+    }
+    // -0 and 0 are one coordinate: keyed as 0.
+    const auto key = [&](std::size_t i) {
+        const float x = particles[i].position.x + 0.0f, y = particles[i].position.y + 0.0f;
+        std::uint32_t bx = 0, by = 0;
+        std::memcpy(&bx, &x, 4);
+        std::memcpy(&by, &y, 4);
+        return std::uint64_t(bx) << 32 | by;
+    };
+    std::unordered_map<std::uint64_t, std::size_t> changed;
+    for (std::size_t i = first; i < last; ++i)
+        if (const auto [at, added] = changed.emplace(key(i), i); !added) same(at->second, i);
+    for (std::size_t j = 0; j < particles.size(); ++j)
+        if (j < first || j >= last)
+            if (const auto at = changed.find(key(j)); at != changed.end()) same(at->second, j);
 }
 
 // The definition `world` takes from `snapshot`: its dt and gravity. Throws
@@ -217,7 +258,8 @@ void World::Impl::start(std::vector<Particle> particles, std::uint64_t startStep
     motionTime = startTime;
 }
 
-void World::Impl::edit(std::vector<Particle> particles) {
+void World::Impl::edit(std::vector<Particle> particles, std::size_t first, std::size_t last, const char* what) {
+    requireDistinctCentres(particles, first, last, what);
     // Counted before setParticles resets the backend's.
     const std::uint64_t collisions = collisionsBefore + backend->contacts().collisions;
     backend->setParticles(particles, step);
@@ -302,7 +344,7 @@ void World::setDisk(std::size_t id, const Disk& disk) {
                     (diskCount() > 0 ? std::to_string(diskCount() - 1) + " (diskCount() - 1)" : "none (no disks yet)"));
     std::vector<Particle> edited = impl_->current();
     edited[id] = particleOf(disk);
-    impl_->edit(std::move(edited));
+    impl_->edit(std::move(edited), id, id + 1, "setDisk");
 }
 
 void World::editDisks(const Disk* disks, std::size_t count) {
@@ -310,7 +352,7 @@ void World::editDisks(const Disk* disks, std::size_t count) {
     if (count != diskCount())
         throw Error("editDisks: " + std::to_string(count) + " disks; allowed: " + std::to_string(diskCount()) +
                     " (diskCount(): an edit keeps the number of disks)");
-    impl_->edit(particlesOf(disks, count));
+    impl_->edit(particlesOf(disks, count), 0, count, "editDisks");
 }
 
 void World::addDisks(const Disk* disks, std::size_t count) {
@@ -320,8 +362,9 @@ void World::addDisks(const Disk* disks, std::size_t count) {
     if (count > kMaxParticles - edited.size())
         throw Error("addDisks: " + std::to_string(edited.size()) + " + " + std::to_string(count) +
                     " disks; allowed: at most " + std::to_string(kMaxParticles) + " (kMaxParticles)");
+    const std::size_t first = edited.size();
     for (std::size_t i = 0; i < count; ++i) edited.push_back(particleOf(disks[i]));
-    impl_->edit(std::move(edited));
+    impl_->edit(std::move(edited), first, first + count, "addDisks");
 }
 
 void World::getDisks(Disk* out, std::size_t capacity) const {
