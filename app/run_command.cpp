@@ -609,8 +609,9 @@ std::uint64_t runSteps(World& world, bool resumed, std::uint64_t last, Outputs& 
         const auto callStart = std::chrono::steady_clock::now();
         advance(world, step, n, outputs);
         chunk.adapt(std::chrono::duration<double>(std::chrono::steady_clock::now() - callStart).count());
-        step += n;
-        if (step % every == 0) outputs.sample(world);
+        const std::uint64_t from = step;
+        step = world.stepCount();  // short of from + n where a stop signal cut the call short
+        if (step == from + n && step % every == 0) outputs.sample(world);
         progress.update(step);
     }
     progress.finish();
@@ -679,6 +680,7 @@ int runCommand(const RunOptions& o) {
     for (const std::string& warning : world.warnings()) std::cerr << "carom: warning: " << warning << '\n';
     Outputs outputs(start, world);
     stopSignals.setFirstSignal(StopSignals::FirstSignal::Stops);
+    world.setStopCheck(&StopSignals::received);  // within a step too: one may take minutes
 
     Result r;
     r.backendReason = start.backendReason;

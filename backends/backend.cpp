@@ -1,6 +1,7 @@
 #include "backends/backend.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -60,48 +61,49 @@ CaromSubstepRule Backend::substepRule() const {
 
 void Backend::step(std::uint64_t steps) {
     requireFinite();
+    stopped_ = false;
+    stopAllowed_ = true;
+    nextStopCheck_ = std::chrono::steady_clock::now() + kStopCheckInterval;
     const float dt = world_.dt;
     const CaromSubstepRule rule = substepRule();
     if (rule.allowed == HUGE_VALF) {
         // Fixed dt: in batches, so that no tally sums more than kTallySubsteps.
-        for (std::uint64_t done = 0; done < steps;) {
-            const std::uint64_t batch = std::min(steps - done, kTallySubsteps);
-            advanceCounted(Batch{substepsTaken_, stepNumber_ + done + 1, 1}, batch, dt);
-            done += batch;
-        }
+        // Each substep is a step, so a stop between two leaves whole steps.
+        std::uint64_t done = 0;
+        while (done < steps && !stopped_)
+            done += advanceCounted(Batch{substepsTaken_, stepNumber_ + done + 1, 1},
+                                   std::min(steps - done, kTallySubsteps), dt);
         awaitSteps();
         requireFinite();
-        stepNumber_ += steps;
-        totals_.steps += steps;
-        totals_.time += double(dt) * double(steps);
+        stepNumber_ += done;
+        totals_.steps += done;
+        totals_.time += double(dt) * double(done);
         return;
     }
     // Each step is split by the fastest disk at its start
     // (carom_substeps_needed): the same count on every backend.
-    for (std::uint64_t done = 0; done < steps;) {
+    for (std::uint64_t done = 0; done < steps && !stopHere();) {
         const float speedSquared = maxSpeedSquared();
         requireFinite();  // the wait for the largest speed may find the step before non-finite
         const unsigned int substeps = carom_substeps_needed(speedSquared, rule);
         if (substeps == 0) throw Error(tooManySubsteps(speedSquared, rule));
         const float substepDt = substeps == 1 ? dt : static_cast<float>(double(dt) / double(substeps));
-        const Batch batch{substepsTaken_, stepNumber_ + 1, substeps};
         std::uint64_t taken = 1;
-        if (substeps <= kTallySubsteps / 2) {
+        if (substeps <= kTallySubsteps / 2 && !(stopCheckSet() && substeps >= kStoppableSubsteps)) {
             // Whole steps at this count, as many as one drain of the tallies
             // allows; the backend may stop at a step that needs another.
             if (substepsSinceDrain_ + substeps > kTallySubsteps) drainCounted();
             const std::uint64_t most = std::min(steps - done, (kTallySubsteps - substepsSinceDrain_) / substeps);
             previousBatch_ = batch_;
-            batch_ = batch;
+            batch_ = Batch{substepsTaken_, stepNumber_ + 1, substeps};
+            stopAllowed_ = false;
             taken = advanceWhileSubstepsHold(most, substeps, substepDt, rule);
+            stopAllowed_ = true;
             requireFinite();
             countSubsteps(taken * substeps);
         } else {
-            for (std::uint64_t s = 0; s < substeps;) {
-                const std::uint64_t part = std::min<std::uint64_t>(substeps - s, kTallySubsteps);
-                advanceCounted(Batch{substepsTaken_, stepNumber_ + 1, substeps}, part, substepDt);
-                s += part;
-            }
+            substepped(substeps, substepDt);
+            if (stopped_) break;
         }
         done += taken;
         stepNumber_ += taken;
@@ -121,8 +123,7 @@ std::string Backend::tooManySubsteps(float speedSquared, const CaromSubstepRule&
            (world_.maxTravel > 0.0f && rule.allowed == world_.maxTravel * minRadius_
                 ? "maxTravel " + std::to_string(world_.maxTravel) + " x radius " + std::to_string(minRadius_)
                 : "the pairwise grid's allowance " + std::to_string(rule.allowed)) +
-           "; at most " + std::to_string(kMaxSubsteps) +
-           " are allowed (the state may have blown up, or use a smaller dt)";
+           "; at most " + std::to_string(kMaxSubsteps) + " are allowed (the state may have blown up, or use a smaller dt)";
 }
 
 std::uint64_t Backend::advanceWhileSubstepsHold(std::uint64_t steps, std::uint64_t substeps, float dt,
@@ -131,6 +132,38 @@ std::uint64_t Backend::advanceWhileSubstepsHold(std::uint64_t steps, std::uint64
     (void)rule;
     advance(substeps, dt);
     return 1;
+}
+
+void Backend::substepped(std::uint64_t substeps, float substepDt) {
+    const bool keep = stopCheckSet() && substeps >= kStoppableSubsteps;
+    // What the step changes besides the state and the tallies, as it began.
+    const ContactTotals totals = totals_;
+    const std::uint64_t taken = substepsTaken_, sinceDrain = substepsSinceDrain_;
+    const Batch batch = batch_, previousBatch = previousBatch_;
+    if (keep) keepStepStart();
+    stopAllowed_ = keep;
+    for (std::uint64_t done = 0; done < substeps && !stopped_;)
+        done += advanceCounted(Batch{substepsTaken_, stepNumber_ + 1, substeps},
+                               std::min(substeps - done, kTallySubsteps), substepDt);
+    stopAllowed_ = true;
+    if (!stopped_) return;
+    awaitSteps();
+    totals_ = totals;
+    substepsTaken_ = taken;
+    substepsSinceDrain_ = sinceDrain;
+    batch_ = batch;
+    previousBatch_ = previousBatch;
+    returnToStepStart();
+}
+
+bool Backend::stopHere() {
+    if (stopped_) return true;
+    if (!stopAllowed_ || !stopCheck_) return false;
+    const auto now = std::chrono::steady_clock::now();
+    if (now < nextStopCheck_) return false;
+    nextStopCheck_ = now + kStopCheckInterval;
+    stopped_ = stopCheck_();
+    return stopped_;
 }
 
 void Backend::recordNonFinite(std::uint64_t substep, std::uint32_t particle) {
@@ -166,13 +199,14 @@ CaromStepParams Backend::stepParams(float dt) const {
     return step;
 }
 
-void Backend::advanceCounted(const Batch& batch, std::uint64_t substeps, float dt) {
+std::uint64_t Backend::advanceCounted(const Batch& batch, std::uint64_t substeps, float dt) {
     if (substepsSinceDrain_ + substeps > kTallySubsteps) drainCounted();
     previousBatch_ = batch_;
     batch_ = batch;
-    advance(substeps, dt);
+    const std::uint64_t taken = advance(substeps, dt);
     requireFinite();
-    countSubsteps(substeps);
+    countSubsteps(taken);
+    return taken;
 }
 
 void Backend::countSubsteps(std::uint64_t substeps) {

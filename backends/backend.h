@@ -10,7 +10,9 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -31,6 +33,15 @@ namespace carom {
 // dozen passes, a simultaneous one one; a step with substeps also takes the
 // largest speed (maxSpeedSquaredOf).
 constexpr std::int64_t kParallelPassLength = 4096;
+
+// How often step() asks its stop check (Backend::setStopCheck), at most:
+// often enough for a stop within a fraction of a second, rarely enough that
+// a check that takes Python's lock costs nothing measurable.
+constexpr std::chrono::milliseconds kStopCheckInterval{20};
+// A step split into at least this many substeps keeps its start
+// (Backend::keepStepStart), so a stop can cut it short: a copy of the state
+// costs less than a few percent of such a step. Shorter ones run whole.
+constexpr std::uint64_t kStoppableSubsteps = 8;
 
 // Collisions within a step can speed a disk up: substeps are sized so that
 // a disk this many times faster than the fastest one at the step's start
@@ -68,8 +79,14 @@ public:
     // needs them. Throws Error if a step would need more than kMaxSubsteps
     // substeps, or when the state goes non-finite: stepping stops at the
     // (sub)step that did it (nonFinite() says which), and every later call
-    // throws the same until setParticles.
+    // throws the same until setParticles. Returns early when the stop check
+    // asks (setStopCheck); stepNumber() then says the step reached.
     void step(std::uint64_t steps);
+    // Asked every kStopCheckInterval or so while step() runs, between steps,
+    // and within a step that keeps its start (between substeps and events):
+    // true stops step() there, a step cut short returning to its start.
+    // Empty: never asked.
+    void setStopCheck(std::function<bool()> check) { stopCheck_ = std::move(check); }
     // Where the state went non-finite, once step() found it; empty before.
     const std::optional<NonFiniteState>& nonFinite() const { return nonFinite_; }
     // Copies the current state into `particles` (in id order).
@@ -129,14 +146,20 @@ public:
 
 protected:
     virtual void load(std::vector<Particle> particles) = 0;  // takes the copy setParticles made
-    // Takes `substeps` steps of `dt` with world_'s gravity and boundary.
-    virtual void advance(std::uint64_t substeps, float dt) = 0;
+    // Takes `substeps` steps of `dt` with world_'s gravity and boundary, and
+    // returns how many it took: fewer only where stopHere() said stop
+    // between two of them, or a substep went non-finite.
+    virtual std::uint64_t advance(std::uint64_t substeps, float dt) = 0;
+    // Keeps the state and the per-particle tallies as they are now, and
+    // returns to them: a step that a stop cuts short returns to its start.
+    virtual void keepStepStart() = 0;
+    virtual void returnToStepStart() = 0;
     // Takes up to `steps` (>= 1) steps of `substeps` substeps of dt each,
     // the first as planned; each later one only while the state it starts
     // from needs the same count (carom_substeps_needed under `rule`), so that
     // the result equals stepping one at a time. Returns the steps taken. This
     // one takes one: a backend that checks the count where its state lives
-    // can take more without a wait each.
+    // can take more without a wait each. No stop is looked for within.
     virtual std::uint64_t advanceWhileSubstepsHold(std::uint64_t steps, std::uint64_t substeps, float dt,
                                                    const CaromSubstepRule& rule);
     // The largest v.x^2 + v.y^2 of the current state.
@@ -157,6 +180,13 @@ protected:
     void recordNonFinite(std::uint64_t substep, std::uint32_t particle);
     // Substeps taken by the advance() calls before the current one, since setParticles.
     std::uint64_t substepsTaken() const { return substepsTaken_; }
+    // For implementations, between two substeps of advance() and, in a step
+    // that keepStepStart() kept, between events: whether to stop there (the
+    // stop check said so, now or earlier in this step() call). False where
+    // step() cannot stop: within a step whose start was not kept.
+    bool stopHere();
+    // Whether a stop check is set: a step that keeps its start can be stopped.
+    bool stopCheckSet() const { return static_cast<bool>(stopCheck_); }
     // For implementations: a pairwise (sub)step used this many rounds.
     void recordRounds(unsigned int rounds);
     // What every kernel of a (sub)step of duration dt reads (kernels/params.h).
@@ -174,7 +204,11 @@ private:
     struct Batch {
         std::uint64_t firstSubstep = 0, firstStep = 0, substepsPerStep = 1;
     };
-    void advanceCounted(const Batch& batch, std::uint64_t substeps, float dt);
+    // Advances as advance() does and counts the substeps it took.
+    std::uint64_t advanceCounted(const Batch& batch, std::uint64_t substeps, float dt);
+    // Takes one step of `substeps` substeps of `substepDt`; a step of at
+    // least kStoppableSubsteps keeps its start and can be stopped within.
+    void substepped(std::uint64_t substeps, float substepDt);
     void countSubsteps(std::uint64_t substeps);  // after advance() took them
     void drainCounted();                         // drains the tallies into totals_
     // The message for a step that would need more than kMaxSubsteps.
@@ -197,6 +231,11 @@ private:
     // previous call's last substep.
     Batch batch_, previousBatch_;
     std::optional<NonFiniteState> nonFinite_;
+
+    std::function<bool()> stopCheck_;
+    bool stopAllowed_ = true;  // stopHere() may stop: between steps, or in a step that kept its start
+    bool stopped_ = false;     // the stop check said stop during this step() call
+    std::chrono::steady_clock::time_point nextStopCheck_;
 };
 
 // For implementations: adds tallies[0..count) to `totals` in id order, in

@@ -252,13 +252,25 @@ void CpuBackend::load(std::vector<Particle> particles) {
     epoch_ = 0;
 }
 
-void CpuBackend::advance(std::uint64_t substeps, float dt) {
+void CpuBackend::keepStepStart() {
+    stepStart_ = *state_;
+    stepStartTallies_ = tallies_;
+}
+
+void CpuBackend::returnToStepStart() {
+    std::copy(stepStart_.begin(), stepStart_.end(), state_->begin());  // into the views' buffer
+    tallies_ = stepStartTallies_;
+    speedKnown_ = false;
+}
+
+std::uint64_t CpuBackend::advance(std::uint64_t substeps, float dt) {
 #ifdef _OPENMP
     const bool choose = static_cast<std::int64_t>(state_->size()) >= kParallelPassLength && omp_get_max_threads() > 1;
 #else
     const bool choose = false;
 #endif
     for (std::uint64_t s = 0; s < substeps; ++s) {
+        if (stopHere()) return s;
         const bool team = teamChoice_.team();
         const auto start = std::chrono::steady_clock::now();
         const std::uint32_t nonFinite =
@@ -268,9 +280,10 @@ void CpuBackend::advance(std::uint64_t substeps, float dt) {
         if (nonFinite != kAllFinite) {
             speedKnown_ = false;
             recordNonFinite(substepsTaken() + s, nonFinite);
-            return;
+            return s + 1;
         }
     }
+    return substeps;
 }
 
 std::uint32_t CpuBackend::stepSimultaneous(float dt) {

@@ -31,10 +31,15 @@ protected:
     // Simultaneous: written by the step, then swapped in (copied in while a view holds state_).
     std::shared_ptr<std::vector<Particle>> next_ = std::make_shared<std::vector<Particle>>();
     std::vector<ContactTally> tallies_;  // by particle id
+    // keepStepStart's copies of *state_ and tallies_.
+    std::vector<Particle> stepStart_;
+    std::vector<ContactTally> stepStartTallies_;
 
 private:
     void load(std::vector<Particle> particles) override;
-    void advance(std::uint64_t substeps, float dt) override;
+    std::uint64_t advance(std::uint64_t substeps, float dt) override;
+    void keepStepStart() override;
+    void returnToStepStart() override;
     // The step that wrote the state also took its largest speed (max is
     // exact in any order: the same bits as maxSpeedSquaredOf).
     float maxSpeedSquared() override {

@@ -29,6 +29,9 @@ constexpr std::uint64_t kSortInterval = 8;
 // (a chain of simultaneous collisions is a few per disk; more means double
 // precision can no longer tell the times apart).
 constexpr std::uint64_t kMaxEventsAtOneTime = 1000;
+// Events between two looks for a stop (Backend::stopHere), in a step that
+// can be stopped: a look reads the clock.
+constexpr std::uint64_t kEventsPerStopCheck = 256;
 
 // The time s >= 0 at which h(s) = h0 + u s + a s^2 / 2 first reaches 0
 // while decreasing: a disk at height h0 above a boundary (a wall, a cell
@@ -224,6 +227,11 @@ void EventDrivenBackend::restoreState(const EventEngineState& state) {
                     std::to_string(disks_.size()));
     if (const std::string problem = eventStateProblem(state, world_.boundary); !problem.empty()) throw Error(problem);
     const std::uint64_t cells = std::uint64_t(columns_) * rows_;
+    struct Centre {
+        double x, y;
+        std::uint32_t id;
+    };
+    std::vector<Centre> centres(state.disks.size());  // at the state's time
     for (std::size_t i = 0; i < state.disks.size(); ++i) {
         const EventDiskState& d = state.disks[i];
         const std::string which = "events state: disk " + std::to_string(i);
@@ -251,6 +259,21 @@ void EventDrivenBackend::restoreState(const EventEngineState& state) {
                         ") at the state's time, is not in its cell " + std::to_string(d.cell) + " (column " +
                         std::to_string(column) + ", row " + std::to_string(row) + " of cells " +
                         std::to_string(cellWidth_) + " x " + std::to_string(cellHeight_) + ")");
+        // A periodic box's edges are one place: a centre on one is on the other.
+        const auto wrapped = [&](double v, double side) { return periodic_ ? v - side * std::floor(v / side) : v; };
+        centres[i] = Centre{wrapped(now.x, width_), wrapped(now.y, height_), std::uint32_t(i)};
+    }
+    // Two disks on one centre: their collision has no direction (as
+    // validateStart refuses for the float disks).
+    std::sort(centres.begin(), centres.end(), [](const Centre& a, const Centre& b) {
+        return a.x != b.x ? a.x < b.x : a.y != b.y ? a.y < b.y : a.id < b.id;
+    });
+    for (std::size_t k = 1; k < centres.size(); ++k) {
+        const Centre &a = centres[k - 1], &b = centres[k];
+        if (a.x == b.x && a.y == b.y)
+            throw Error("events state: disks " + std::to_string(a.id) + " and " + std::to_string(b.id) +
+                        " have the same centre (" + std::to_string(a.x) + ", " + std::to_string(a.y) +
+                        ") at the state's time: their collision has no direction; allowed: distinct centres");
     }
     // In id order (the partners' storage indices are their ids), then sorted.
     std::vector<double> mass(disks_.size());
@@ -375,8 +398,10 @@ void EventDrivenBackend::schedule(std::uint32_t i) {
     calendar_.set(i, next.time);
 }
 
-void EventDrivenBackend::runUntil(double time) {
+bool EventDrivenBackend::runUntil(double time, bool stoppable) {
+    lastStepEvents_ = 0;
     while (calendar_.nextTime() <= time) {
+        if (++lastStepEvents_ % kEventsPerStopCheck == 0 && stoppable && stopHere()) return false;
         if (++eventsSinceSort_ > kSortInterval * disks_.size()) sortByCell();
         const std::uint32_t i = calendar_.next();
         const Scheduled e = scheduled_[i];
@@ -405,6 +430,7 @@ void EventDrivenBackend::runUntil(double time) {
         }
     }
     now_ = std::max(now_, time);
+    return true;
 }
 
 void EventDrivenBackend::collide(std::uint32_t i, std::uint32_t j) {
@@ -494,11 +520,43 @@ void EventDrivenBackend::cross(std::uint32_t i, std::int32_t direction) {
     schedule(i);
 }
 
-void EventDrivenBackend::advance(std::uint64_t substeps, float dt) {
-    // The end of the batch as a function of the step number alone, so that
-    // how the steps are split into calls never changes a sampling time.
-    step_ += substeps;
-    runUntil(timeOrigin_ + double(step_ - stepOrigin_) * double(dt));
+std::uint64_t EventDrivenBackend::advance(std::uint64_t substeps, float dt) {
+    for (std::uint64_t s = 0; s < substeps; ++s) {
+        if (stopHere()) return s;
+        // A step that may be long keeps its start, so that a stop can cut it
+        // short: a call's first, and one after a step of an event per disk
+        // or more (a copy costs less than that step did).
+        const bool keep = stopCheckSet() && (s == 0 || lastStepEvents_ >= disks_.size());
+        if (keep) keepStepStart();
+        // The step's end as a function of the step number alone, so that how
+        // the steps are split into calls never changes a sampling time.
+        ++step_;
+        if (!runUntil(timeOrigin_ + double(step_ - stepOrigin_) * double(dt), keep)) {
+            returnToStepStart();
+            return s;
+        }
+    }
+    return substeps;
+}
+
+void EventDrivenBackend::keepStepStart() {
+    kept_ = Kept{disks_,           scheduled_,   mass_, previous_, head_,   calendar_,
+                 eventsSinceSort_, eventsAtNow_, step_, now_,      counts_, undrained_};
+}
+
+void EventDrivenBackend::returnToStepStart() {
+    disks_ = kept_.disks;
+    scheduled_ = kept_.scheduled;
+    mass_ = kept_.mass;
+    previous_ = kept_.previous;
+    head_ = kept_.head;
+    calendar_ = kept_.calendar;
+    eventsSinceSort_ = kept_.eventsSinceSort;
+    eventsAtNow_ = kept_.eventsAtNow;
+    step_ = kept_.step;
+    now_ = kept_.now;
+    counts_ = kept_.counts;
+    undrained_ = kept_.undrained;
 }
 
 void EventDrivenBackend::motionChanged() {

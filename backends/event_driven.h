@@ -86,7 +86,9 @@ private:
     ViewSums exactSums(const std::vector<ExactDisk>& exact) const;
 
     void load(std::vector<Particle> particles) override;
-    void advance(std::uint64_t substeps, float dt) override;
+    std::uint64_t advance(std::uint64_t substeps, float dt) override;
+    void keepStepStart() override;
+    void returnToStepStart() override;
     float maxSpeedSquared() override;
     void drainTallies(ContactTotals& totals) override;
     void motionChanged() override;
@@ -102,8 +104,10 @@ private:
     // When a disk at height h0 above a wall, with velocity u and
     // acceleration a along the wall's inward normal, reaches it.
     double wallTime(double h0, double u, double a) const;
-    // Takes the events up to `time` in order, then sets now_ to it.
-    void runUntil(double time);
+    // Takes the events up to `time` in order, then sets now_ to it, and
+    // returns true; with `stoppable`, returns false between two events
+    // where stopHere() says stop. Counts the events in lastStepEvents_.
+    bool runUntil(double time, bool stoppable);
     // The events: each moves its disks to now_ and schedules them again.
     void collide(std::uint32_t i, std::uint32_t j);
     void bounce(std::uint32_t i, std::int32_t wall);
@@ -154,7 +158,22 @@ private:
     std::uint32_t columns_ = 1, rows_ = 1;
     bool periodic_ = false;
     EventCounts counts_;
-    ContactTotals undrained_;  // collisions, virial and wall impulses since the last drainTallies
+    ContactTotals undrained_;           // collisions, virial and wall impulses since the last drainTallies
+    std::uint64_t lastStepEvents_ = 0;  // the events of the last runUntil
+
+    // What a step changes, as keepStepStart() found it.
+    struct Kept {
+        std::vector<Disk> disks;
+        std::vector<Scheduled> scheduled;
+        std::vector<double> mass;
+        std::vector<std::int32_t> previous, head;
+        EventCalendar calendar;
+        std::uint64_t eventsSinceSort = 0, eventsAtNow = 0, step = 0;
+        double now = 0.0;
+        EventCounts counts;
+        ContactTotals undrained;
+    };
+    Kept kept_;
 };
 
 }  // namespace carom

@@ -14,6 +14,7 @@
 #include "engine/disk_conversion.h"
 #include "engine/event_state.h"
 #include "engine/scene.h"
+#include "engine/snapshot_checks.h"
 #include "io/output_paths.h"
 
 namespace carom {
@@ -262,7 +263,7 @@ Snapshot decodeCheckpoint(const std::string& bytes, const std::string& what) {
     c.world.collisions = header.events         ? CollisionScheme::Events
                          : scheme == kPairwise ? CollisionScheme::Pairwise
                                                : CollisionScheme::Simultaneous;
-    if (!std::isfinite(c.time) || c.time < 0) fail(what, "time must be a finite number >= 0");
+    if (const std::string problem = snapshotCountsProblem(c); !problem.empty()) fail(what, problem);
     try {
         validateParticles(particlesOf(c.disks.data(), c.disks.size()), c.world, "particles");
     } catch (const Error& e) {

@@ -83,7 +83,8 @@ foreach(test IN ITEMS trajectory_reads_in_ase stats_csv checkpoint_layout resume
                       output_that_is_standard_output_or_error huge_last_line_is_refused_at_once
                       signal_at_start_up_ends_at_once bench_and_validate_stop_on_signals
                       second_signal_removes_temporary_files append_copy_failure_is_named append_copy_on_a_full_disk
-                      signal_ends_the_wait_for_a_fifo_reader periodic_gravity_energy)
+                      signal_ends_the_wait_for_a_fifo_reader periodic_gravity_energy
+                      signal_stops_within_a_long_step)
     add_test(NAME outputs.${test}
              COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/outputs_test.py --carom $<TARGET_FILE:carom>
                      --work ${CMAKE_CURRENT_BINARY_DIR}/outputs --backends ${backends} ${sanitized} ${test})

@@ -649,6 +649,36 @@ def test_two_signals_at_once_stop_the_run():
     no_partial_files(d)
 
 
+def test_signal_stops_within_a_long_step():
+    """A single step can take minutes (the events scheme at a high speed, a step of thousands of
+    substeps): SIGTERM stops it within a second or so, not after it. The step cut short returns to
+    its start, so the outputs hold step 0, complete, and the run exits with 143."""
+    long_steps = [["--collisions", "events", "--speed", 1e7],  # ~6 minutes a step on a 2-core VM
+                  ["--collisions", "pairwise", "--max-travel", 0.001, "--speed", 5e4]]  # ~2 minutes
+    for scheme in long_steps:
+        d = work(f"long-step-{scheme[1]}")
+        paths = {k: os.path.join(d, f"s.{k}") for k in ("csv", "ckpt", "state")}
+        arguments = ["run", "--backend", "cpu", "--particles", 2000, "--steps", 1, *scheme, "--stats", paths["csv"],
+                     "--checkpoint", paths["ckpt"], "--output-state", paths["state"], "--quiet"]
+        process = subprocess.Popen([ARGS.carom, *map(str, arguments)], stdout=subprocess.PIPE,
+                                   stderr=subprocess.PIPE, text=True)
+        try:
+            time.sleep(2)  # started, and well into its one step
+            assert process.poll() is None, process.communicate()
+            process.send_signal(signal.SIGTERM)
+            sent = time.monotonic()
+            out, err = process.communicate(timeout=60)
+            waited = time.monotonic() - sent
+        finally:
+            process.kill()
+        assert process.returncode == 143, (scheme, process.returncode, err)
+        assert waited < 10, (scheme, waited)  # a check every 20 ms; room for a loaded machine
+        assert "interrupted at step 0 of 1 by SIGTERM; the outputs hold:" in err, err
+        assert check_holdings(err, paths) == 0, err
+        assert csv_steps(paths["csv"]) == [0], err
+        no_partial_files(d)
+
+
 def limited_run(limit, arguments):
     """carom run with a file size limit (ulimit -f) of `limit` bytes: writes past it fail (EFBIG)."""
     import resource

@@ -6,8 +6,13 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
+#include <functional>
+#include <limits>
 #include <memory>
+#include <sstream>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -18,6 +23,7 @@
 #include "engine/grid.h"
 #include "engine/observables.h"
 #include "engine/scene.h"
+#include "engine/snapshot_checks.h"
 #include "engine/text_format.h"
 #include "world/make_backend.h"
 #ifdef CAROM_HAVE_OPENCL
@@ -122,6 +128,7 @@ struct World::Impl {
     double motionTime = 0.0;
     std::uint64_t motionStep = 0;
     std::uint64_t collisionsBefore = 0;     // since the scene began, before the measurements' interval
+    std::function<bool()> stopCheck;        // every backend's (setStopCheck)
     std::vector<std::string> warnings;      // the last start's (validateStart)
     double intervalStartTemperature = 0.0;  // kT when the measurements' interval began
     // The state as last read from the backend, and its energies and
@@ -157,8 +164,9 @@ struct World::Impl {
     // `time` of a scene in which `collisions` pairs collided so far.
     void start(std::vector<Particle> particles, std::uint64_t step, double time, std::uint64_t collisions,
                std::vector<std::string> startWarnings);
-    // Replaces the state with an edited one, at the same step and collision count.
-    void edit(std::vector<Particle> particles);
+    // Replaces the state with an edited one, at the same step and collision
+    // count: `what` (setDisk, addDisks, editDisks) changed its disks [first, last).
+    void edit(std::vector<Particle> particles, std::size_t first, std::size_t last, const char* what);
     // Takes `particles`, which the backend holds now, as the state at
     // `step`, with `collisions` so far.
     void loaded(std::vector<Particle> particles, std::uint64_t step, std::uint64_t collisions);
@@ -172,6 +180,51 @@ void requireDiskCount(const std::string& what, std::size_t count) {
     if (count > kMaxParticles)
         throw Error(what + ": " + std::to_string(count) + " disks; allowed: at most " + std::to_string(kMaxParticles) +
                     " (kMaxParticles)");
+}
+
+// Throws Error, naming `what` and the argument `name`, when `array` is null
+// but said to hold `count` `things`.
+void requireArray(const std::string& what, const char* name, const void* array, std::size_t count, const char* things) {
+    if (array == nullptr && count > 0)
+        throw Error(what + ": " + name + " is null, for " + std::to_string(count) + " " + things +
+                    "; allowed: a pointer to " + std::to_string(count) + " " + things);
+}
+
+// Throws Error, naming `what`, when a disk of particles[first, last) has the
+// centre of another disk: their collision would have no direction (setDisks
+// refuses that too, validateStart). Compared one by one for a few disks (a
+// drag), through a hash of the centres for more.
+void requireDistinctCentres(const std::vector<Particle>& particles, std::size_t first, std::size_t last,
+                            const char* what) {
+    const auto same = [&](std::size_t i, std::size_t j) {
+        const float2 a = particles[i].position, b = particles[j].position;
+        if (a.x != b.x || a.y != b.y) return;
+        std::ostringstream text;
+        text << what << ": disks " << std::min(i, j) << " and " << std::max(i, j) << " have the same centre (" << a.x
+             << ", " << a.y << "): their collision has no direction; allowed: distinct centres";
+        throw Error(text.str());
+    };
+    constexpr std::size_t kCompared = 16;
+    if (last - first <= kCompared) {
+        for (std::size_t i = first; i < last; ++i)
+            for (std::size_t j = 0; j < particles.size(); ++j)
+                if (j != i) same(i, j);
+        return;
+    }
+    // -0 and 0 are one coordinate: keyed as 0.
+    const auto key = [&](std::size_t i) {
+        const float x = particles[i].position.x + 0.0f, y = particles[i].position.y + 0.0f;
+        std::uint32_t bx = 0, by = 0;
+        std::memcpy(&bx, &x, 4);
+        std::memcpy(&by, &y, 4);
+        return std::uint64_t(bx) << 32 | by;
+    };
+    std::unordered_map<std::uint64_t, std::size_t> changed;
+    for (std::size_t i = first; i < last; ++i)
+        if (const auto [at, added] = changed.emplace(key(i), i); !added) same(at->second, i);
+    for (std::size_t j = 0; j < particles.size(); ++j)
+        if (j < first || j >= last)
+            if (const auto at = changed.find(key(j)); at != changed.end()) same(at->second, j);
 }
 
 // The definition `world` takes from `snapshot`: its dt and gravity. Throws
@@ -227,7 +280,8 @@ void World::Impl::start(std::vector<Particle> particles, std::uint64_t startStep
     motionTime = startTime;
 }
 
-void World::Impl::edit(std::vector<Particle> particles) {
+void World::Impl::edit(std::vector<Particle> particles, std::size_t first, std::size_t last, const char* what) {
+    requireDistinctCentres(particles, first, last, what);
     // Counted before setParticles resets the backend's.
     const std::uint64_t collisions = collisionsBefore + backend->contacts().collisions;
     backend->setParticles(particles, step);
@@ -257,6 +311,7 @@ World& World::operator=(World&&) noexcept = default;
 
 void World::setDisks(const Disk* disks, std::size_t count, const std::string& source, DeepOverlaps deepOverlaps) {
     requireDiskCount("setDisks", count);
+    requireArray("setDisks", "disks", disks, count, "disks");
     std::vector<Particle> particles = particlesOf(disks, count);
     std::vector<std::string> found = Impl::checkStart(particles, impl_->def, source, deepOverlaps);
     impl_->backend->setParticles(particles);
@@ -277,11 +332,8 @@ Snapshot World::snapshot() const {
 void World::restore(const Snapshot& snapshot, const std::string& source) {
     const WorldDef restored = restoredDef(impl_->def, snapshot, source);
     requireDiskCount(source, snapshot.disks.size());
-    if (!std::isfinite(snapshot.time) || snapshot.time < 0) {
-        std::string time;
-        appendNumber(time, snapshot.time);
-        throw Error(source + ": time " + time + " must be a finite number >= 0");
-    }
+    if (const std::string problem = snapshotCountsProblem(snapshot); !problem.empty())
+        throw Error(source + ": " + problem);
     if (const std::string problem = eventStatePlaceProblem(snapshot); !problem.empty())
         throw Error(source + ": " + problem);
     std::vector<Particle> particles = particlesOf(snapshot.disks.data(), snapshot.disks.size());
@@ -298,6 +350,7 @@ void World::restore(const Snapshot& snapshot, const std::string& source) {
             throw Error(source + ": " + e.what());
         }
         spare->readParticles(particles);  // the float rounding of the exact state, as a step reads it
+        spare->setStopCheck(impl_->stopCheck);
         impl_->backend = std::move(spare);
     } else {
         impl_->backend->setMotion(restored.dt, restored.gravity);
@@ -313,27 +366,31 @@ void World::setDisk(std::size_t id, const Disk& disk) {
                     (diskCount() > 0 ? std::to_string(diskCount() - 1) + " (diskCount() - 1)" : "none (no disks yet)"));
     std::vector<Particle> edited = impl_->current();
     edited[id] = particleOf(disk);
-    impl_->edit(std::move(edited));
+    impl_->edit(std::move(edited), id, id + 1, "setDisk");
 }
 
 void World::editDisks(const Disk* disks, std::size_t count) {
+    requireArray("editDisks", "disks", disks, count, "disks");
     if (count != diskCount())
         throw Error("editDisks: " + std::to_string(count) + " disks; allowed: " + std::to_string(diskCount()) +
                     " (diskCount(): an edit keeps the number of disks)");
-    impl_->edit(particlesOf(disks, count));
+    impl_->edit(particlesOf(disks, count), 0, count, "editDisks");
 }
 
 void World::addDisks(const Disk* disks, std::size_t count) {
+    requireArray("addDisks", "disks", disks, count, "disks");
     if (diskCount() == 0) return setDisks(disks, count);
     std::vector<Particle> edited = impl_->current();
     if (count > kMaxParticles - edited.size())
         throw Error("addDisks: " + std::to_string(edited.size()) + " + " + std::to_string(count) +
                     " disks; allowed: at most " + std::to_string(kMaxParticles) + " (kMaxParticles)");
+    const std::size_t first = edited.size();
     for (std::size_t i = 0; i < count; ++i) edited.push_back(particleOf(disks[i]));
-    impl_->edit(std::move(edited));
+    impl_->edit(std::move(edited), first, first + count, "addDisks");
 }
 
 void World::getDisks(Disk* out, std::size_t capacity) const {
+    requireArray("getDisks", "out", out, capacity, "disks");
     const std::vector<Particle>& state = impl_->current();
     if (capacity < state.size())
         throw Error("getDisks: room for " + std::to_string(capacity) + " disks; the world has " +
@@ -344,6 +401,7 @@ void World::getDisks(Disk* out, std::size_t capacity) const {
 std::vector<Disk> World::disks() const { return disksOf(impl_->current()); }
 
 ViewSums World::readView(ViewValue value, DiskView* out, std::size_t capacity) const {
+    requireArray("readView", "out", out, capacity, "views");
     const std::size_t n = diskCount();
     if (capacity < n)
         throw Error("readView: room for " + std::to_string(capacity) + " views is less than diskCount() " +
@@ -376,6 +434,10 @@ DiskMemory World::diskMemory() const {
 
 void World::step(std::uint64_t steps) {
     if (diskCount() == 0) throw Error("step: the world has no disks yet; call setDisks first");
+    if (steps > std::numeric_limits<std::uint64_t>::max() - impl_->step)
+        throw Error("step: " + std::to_string(steps) + " steps from step " + std::to_string(impl_->step) +
+                    " would take the step count past 2^64 - 1; allowed: at most " +
+                    std::to_string(std::numeric_limits<std::uint64_t>::max() - impl_->step));
     impl_->stateCurrent = false;
     try {
         impl_->backend->step(steps);
@@ -385,6 +447,11 @@ void World::step(std::uint64_t steps) {
         throw;
     }
     impl_->step = impl_->backend->stepNumber();
+}
+
+void World::setStopCheck(std::function<bool()> check) {
+    impl_->stopCheck = std::move(check);
+    impl_->backend->setStopCheck(impl_->stopCheck);
 }
 
 std::uint64_t World::stepCount() const { return impl_->step; }

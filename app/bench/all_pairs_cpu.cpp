@@ -11,7 +11,7 @@ AllPairsCpuBackend::AllPairsCpuBackend(const WorldDef& world) : CpuBackend(world
         throw Error("the all-pairs baseline runs the simultaneous scheme only");
 }
 
-void AllPairsCpuBackend::advance(std::uint64_t substeps, float dt) {
+std::uint64_t AllPairsCpuBackend::advance(std::uint64_t substeps, float dt) {
     const auto count = static_cast<std::int64_t>(state_->size());
     const WorldDef& w = world_;
     const CaromBox box = caromBoxOf(w);
@@ -31,6 +31,7 @@ void AllPairsCpuBackend::advance(std::uint64_t substeps, float dt) {
         }
         std::swap(state_, next_);
     }
+    return substeps;
 }
 
 }  // namespace carom::bench

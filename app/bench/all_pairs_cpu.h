@@ -16,7 +16,7 @@ public:
     std::string device() const override { return CpuBackend::device() + ", all pairs"; }
 
 private:
-    void advance(std::uint64_t substeps, float dt) override;
+    std::uint64_t advance(std::uint64_t substeps, float dt) override;
 };
 
 }  // namespace carom::bench

@@ -355,6 +355,7 @@ World Viewer::makeWorld(WorldDef def, const std::vector<Disk>& disks, const std:
     def.gravity = gravityOn_ ? gravity_ : carom::Vec2{0, 0};
     def.collisions = collisions_;
     World world(app::withEngine(def, options_.scene));
+    world.setStopCheck(&app::StopSignals::received);  // a frame's steps may take long
     world.setDisks(disks, source);
     for (const std::string& warning : world.warnings()) std::cerr << "carom: warning: " << warning << '\n';
     return world;
@@ -622,10 +623,12 @@ void Viewer::advance(int ticks) {
     stepOnce_ = false;
     if (steps > 0) {
         const auto start = Clock::now();
+        const std::uint64_t before = world_->stepCount();
         try {
             world_->step(steps);
-            simMsPerStep_ = secondsSince(start) * 1e3 / steps;
-            driftTime_ += double(steps) * dt_;
+            const std::uint64_t taken = world_->stepCount() - before;  // fewer after a stop signal
+            if (taken > 0) simMsPerStep_ = secondsSince(start) * 1e3 / double(taken);
+            driftTime_ += double(taken) * dt_;
         } catch (const Error& e) {
             if (headless_) throw;
             // A blow-up (the simultaneous scheme under strong gravity, too

@@ -63,7 +63,7 @@ void OpenClBackend::load(std::vector<Particle> particles) {
     check(clEnqueueWriteBuffer(queue_.get(), firstNonFinite_.get(), CL_TRUE, 0, sizeof(kNoneNonFinite), kNoneNonFinite,
                                0, nullptr, nullptr),
           "clEnqueueWriteBuffer(first non-finite step and particle)");
-    substep_ = nonFiniteBase_ = 0;
+    substep_ = nonFiniteBase_ = substepsTaken();  // 0 but where a step returns to its start
     loadState(std::move(particles));
     finish();
     if (profiler_) profiler_->clear();  // the profile covers steps only
@@ -92,13 +92,40 @@ void OpenClBackend::checkNonFinite() {
 // Stops at the first wait that finds a disk non-finite: after every step in
 // the pipelines that wait each step, every kStepsPerSync steps in the others
 // (whose steps until then stay as cheap, carom_count_into_cell).
-void OpenClBackend::advance(std::uint64_t steps, float dt) {
+// A stop is looked for at those waits, where the host is not ahead of the device.
+std::uint64_t OpenClBackend::advance(std::uint64_t steps, float dt) {
     const bool waits = waitsEachStep();
-    for (std::uint64_t s = 0; s < steps && !nonFinite();) {
+    std::uint64_t s = 0;
+    while (s < steps && !nonFinite()) {
         s += enqueueSteps(std::min(steps - s, waits ? 1 : kStepsPerSync - s % kStepsPerSync), dt);
-        if (!waits && s % kStepsPerSync == 0) finish();
+        if (waits || s % kStepsPerSync == 0) {
+            if (!waits) finish();
+            if (s < steps && stopHere()) break;
+        }
     }
     if (!waits) finish();
+    return s;
+}
+
+void OpenClBackend::keepStepStart() {
+    readParticles(stepStart_);
+    stepStartTallies_ = readTallies();
+}
+
+void OpenClBackend::returnToStepStart() {
+    load(stepStart_);
+    check(
+        clEnqueueWriteBuffer(queue_.get(), tallies_.get(), CL_TRUE, 0, stepStartTallies_.size() * sizeof(ContactTally),
+                             stepStartTallies_.data(), 0, nullptr, nullptr),
+        "clEnqueueWriteBuffer(contact tallies)");
+}
+
+std::vector<ContactTally> OpenClBackend::readTallies() {
+    std::vector<ContactTally> tallies(particleCount_);
+    check(clEnqueueReadBuffer(queue_.get(), tallies_.get(), CL_TRUE, 0, tallies.size() * sizeof(ContactTally),
+                              tallies.data(), 0, nullptr, nullptr),
+          "clEnqueueReadBuffer(contact tallies)");
+    return tallies;
 }
 
 void OpenClBackend::awaitSteps() { finish(); }
@@ -118,10 +145,7 @@ std::optional<ViewSums> OpenClBackend::readView(ViewValue value, DiskView* out) 
 float OpenClBackend::maxSpeedSquared() { return views_.maxSpeedSquared(queue_.get(), state_.get(), particleCount_); }
 
 void OpenClBackend::drainTallies(ContactTotals& totals) {
-    std::vector<ContactTally> tallies(particleCount_);
-    check(clEnqueueReadBuffer(queue_.get(), tallies_.get(), CL_TRUE, 0, tallies.size() * sizeof(ContactTally),
-                              tallies.data(), 0, nullptr, nullptr),
-          "clEnqueueReadBuffer(contact tallies)");
+    std::vector<ContactTally> tallies = readTallies();
     drainTallyArray(tallies.data(), tallies.size(), totals);
     enqueueZero(queue_.get(), tallies_.get(), tallies.size() * sizeof(ContactTally), "contact tallies");
 }

@@ -121,13 +121,20 @@ protected:
 
 private:
     void load(std::vector<Particle> particles) final;
-    void advance(std::uint64_t substeps, float dt) final;
+    std::uint64_t advance(std::uint64_t substeps, float dt) final;
     void drainTallies(ContactTotals& totals) final;
+    // On the host: a stop is rare, and a load (the pipeline's buffers
+    // afresh) is the one way back every pipeline has.
+    void keepStepStart() final;
+    void returnToStepStart() final;
+    std::vector<ContactTally> readTallies();
     void awaitSteps() final;
 
     opencl::DeviceViews views_;
-    std::uint64_t substep_ = 0;        // substeps enqueued since load
+    std::uint64_t substep_ = 0;        // substeps enqueued since setParticles
     std::uint64_t nonFiniteBase_ = 0;  // the substep that step index 0 means
+    std::vector<Particle> stepStart_;  // keepStepStart's copies
+    std::vector<ContactTally> stepStartTallies_;
 };
 
 }  // namespace carom

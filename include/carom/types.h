@@ -382,8 +382,9 @@ struct Snapshot {
     /// not hold: read from one, they are the defaults).
     WorldDef world;
     std::uint64_t step = 0;        ///< steps taken since the scene began (World::stepCount())
-    double time = 0.0;             ///< simulated time [time], finite and >= 0 (World::time())
-    std::uint64_t collisions = 0;  ///< pairs that received an impulse since the scene began (World::collisionCount())
+    double time = 0.0;             ///< simulated time [time] (World::time()): what `step` steps of dt add up to
+    std::uint64_t collisions = 0;  ///< pairs that received an impulse since the scene began
+                                   ///<   (World::collisionCount()), at most 2^63
     std::vector<Disk> disks;       ///< in id order, at least 1; with the events scheme the float rounding of `events`
     /// The event-driven engine's exact state: present exactly when
     /// world.collisions is CollisionScheme::Events, with a state per disk.

@@ -16,6 +16,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -145,7 +146,7 @@ public:
     World& operator=(World&&) noexcept;
 
     /// Replaces every disk. Disk i gets id i. Throws Error, and keeps the
-    /// disks it had, when a disk is out of range or outside the box, two
+    /// disks it had, when `disks` is null, a disk is out of range or outside the box, two
     /// centres coincide, the step is out of range for their speeds, or (with
     /// DeepOverlaps::Refuse) two disks overlap deeper than a step closes.
     /// Resets the step count, the time and the measurements. `source` names
@@ -176,9 +177,11 @@ public:
     /// bitwiseReproducible() (maxTravel as that world's). Throws Error,
     /// leaving the world as it was, for a snapshot of another box, boundary
     /// or scheme, dt or gravity out of range, a disk setDisks refuses, a time
-    /// that is not finite and >= 0, or an events state that does not fit the
-    /// disks (present exactly with the events scheme; every value, event,
-    /// partner and cell checked); `source` names the snapshot in messages
+    /// that `step` steps of a dt in [kMinDt, kMaxDt] cannot add up to (0 at
+    /// step 0), more than 2^63 collisions, or an events state that does not
+    /// fit the disks (present exactly with the events scheme; every value,
+    /// event, partner and cell checked, and no two centres equal); `source`
+    /// names the snapshot in messages
     /// (a file it came from).
     void restore(const Snapshot& snapshot, const std::string& source = "snapshot");
 
@@ -187,21 +190,24 @@ public:
     /// count and collisionCount() go on; the measurements' interval restarts.
     /// The disks are checked for range and for lying inside the box, not for
     /// overlaps (the next steps push overlapping disks apart). Throws Error,
-    /// keeping the disks as they were, for an id out of range or a bad disk.
+    /// keeping the disks as they were, for an id out of range, a bad disk or
+    /// a null `disks`.
     void setDisk(std::size_t id, const Disk& disk);
     void addDisks(const Disk* disks, std::size_t count);
     /// Replaces every disk at once, as setDisk does one: `count` must be diskCount().
     void editDisks(const Disk* disks, std::size_t count);
 
     /// Copies the disks, in id order, into `out`, which has room for
-    /// `capacity`; throws Error when that is less than diskCount().
+    /// `capacity`; throws Error when that is less than diskCount(), or `out`
+    /// is null with a capacity.
     void getDisks(Disk* out, std::size_t capacity) const;
     std::vector<Disk> disks() const;
     std::size_t diskCount() const;
     /// What a renderer needs of every disk, in the order the engine keeps them
     /// (not by id: no reordering, and on a GPU only these 16 bytes a disk are
     /// read back), into `out`, which has room for `capacity`; returns the
-    /// readouts' sums. Throws Error when capacity is less than diskCount().
+    /// readouts' sums. Throws Error when capacity is less than diskCount(),
+    /// or `out` is null with a capacity.
     ViewSums readView(ViewValue value, DiskView* out, std::size_t capacity) const;
     /// The CPU engine's own disks, without a copy (DiskMemory above), with the
     /// pairwise and simultaneous schemes; empty (base null) on the OpenCL
@@ -209,12 +215,25 @@ public:
     /// Read it between calls to the world, not during one.
     DiskMemory diskMemory() const;
 
-    /// Advances by `steps` steps of dt. Throws Error when a step would need
+    /// Advances by `steps` steps of dt. Throws Error, taking none, when
+    /// stepCount() + steps would pass 2^64 - 1; and when a step would need
     /// more than kMaxSubsteps substeps, or leaves a disk non-finite (the
     /// message names the step and the disk); the world then holds the step it
     /// reached (stepCount()), and after a non-finite step refuses to step
     /// further until setDisks.
     void step(std::uint64_t steps = 1);
+    /// Lets step() stop early: while it runs, step() calls `check` on its
+    /// own thread about every 20 ms, between two steps and within a long
+    /// step: between events with CollisionScheme::Events (the first step of
+    /// a call, and each after a step of at least one event per disk), and
+    /// between substeps in a step of at least 8 substeps. When `check`
+    /// returns true, step() returns at once, and the world holds the last
+    /// step it completed (stepCount()): a step cut short returns to its
+    /// start, so the disks, time(), the collision count and the
+    /// measurements are that step's, and stepping on (or a snapshot()) gives
+    /// bit for bit what an uninterrupted call gives. `check` may be empty
+    /// (the default): steps are then never stopped.
+    void setStopCheck(std::function<bool()> check);
 
     /// The step the state holds: steps taken since setDisks, or since the
     /// scene a snapshot continues (restore; carom/io.h loadCheckpoint).

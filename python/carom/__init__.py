@@ -87,7 +87,9 @@ def read_state(path: Union[str, os.PathLike]) -> Scene:
 
 def write_state(path: Union[str, os.PathLike], world: World) -> None:
     """The world's disks as a state CSV (`carom run --state` reads it), bit for bit; written whole or not at all."""
-    _carom.write_state(_path("path", path), _world_of(world)._core)
+    core = _world_of(world)._core
+    with core.lock:
+        _carom.write_state(_path("path", path), core.core)
 
 
 def write_xyz(path: Union[str, os.PathLike], world: World, mode: str = "w") -> None:
@@ -97,7 +99,9 @@ def write_xyz(path: Union[str, os.PathLike], world: World, mode: str = "w") -> N
     same disk count. The file is replaced whole or not at all, so each call
     copies it: for long trajectories GSDWriter, which appends, is faster."""
     _choice("mode", mode, ("w", "a"))
-    _carom.write_xyz(_path("path", path), _world_of(world)._core, mode == "a")
+    core = _world_of(world)._core
+    with core.lock:
+        _carom.write_xyz(_path("path", path), core.core, mode == "a")
 
 
 def _world_of(world) -> World:

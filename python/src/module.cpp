@@ -96,19 +96,27 @@ nb::tuple diskArrays(const World& world) {
     return arraysOver(base, count, stride, std::move(memory.owner));
 }
 
-// Steps in chunks of about a tenth of a second, so that Ctrl-C stops a long
-// call between two steps (the world holds the last step it took).
-void stepInterruptibly(World& world, std::uint64_t steps) {
-    using Clock = std::chrono::steady_clock;
-    std::uint64_t chunk = 1;
-    while (steps > 0) {
-        const std::uint64_t n = std::min(chunk, steps);
-        const Clock::time_point start = Clock::now();
-        world.step(n);
-        steps -= n;
-        if (PyErr_CheckSignals() != 0) throw nb::python_error();
-        if (Clock::now() - start < std::chrono::milliseconds(50) && chunk < (std::uint64_t(1) << 40)) chunk *= 2;
+// Steps with the GIL released, so that other threads run meanwhile (the
+// package's World takes a lock per world around every call, so that none
+// reads or changes it mid-step). The world's stop check takes the GIL back
+// about every 20 ms to run Python's signal handlers: Ctrl-C stops the call
+// even within a step, the world holding the last step it completed.
+void stepReleasingTheGil(World& world, std::uint64_t steps) {
+    bool interrupted = false;
+    struct StopCheck {
+        World& world;
+        ~StopCheck() { world.setStopCheck({}); }
+    } clear{world};
+    world.setStopCheck([&interrupted] {
+        nb::gil_scoped_acquire python;
+        interrupted = PyErr_CheckSignals() != 0;
+        return interrupted;
+    });
+    {
+        nb::gil_scoped_release released;
+        world.step(steps);
     }
+    if (interrupted) throw nb::python_error();
 }
 
 nb::dict dictOf(const carom::Measurements& m) {
@@ -346,7 +354,7 @@ NB_MODULE(_carom, m) {
                 w.setDisks(carom::makeScene(file).disks, "World.place");
             },
             "count"_a, "radius"_a, "mass"_a, "speed"_a, "temperature"_a, "seed"_a)
-        .def("step", &stepInterruptibly, "steps"_a)
+        .def("step", &stepReleasingTheGil, "steps"_a)
         // bench/python_overhead.py: the same steps through the C++ API alone, timed in C++.
         .def(
             "_cpp_step_seconds",
