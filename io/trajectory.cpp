@@ -25,7 +25,9 @@ void appendFrameCell(std::string& out, const std::vector<Disk>& disks, const Wor
     appendNumber(out, 2.0f * maxRadius);
     out += "\" Origin=\"0 0 ";
     appendNumber(out, -maxRadius);
-    out += "\" pbc=\"F F F\" Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1:id:I:1";
+    // A periodic box repeats in x and y; the slab's depth never does.
+    out += world.boundary == Boundary::Periodic ? "\" pbc=\"T T F\"" : "\" pbc=\"F F F\"";
+    out += " Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1:id:I:1";
 }
 
 [[noreturn]] void anotherSimulation(const std::string& path, const std::string& what) {

@@ -44,6 +44,22 @@ CAROM_BACKEND_TEST_CASE("periodic: a disk leaving one side enters the opposite o
     CHECK(after[0].velocity.y == 1.0f);
 }
 
+CAROM_BACKEND_TEST_CASE("periodic: images count the box lengths crossed, so positions unwrap onto the line") {
+    // (5, 5) moving at (7, -3) for 10 time units: at (75, -25), 3 widths right and 3 heights down.
+    for (const CollisionScheme scheme : {CollisionScheme::Simultaneous, CollisionScheme::Pairwise}) {
+        CAPTURE(collisionSchemeName(scheme));
+        WorldDef world = periodicBox(20, 10, 0.01f);
+        world.collisions = scheme;
+        const Run r = run(def, world, {disk(5, 5, 7, -3, 1, 0.5f)}, 1000);
+        REQUIRE(r.images.size() == 1);
+        CHECK(r.images[0] == Image{3, -3});
+        CHECK(r.particles[0].position.x + 20.0 * r.images[0][0] == doctest::Approx(75).epsilon(1e-4));
+        CHECK(r.particles[0].position.y + 10.0 * r.images[0][1] == doctest::Approx(-25).epsilon(1e-4));
+        world.boundary = Boundary::Walls;  // walls reflect: no images
+        CHECK(run(def, world, {disk(5, 5, 7, -3, 1, 0.5f)}, 1000).images[0] == Image{0, 0});
+    }
+}
+
 CAROM_BACKEND_TEST_CASE("periodic: disks collide with the nearest image across the edge") {
     // 3 apart across x = 0, closing at speed 2: they touch after 0.5.
     const Run r = run(def, periodicBox(20, 20, 0.001f), {disk(1.5f, 10, -1, 0), disk(18.5f, 10, 1, 0)}, 1000);

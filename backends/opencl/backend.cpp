@@ -128,7 +128,7 @@ void OpenClBackend::drainTallies(ContactTotals& totals) {
     check(clEnqueueReadBuffer(queue_.get(), tallies_.get(), CL_TRUE, 0, tallies.size() * sizeof(ContactTally),
                               tallies.data(), 0, nullptr, nullptr),
           "clEnqueueReadBuffer(contact tallies)");
-    drainTallyArray(tallies.data(), tallies.size(), totals);
+    drainTallyArray(tallies.data(), tallies.size(), totals, images_.data());
     enqueueZero(queue_.get(), tallies_.get(), tallies.size() * sizeof(ContactTally), "contact tallies");
 }
 
