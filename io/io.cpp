@@ -112,7 +112,7 @@ TrajectoryWriter& TrajectoryWriter::operator=(TrajectoryWriter&&) noexcept = def
 void TrajectoryWriter::write(const World& world) {
     impl_->disks.resize(world.diskCount());
     world.getDisks(impl_->disks.data(), impl_->disks.size());
-    impl_->file.write(impl_->disks, world.def(), world.stepCount(), world.time());
+    impl_->file.write(impl_->disks, world.def(), world.stepCount(), world.time(), world.images());
 }
 std::size_t TrajectoryWriter::frames() const { return impl_->file.frames(); }
 void TrajectoryWriter::close() { impl_->file.commit(); }

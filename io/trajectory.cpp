@@ -25,9 +25,10 @@ void appendFrameCell(std::string& out, const std::vector<Disk>& disks, const Wor
     appendNumber(out, 2.0f * maxRadius);
     out += "\" Origin=\"0 0 ";
     appendNumber(out, -maxRadius);
-    // A periodic box repeats in x and y; the slab's depth never does.
-    out += world.boundary == Boundary::Periodic ? "\" pbc=\"T T F\"" : "\" pbc=\"F F F\"";
-    out += " Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1:id:I:1";
+    // A periodic box repeats in x and y, and its disks have images; the slab's depth never does.
+    out += world.boundary == Boundary::Periodic ? "\" pbc=\"T T F\" Properties=species:S:1:pos:R:3:velo:R:3:image:I:3"
+                                                : "\" pbc=\"F F F\" Properties=species:S:1:pos:R:3:velo:R:3";
+    out += ":radius:R:1:mass:R:1:id:I:1";
 }
 
 [[noreturn]] void anotherSimulation(const std::string& path, const std::string& what) {
@@ -109,7 +110,9 @@ io::Existing continuation(const std::string& path, const Resumed* resumed) {
 TrajectoryWriter::TrajectoryWriter(const std::string& path, const Resumed* resumed)
     : file_(path, continuation(path, resumed)) {}
 
-void TrajectoryWriter::write(const std::vector<Disk>& disks, const WorldDef& world, std::uint64_t step, double time) {
+void TrajectoryWriter::write(const std::vector<Disk>& disks, const WorldDef& world, std::uint64_t step, double time,
+                             const std::vector<Image>& images) {
+    const bool periodic = world.boundary == Boundary::Periodic;
     std::string& out = frame_;
     out.clear();
     appendFrameCell(out, disks, world);
@@ -129,6 +132,13 @@ void TrajectoryWriter::write(const std::vector<Disk>& disks, const WorldDef& wor
         out += ' ';
         appendNumber(out, d.velocity.y);
         out += " 0 ";
+        if (periodic) {
+            const Image image = images.empty() ? Image{0, 0} : images[i];
+            appendNumber(out, image[0]);
+            out += ' ';
+            appendNumber(out, image[1]);
+            out += " 0 ";
+        }
         appendNumber(out, d.radius);
         out += ' ';
         appendNumber(out, d.mass);

@@ -91,12 +91,19 @@ def test_periodic_trajectory_reads_in_ase():
 
     d = work("ase_periodic")
     xyz = os.path.join(d, "t.xyz")
-    carom("run", "--backend", "cpu", *SCENE, "--boundary", "periodic", "--steps", 20, "--every", 10,
+    carom("run", "--backend", "cpu", *SCENE, "--boundary", "periodic", "--steps", 2000, "--every", 100,
           "--dt", 0.01, "--trajectory", xyz)
     frames = read(xyz, index=":", format="extxyz")
-    assert len(frames) == 3, len(frames)
+    assert len(frames) == 21, len(frames)
     for atoms in frames:
         assert list(atoms.pbc) == [True, True, False], atoms.pbc  # the box repeats in x and y only
+        assert atoms.arrays["image"].shape == (40, 3) and (atoms.arrays["image"][:, 2] == 0).all()
+        assert list(atoms.arrays["id"]) == list(range(40))
+    # The images unwrap the positions: no disk moves half a box between frames (1 time unit at speed ~2).
+    unwrapped = [atoms.positions[:, :2] + 30 * atoms.arrays["image"][:, :2] for atoms in frames]
+    for before, after in zip(unwrapped, unwrapped[1:]):
+        assert (abs(after - before) < 15).all()
+    assert (frames[-1].arrays["image"] != 0).any()  # 40 time units at speed ~2 in a box 30 wide
 
 
 def test_stats_csv():

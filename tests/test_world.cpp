@@ -407,6 +407,21 @@ TEST_CASE("io: a state written and read back is bit for bit the same") {
     CHECK(std::memcmp(back.data(), scene.disks.data(), back.size() * sizeof(Disk)) == 0);
 }
 
+TEST_CASE("io: writeState refuses what readState would not read back, and writes nothing") {
+    const std::string path = (std::filesystem::temp_directory_path() / "carom_refused_state.csv").string();
+    std::remove(path.c_str());
+    CHECK_THROWS_WITH_AS(io::writeState(path, {}),
+                         doctest::Contains("0 disks; allowed: at least 1 (a state file holds a world's disks)"), Error);
+    std::vector<Disk> disks = gas(20, 0.3f).disks;
+    disks[7].velocity.y = NAN;
+    CHECK_THROWS_WITH_AS(io::writeState(path, disks), doctest::Contains("disk 7's vy is nan; allowed: finite numbers"),
+                         Error);
+    disks[7].velocity.y = 0;
+    disks[3].mass = -INFINITY;
+    CHECK_THROWS_WITH_AS(io::writeState(path, disks), doctest::Contains("disk 3's mass is -inf"), Error);
+    CHECK_FALSE(std::filesystem::exists(path));
+}
+
 TEST_CASE("io: a world resumed from its checkpoint continues bit for bit, events included") {
     const Scene scene = gas(400, 0.4f);
     const std::string path = (std::filesystem::temp_directory_path() / "carom_world.ckpt").string();

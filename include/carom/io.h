@@ -49,6 +49,8 @@ SceneFile loadScene(const SceneFileDef& scene);
 
 /// A state CSV: the disks, in id order. The file's ids must be exactly
 /// 0..N-1, in any row order; the box is not checked here (World::setDisks does).
+/// writeState throws Error, writing nothing, for no disks or a value that is
+/// not finite: it writes only what readState reads back.
 std::vector<Disk> readState(const std::string& path);
 void writeState(const std::string& path, const std::vector<Disk>& disks);
 
