@@ -48,16 +48,16 @@ void requireSameSimulation(const std::string& path, std::streamoff offset, std::
     std::string line;
     std::getline(in, line);
     if (line.compare(0, expected.size() + 6, expected + " step=") != 0)
-        anotherSimulation(path, "has another cell or other columns than the checkpoint's box and boundary ('" +
-                                    io::printable(line.substr(0, line.find(" pbc="))) + "', the checkpoint's '" +
+        anotherSimulation(path, "has another cell or other columns than " + resumed.name + "'s box and boundary ('" +
+                                    io::printable(line.substr(0, line.find(" pbc="))) + "', " + resumed.name + "'s '" +
                                     io::printable(expected.substr(0, expected.find(" pbc="))) + "')");
     if (step == resumed.step) {
         std::string time;
         appendNumber(time, resumed.time);
         const std::size_t at = line.find(" time=");
         if (at == std::string::npos || line.compare(at + 6, std::string::npos, time) != 0)
-            anotherSimulation(path,
-                              "is at the checkpoint's step " + std::to_string(step) + " but not at its time " + time);
+            anotherSimulation(
+                path, "is at " + resumed.name + "'s step " + std::to_string(step) + " but not at its time " + time);
     }
     std::string disk;
     for (std::size_t i = 0; i < resumed.disks.size(); ++i) {
@@ -71,8 +71,8 @@ void requireSameSimulation(const std::string& path, std::streamoff offset, std::
         if (!std::getline(in, line) || line.size() < tail.size() ||
             line.compare(line.size() - tail.size(), tail.size(), tail) != 0)
             anotherSimulation(path, "has disk " + std::to_string(i) + " as '" + io::printable(line) +
-                                        "', not ending in the checkpoint's radius, mass and id '" + tail.substr(1) +
-                                        "'");
+                                        "', not ending in " + resumed.name + "'s radius, mass and id '" +
+                                        tail.substr(1) + "'");
     }
 }
 
@@ -94,7 +94,7 @@ io::Existing continuation(const std::string& path, const Resumed* resumed) {
             break;
         std::string count;
         if (lines.previous(count) && count != std::to_string(particles))
-            refuseToAppend(path, "its last frame has " + io::printable(count) + " disks, the checkpoint " +
+            refuseToAppend(path, "its last frame has " + io::printable(count) + " disks, " + resumed->name + " " +
                                      std::to_string(particles) + ", so it is another simulation's trajectory");
         if (read != particles)
             anotherSimulation(path, "has " + std::to_string(read) + " disk lines, not " + std::to_string(particles));

@@ -113,7 +113,10 @@ public:
     /// (at that step) another time. With `every` > 0, the steps between the
     /// samples, it refuses a file whose last frame is before the last
     /// multiple of `every` up to that step, too: samples would be missing.
-    TrajectoryWriter(const std::string& path, const World& resumed, std::uint64_t every = 0);
+    /// Refusals call `resumed` `resumedName` ("its last frame is at step 20,
+    /// after the world's step 10"): "the checkpoint" where it came from one.
+    TrajectoryWriter(const std::string& path, const World& resumed, std::uint64_t every = 0,
+                     const std::string& resumedName = "the world");
     ~TrajectoryWriter();
     TrajectoryWriter(TrajectoryWriter&&) noexcept;
     TrajectoryWriter& operator=(TrajectoryWriter&&) noexcept;
@@ -137,7 +140,8 @@ public:
     /// refusing a file as TrajectoryWriter does (its last row after that step,
     /// or before its last sample; more collisions than `resumed` counts, or
     /// at its step another time or count).
-    StatisticsWriter(const std::string& path, const World& resumed, std::uint64_t every = 0);
+    StatisticsWriter(const std::string& path, const World& resumed, std::uint64_t every = 0,
+                     const std::string& resumedName = "the world");
     ~StatisticsWriter();
     StatisticsWriter(StatisticsWriter&&) noexcept;
     StatisticsWriter& operator=(StatisticsWriter&&) noexcept;
