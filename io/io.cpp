@@ -112,6 +112,8 @@ TrajectoryWriter::TrajectoryWriter(TrajectoryWriter&&) noexcept = default;
 TrajectoryWriter& TrajectoryWriter::operator=(TrajectoryWriter&&) noexcept = default;
 
 void TrajectoryWriter::write(const World& world) {
+    // A frame of no disks has no cell depth, and no run continues from it.
+    if (world.diskCount() == 0) throw Error("TrajectoryWriter::write: the world has no disks yet");
     impl_->disks.resize(world.diskCount());
     world.getDisks(impl_->disks.data(), impl_->disks.size());
     impl_->file.write(impl_->disks, world.def(), world.stepCount(), world.time(), world.images());

@@ -407,7 +407,7 @@ TEST_CASE("io: a state written and read back is bit for bit the same") {
     CHECK(std::memcmp(back.data(), scene.disks.data(), back.size() * sizeof(Disk)) == 0);
 }
 
-TEST_CASE("io: writeState refuses what readState would not read back, and writes nothing") {
+TEST_CASE("io: writeState and TrajectoryWriter refuse what would not read back, and write nothing") {
     const std::string path = (std::filesystem::temp_directory_path() / "carom_refused_state.csv").string();
     std::remove(path.c_str());
     CHECK_THROWS_WITH_AS(io::writeState(path, {}),
@@ -420,6 +420,10 @@ TEST_CASE("io: writeState refuses what readState would not read back, and writes
     disks[3].mass = -INFINITY;
     CHECK_THROWS_WITH_AS(io::writeState(path, disks), doctest::Contains("disk 3's mass is -inf"), Error);
     CHECK_FALSE(std::filesystem::exists(path));
+    // Nor a trajectory frame of no disks.
+    const World empty(box(10, 10));
+    io::TrajectoryWriter trajectory(path);
+    CHECK_THROWS_WITH_AS(trajectory.write(empty), "TrajectoryWriter::write: the world has no disks yet", Error);
 }
 
 TEST_CASE("io: a world resumed from its checkpoint continues bit for bit, events included") {

@@ -102,7 +102,7 @@ World loadCheckpoint(CheckpointFile checkpoint, const WorldDef& def = WorldDef{}
 /// time(). The frames stream into a temporary file beside `path`, renamed
 /// into place by close(); a writer destroyed without close() leaves `path`
 /// as it was. Throws Error, naming the file, when it cannot be opened or a
-/// write fails (a full disk).
+/// write fails (a full disk), and for a world without disks.
 class TrajectoryWriter {
 public:
     explicit TrajectoryWriter(const std::string& path);

@@ -295,6 +295,7 @@ REFUSALS = [
     (lambda: carom.World(box=np.ma.masked_array([10, 10], mask=[0, 1])), "box[1] is masked"),
     (lambda: carom.write_state("empty.csv", carom.World(box=(10, 10))),
      "state file 'empty.csv': 0 disks; allowed: at least 1"),
+    (lambda: carom.write_xyz("empty.xyz", carom.World(box=(10, 10))), "the world has no disks yet"),
 ]
 
 
