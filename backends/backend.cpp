@@ -199,7 +199,7 @@ void drainTallyArray(ContactTally* tallies, std::size_t count, ContactTotals& to
         totals.lateContacts += t.lateContacts;
         totals.virial += t.virial;
         for (int w = 0; w < 4; ++w) totals.wallImpulse[w] += t.wallImpulse[w];
-        for (int axis = 0; axis < 2; ++axis) images[i][axis] += t.image[axis];
+        for (int axis = 0; axis < 2; ++axis) addToImage(images[i][axis], t.image[axis]);
         t = ContactTally{};
     }
 }

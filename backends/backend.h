@@ -194,6 +194,13 @@ private:
     std::optional<NonFiniteState> nonFinite_;
 };
 
+// For implementations: adds `change` to an image count, modulo 2^32 (a
+// disk that crosses a box every step for hours wraps around, as it does
+// in the int32 of a GSD file, instead of overflowing).
+inline void addToImage(std::int32_t& count, std::int32_t change) {
+    count = static_cast<std::int32_t>(static_cast<std::uint32_t>(count) + static_cast<std::uint32_t>(change));
+}
+
 // For implementations: adds tallies[0..count) to `totals` in id order, in
 // double (the sum is the same whatever device produced the tallies), and
 // their wraps to images[0..count), and zeroes them.

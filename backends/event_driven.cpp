@@ -279,7 +279,9 @@ void EventDrivenBackend::restoreState(const EventEngineState& state) {
     // keeps the crossings' part of them.
     const std::vector<Image> shown = images();
     for (std::size_t i = 0; i < shown.size(); ++i)
-        for (int axis = 0; axis < 2; ++axis) images_[i][axis] -= shown[i][axis] - images_[i][axis];
+        for (int axis = 0; axis < 2; ++axis)  // images_ - (shown - images_), modulo 2^32 as every count
+            addToImage(images_[i][axis], static_cast<std::int32_t>(static_cast<std::uint32_t>(images_[i][axis]) -
+                                                                   static_cast<std::uint32_t>(shown[i][axis])));
 }
 
 void EventDrivenBackend::link(std::uint32_t i) {
@@ -470,7 +472,7 @@ void EventDrivenBackend::cross(std::uint32_t i, std::int32_t direction) {
             if (column == 0) {
                 column = columns_;
                 d.x += width_;  // periodic: it enters on the right
-                --images_[d.id][0];
+                addToImage(images_[d.id][0], -1);
             }
             --column;
             break;
@@ -478,14 +480,14 @@ void EventDrivenBackend::cross(std::uint32_t i, std::int32_t direction) {
             if (++column == columns_) {
                 column = 0;
                 d.x -= width_;
-                ++images_[d.id][0];
+                addToImage(images_[d.id][0], 1);
             }
             break;
         case kEventCrossDown:
             if (row == 0) {
                 row = rows_;
                 d.y += height_;
-                --images_[d.id][1];
+                addToImage(images_[d.id][1], -1);
             }
             --row;
             break;
@@ -493,7 +495,7 @@ void EventDrivenBackend::cross(std::uint32_t i, std::int32_t direction) {
             if (++row == rows_) {
                 row = 0;
                 d.y -= height_;
-                ++images_[d.id][1];
+                addToImage(images_[d.id][1], 1);
             }
             break;
     }
@@ -526,11 +528,11 @@ namespace {
 // box, before the crossing event wraps it: wrapped, the wrap added to `image`.
 double wrapped(double x, double side, std::int32_t& image) {
     if (x < 0) {
-        --image;
+        addToImage(image, -1);
         return x + side;
     }
     if (x >= side) {
-        ++image;
+        addToImage(image, 1);
         return x - side;
     }
     return x;
@@ -578,11 +580,11 @@ std::vector<Particle> EventDrivenBackend::roundedParticles(const std::vector<Exa
         if (periodic_) {  // a coordinate a hair below the side rounds up to it, which is 0 in the next image
             if (!(p.position.x < width)) {
                 p.position.x = 0.0f;
-                if (images) ++(*images)[i][0];
+                if (images) addToImage((*images)[i][0], 1);
             }
             if (!(p.position.y < height)) {
                 p.position.y = 0.0f;
-                if (images) ++(*images)[i][1];
+                if (images) addToImage((*images)[i][1], 1);
             }
         } else {  // within the bounds validateParticles reads back (a resting disk may sink a hair)
             p.position.x = std::clamp(p.position.x, p.radius, width - p.radius);

@@ -48,7 +48,8 @@ struct Disk {
 /// has crossed since it was set, +1 each time it left by the right (top)
 /// side and came back in on the left (bottom), -1 the other way; always
 /// {0, 0} with walls. position + image * (width, height) is its unwrapped
-/// centre, for displacements longer than the box.
+/// centre, for displacements longer than the box. Counted modulo 2^32, as
+/// the int32 images of GSD files are.
 using Image = std::array<std::int32_t, 2>;
 
 /// What a renderer draws of one disk (World::readView): 16 bytes, so that a
