@@ -160,10 +160,11 @@ public:
     Outputs(const Start& start, const World& world)
         : def_(start.outputs), resumed_(start.resumed), maxTravel_(start.world.maxTravel) {
         if (!def_.trajectory.empty())
-            trajectory_ = resumed_ ? io::TrajectoryWriter(def_.trajectory, world, def_.every)
+            trajectory_ = resumed_ ? io::TrajectoryWriter(def_.trajectory, world, def_.every, "the checkpoint")
                                    : io::TrajectoryWriter(def_.trajectory);
         if (!def_.stats.empty())
-            stats_ = resumed_ ? io::StatisticsWriter(def_.stats, world, def_.every) : io::StatisticsWriter(def_.stats);
+            stats_ = resumed_ ? io::StatisticsWriter(def_.stats, world, def_.every, "the checkpoint")
+                              : io::StatisticsWriter(def_.stats);
     }
 
     // Writes the checkpoint, a frame and a row at `step`. An output whose

@@ -22,8 +22,12 @@ constexpr std::uint64_t kTallySubsteps = 1024;
 
 Backend::Backend(const WorldDef& world) : world_(world) { validate(world_); }
 
-void Backend::setParticles(const std::vector<Particle>& particles, std::uint64_t step) {
+void Backend::setParticles(const std::vector<Particle>& particles, std::uint64_t step,
+                           const std::vector<Image>& images) {
     validateParticles(particles, world_, "particles");
+    if (!images.empty() && images.size() != particles.size())
+        throw Error("images: " + std::to_string(images.size()) + " for " + std::to_string(particles.size()) +
+                    " particles; allowed: one per particle, or none (all {0, 0})");
     float maxRadius = 0.0f;
     for (const Particle& p : particles) maxRadius = std::max(maxRadius, p.radius);
     grid_.geometry = gridGeometryFor(world_, maxRadius, particles.size());
@@ -41,6 +45,7 @@ void Backend::setParticles(const std::vector<Particle>& particles, std::uint64_t
     substepsTaken_ = 0;
     batch_ = previousBatch_ = Batch{};
     nonFinite_.reset();
+    images_ = images.empty() ? std::vector<Image>(particles.size(), Image{0, 0}) : images;
     load(std::move(start));
     totals_ = ContactTotals{};
     substepsSinceDrain_ = 0;
@@ -225,6 +230,11 @@ const ContactTotals& Backend::contacts() {
     return totals_;
 }
 
+std::vector<Image> Backend::images() {
+    contacts();  // drains the wraps into images_
+    return images_;
+}
+
 void Backend::resetContacts() {
     contacts();
     totals_ = ContactTotals{};
@@ -247,13 +257,14 @@ void Backend::setMotion(float dt, float2 gravity) {
     motionChanged();
 }
 
-void drainTallyArray(ContactTally* tallies, std::size_t count, ContactTotals& totals) {
+void drainTallyArray(ContactTally* tallies, std::size_t count, ContactTotals& totals, Image* images) {
     for (std::size_t i = 0; i < count; ++i) {
         ContactTally& t = tallies[i];
         totals.collisions += t.collisions;
         totals.lateContacts += t.lateContacts;
         totals.virial += t.virial;
         for (int w = 0; w < 4; ++w) totals.wallImpulse[w] += t.wallImpulse[w];
+        for (int axis = 0; axis < 2; ++axis) addToImage(images[i][axis], t.image[axis]);
         t = ContactTally{};
     }
 }

@@ -72,8 +72,10 @@ public:
 
     // Validates the particles against the world, sizes the grid for their
     // largest radius (and the scheme), loads them and resets the contact totals.
-    // `step` is the number of the step they hold, which messages count from.
-    void setParticles(const std::vector<Particle>& particles, std::uint64_t step = 0);
+    // `step` is the number of the step they hold, which messages count from;
+    // `images` their periodic images (empty: all {0, 0}; else one per particle).
+    void setParticles(const std::vector<Particle>& particles, std::uint64_t step = 0,
+                      const std::vector<Image>& images = {});
     // Advances the simulation by `steps` steps of world().dt, each split into
     // substeps when world().maxTravel > 0 or the pairwise scheme's grid
     // needs them. Throws Error if a step would need more than kMaxSubsteps
@@ -121,6 +123,9 @@ public:
     // particles first). Throws Error naming the value that does not fit,
     // and changes nothing then; here always: no exact state to restore.
     virtual void restoreState(const EventEngineState& state);
+    // Each disk's periodic image (carom/types.h Image), in id order, for the
+    // state readParticles gives: setParticles' images plus the wraps since.
+    virtual std::vector<Image> images();
     // Collisions, virial and wall impulses since setParticles or the last
     // resetContacts().
     const ContactTotals& contacts();
@@ -194,6 +199,9 @@ protected:
 
     WorldDef world_;
     Grid grid_;  // geometry fixed by setParticles, contents rebuilt each step
+    // Each disk's image, in id order: set by setParticles before load(), then
+    // the implementation's to keep (drainTallyArray adds the tallies' wraps).
+    std::vector<Image> images_;
     std::size_t particleCount_ = 0;
     float minRadius_ = 0.0f;
 
@@ -238,10 +246,17 @@ private:
     std::chrono::steady_clock::time_point nextStopCheck_;
 };
 
+// For implementations: adds `change` to an image count, modulo 2^32 (a
+// disk that crosses a box every step for hours wraps around, as it does
+// in the int32 of a GSD file, instead of overflowing).
+inline void addToImage(std::int32_t& count, std::int32_t change) {
+    count = static_cast<std::int32_t>(static_cast<std::uint32_t>(count) + static_cast<std::uint32_t>(change));
+}
+
 // For implementations: adds tallies[0..count) to `totals` in id order, in
 // double (the sum is the same whatever device produced the tallies), and
-// zeroes them.
-void drainTallyArray(ContactTally* tallies, std::size_t count, ContactTotals& totals);
+// their wraps to images[0..count), and zeroes them.
+void drainTallyArray(ContactTally* tallies, std::size_t count, ContactTotals& totals, Image* images);
 // For implementations holding the state on the host: the largest
 // v.x^2 + v.y^2 (an OpenMP max reduction; max is exact in any order).
 float maxSpeedSquaredOf(const Particle* particles, std::size_t count);

@@ -45,7 +45,9 @@ private:
     float maxSpeedSquared() override {
         return speedKnown_ ? maxSpeedSquared_ : maxSpeedSquaredOf(state_->data(), state_->size());
     }
-    void drainTallies(ContactTotals& totals) override { drainTallyArray(tallies_.data(), tallies_.size(), totals); }
+    void drainTallies(ContactTotals& totals) override {
+        drainTallyArray(tallies_.data(), tallies_.size(), totals, images_.data());
+    }
     // One substep each; they return the lowest id of a disk the substep left
     // non-finite, or kAllFinite.
     std::uint32_t stepSimultaneous(float dt);

@@ -298,6 +298,13 @@ void EventDrivenBackend::restoreState(const EventEngineState& state) {
     sortByCell();
     counts_ = EventCounts{};
     undrained_ = ContactTotals{};
+    // setParticles' images are those of the state's wrapped positions; images_
+    // keeps the crossings' part of them.
+    const std::vector<Image> shown = images();
+    for (std::size_t i = 0; i < shown.size(); ++i)
+        for (int axis = 0; axis < 2; ++axis)  // images_ - (shown - images_), modulo 2^32 as every count
+            addToImage(images_[i][axis], static_cast<std::int32_t>(static_cast<std::uint32_t>(images_[i][axis]) -
+                                                                   static_cast<std::uint32_t>(shown[i][axis])));
 }
 
 void EventDrivenBackend::link(std::uint32_t i) {
@@ -491,6 +498,7 @@ void EventDrivenBackend::cross(std::uint32_t i, std::int32_t direction) {
             if (column == 0) {
                 column = columns_;
                 d.x += width_;  // periodic: it enters on the right
+                addToImage(images_[d.id][0], -1);
             }
             --column;
             break;
@@ -498,12 +506,14 @@ void EventDrivenBackend::cross(std::uint32_t i, std::int32_t direction) {
             if (++column == columns_) {
                 column = 0;
                 d.x -= width_;
+                addToImage(images_[d.id][0], 1);
             }
             break;
         case kEventCrossDown:
             if (row == 0) {
                 row = rows_;
                 d.y += height_;
+                addToImage(images_[d.id][1], -1);
             }
             --row;
             break;
@@ -511,6 +521,7 @@ void EventDrivenBackend::cross(std::uint32_t i, std::int32_t direction) {
             if (++row == rows_) {
                 row = 0;
                 d.y -= height_;
+                addToImage(images_[d.id][1], 1);
             }
             break;
     }
@@ -569,30 +580,52 @@ void EventDrivenBackend::motionChanged() {
     for (std::uint32_t i = 0; i < disks_.size(); ++i) schedule(i);
 }
 
-std::vector<ExactDisk> EventDrivenBackend::exactState() const {
+namespace {
+
+// A coordinate of a disk that free flight took a hair outside a periodic
+// box, before the crossing event wraps it: wrapped, the wrap added to `image`.
+double wrapped(double x, double side, std::int32_t& image) {
+    if (x < 0) {
+        addToImage(image, -1);
+        return x + side;
+    }
+    if (x >= side) {
+        addToImage(image, 1);
+        return x - side;
+    }
+    return x;
+}
+
+}  // namespace
+
+std::vector<ExactDisk> EventDrivenBackend::exactState(std::vector<Image>* images) const {
     std::vector<ExactDisk> state(disks_.size());
+    if (images) *images = images_;
     for (std::size_t i = 0; i < disks_.size(); ++i) {
         const Disk& d = disks_[i];
         const Flight f = flight(d.x, d.y, d.vx, d.vy, now_ - d.time);
         double x = f.x, y = f.y;
         if (periodic_) {
-            if (x < 0)
-                x += width_;
-            else if (x >= width_)
-                x -= width_;
-            if (y < 0)
-                y += height_;
-            else if (y >= height_)
-                y -= height_;
+            Image ignored{0, 0};
+            Image& image = images ? (*images)[d.id] : ignored;
+            x = wrapped(x, width_, image[0]);
+            y = wrapped(y, height_, image[1]);
         }
         state[d.id] = ExactDisk{x, y, f.vx, f.vy, mass_[i], d.radius};
     }
     return state;
 }
 
+std::vector<Image> EventDrivenBackend::images() {
+    std::vector<Image> images;
+    roundedParticles(exactState(&images), &images);
+    return images;
+}
+
 void EventDrivenBackend::readParticles(std::vector<Particle>& particles) { particles = roundedParticles(exactState()); }
 
-std::vector<Particle> EventDrivenBackend::roundedParticles(const std::vector<ExactDisk>& exact) const {
+std::vector<Particle> EventDrivenBackend::roundedParticles(const std::vector<ExactDisk>& exact,
+                                                           std::vector<Image>* images) const {
     std::vector<Particle> particles(exact.size());
     const auto width = float(width_), height = float(height_);
     for (std::size_t i = 0; i < exact.size(); ++i) {
@@ -602,9 +635,15 @@ std::vector<Particle> EventDrivenBackend::roundedParticles(const std::vector<Exa
         p.velocity = {float(e.vx), float(e.vy)};
         p.mass = float(e.mass);
         p.radius = float(e.radius);
-        if (periodic_) {  // a coordinate a hair below the side rounds up to it, which is 0
-            if (!(p.position.x < width)) p.position.x = 0.0f;
-            if (!(p.position.y < height)) p.position.y = 0.0f;
+        if (periodic_) {  // a coordinate a hair below the side rounds up to it, which is 0 in the next image
+            if (!(p.position.x < width)) {
+                p.position.x = 0.0f;
+                if (images) addToImage((*images)[i][0], 1);
+            }
+            if (!(p.position.y < height)) {
+                p.position.y = 0.0f;
+                if (images) addToImage((*images)[i][1], 1);
+            }
         } else {  // within the bounds validateParticles reads back (a resting disk may sink a hair)
             p.position.x = std::clamp(p.position.x, p.radius, width - p.radius);
             p.position.y = std::clamp(p.position.y, p.radius, height - p.radius);

@@ -60,7 +60,11 @@ public:
     std::optional<ViewSums> readView(ViewValue value, DiskView* out) override;
 
     // The state at the current time in double, in id order.
-    std::vector<ExactDisk> exactState() const;
+    std::vector<ExactDisk> exactState() const { return exactState(nullptr); }
+    // Each disk's image for readParticles' positions: images_ holds the
+    // wraps of the cell crossings; a disk about to cross, or whose position
+    // rounds to the box's side, is wrapped here, and counted here.
+    std::vector<Image> images() override;
     // Kinetic energy, and kinetic minus sum m g.x (the conserved total with
     // gravity), at the current time, in double.
     double kineticEnergy() const;
@@ -80,8 +84,14 @@ public:
     void restoreState(const EventEngineState& state) override;
 
 private:
-    // `exact` (exactState()) rounded to float, as readParticles gives it.
-    std::vector<Particle> roundedParticles(const std::vector<ExactDisk>& exact) const;
+    // exactState(), with each disk's image for its wrapped position in
+    // `images` when that is not null.
+    std::vector<ExactDisk> exactState(std::vector<Image>* images) const;
+    // `exact` (exactState()) rounded to float, as readParticles gives it;
+    // `images`, when not null, exactState's images, to which a position
+    // rounded up to the side (and so wrapped to 0) adds its wrap.
+    std::vector<Particle> roundedParticles(const std::vector<ExactDisk>& exact,
+                                           std::vector<Image>* images = nullptr) const;
     // The energies, momentum, mass and v^2 of `exact` summed in double (no values).
     ViewSums exactSums(const std::vector<ExactDisk>& exact) const;
 

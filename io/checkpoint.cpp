@@ -30,10 +30,12 @@ constexpr std::uint32_t kPairwise = 1;
 constexpr std::uint32_t kEvents = 2;
 constexpr std::uint32_t kOldestVersion = 1;
 constexpr std::uint32_t kFirstEventsVersion = 3;
+constexpr std::uint32_t kFirstImagesVersion = 4;
 constexpr std::size_t kHeaderBytes = 76;
 constexpr std::size_t kVersion1HeaderBytes = 72;  // no collision scheme
 constexpr std::size_t kSchemeOffset = 72;
 constexpr std::size_t kParticleBytes = 24;
+constexpr std::size_t kImageBytes = 8;       // two int32
 constexpr std::size_t kEventsTimeBytes = 8;  // the events state's time, before its disks
 constexpr std::size_t kEventDiskBytes = 64;  // 6 float64, an int32 and 3 uint32
 constexpr std::size_t kChecksumBytes = 4;
@@ -107,6 +109,7 @@ std::size_t headerBytes(std::uint32_t version) { return version == 1 ? kVersion1
 // kMaxParticles keeps this far from overflowing.
 std::uint64_t expectedSize(std::uint64_t particles, std::uint32_t version, bool events) {
     return headerBytes(version) + particles * kParticleBytes +
+           (version >= kFirstImagesVersion ? particles * kImageBytes : 0) +
            (events ? kEventsTimeBytes + particles * kEventDiskBytes : 0) + kChecksumBytes;
 }
 
@@ -145,7 +148,7 @@ Header checkHeader(const unsigned char* data, std::size_t available, std::uint64
     if (count < 1 || count > kMaxParticles)
         fail(what, "corrupted header: particle count " + std::to_string(count) + " is outside 1.." +
                        std::to_string(kMaxParticles));
-    // Only version 3 holds the events state; the scheme code is checked after the checksum.
+    // Only versions 3 and later hold the events state; the scheme code is checked after the checksum.
     Decoder scheme(data + kSchemeOffset);
     const bool events = version >= kFirstEventsVersion && scheme.u32() == kEvents;
     const std::uint64_t expected = expectedSize(count, version, events);
@@ -214,6 +217,11 @@ std::string encodeCheckpoint(const Snapshot& c) {
     out.u32(events ? kEvents : c.world.collisions == CollisionScheme::Pairwise ? kPairwise : kSimultaneous);
     for (const Disk& d : c.disks)
         for (float v : {d.position.x, d.position.y, d.velocity.x, d.velocity.y, d.mass, d.radius}) out.f32(v);
+    if (!c.images.empty() && c.images.size() != c.disks.size())
+        throw Error(std::to_string(c.images.size()) + " images for " + std::to_string(c.disks.size()) +
+                    " disks; allowed: one per disk, or none (all {0, 0})");
+    for (std::size_t i = 0; i < c.disks.size(); ++i)
+        for (int axis = 0; axis < 2; ++axis) out.i32(c.images.empty() ? 0 : c.images[i][axis]);
     if (events) encodeEvents(out, *c.events);
     const std::string& bytes = out.bytes();
     out.u32(crc32(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size()));
@@ -248,6 +256,10 @@ Snapshot decodeCheckpoint(const std::string& bytes, const std::string& what) {
         d.velocity.y = in.f32();
         d.mass = in.f32();
         d.radius = in.f32();
+    }
+    if (header.version >= kFirstImagesVersion) {
+        c.images.resize(header.count);
+        for (Image& image : c.images) image = {in.i32(), in.i32()};
     }
     if (header.events) c.events = decodeEvents(in, header.count);
 

@@ -1,12 +1,12 @@
 // Checkpoints: everything a run needs to continue bit for bit, in a versioned
 // binary file with a checksum.
 //
-// Layout (version 3), every field little-endian whatever the machine:
+// Layout (version 4), every field little-endian whatever the machine:
 //
 //   offset  bytes  field
 //        0      8  magic "CAROMCKP"
 //        8      4  byte order mark 0x01020304 (reads 0x04030201 if byte-swapped)
-//       12      4  format version, 3
+//       12      4  format version, 4
 //       16      8  particle count N, 1..kMaxParticles
 //       24     20  box width, box height, dt, gravity x, gravity y (float32)
 //       44      4  boundary: 0 = reflective walls, 1 = periodic
@@ -15,22 +15,25 @@
 //       64      8  collisions since the scene began
 //       72      4  collision scheme: 0 = simultaneous, 1 = pairwise, 2 = events
 //       76    24N  per particle, in id order: x, y, vx, vy, mass, radius (float32)
-//   76+24N      4  CRC-32 (IEEE, as zlib's crc32) of every byte before it
+//   76+24N     8N  per particle, in id order: its periodic image x, y (int32;
+//                  carom/types.h Image, 0 with walls)
+//   76+32N      4  CRC-32 (IEEE, as zlib's crc32) of every byte before it
 //
 // With the events scheme the engine's exact state (carom/types.h EventEngineState)
-// comes between the particles and the CRC, so that a resumed run continues
+// comes between the images and the CRC, so that a resumed run continues
 // bit for bit (the particles above are its float32 projection):
 //
-//   76+24N      8  the engine's time (float64) since its origin
-//   84+24N    64N  per disk, in id order: x, y, vx, vy, time, event time (float64;
+//   76+32N      8  the engine's time (float64) since its origin
+//   84+32N    64N  per disk, in id order: x, y, vx, vy, time, event time (float64;
 //                  the event time is +infinity for no event), event (int32: a
 //                  partner id >= 0, or -1..-9 as kEvent*), partner collisions,
 //                  collisions, cell (uint32)
-//   84+88N      4  CRC-32 of every byte before it
+//   84+96N      4  CRC-32 of every byte before it
 //
-// Version 2 is version 3 without the events scheme. Version 1 is the same
-// without the collision scheme (its particles start at offset 72): only the
-// simultaneous scheme wrote it, so it reads as that. A reader refuses
+// Version 3 is version 4 without the images: its disks read back at image
+// {0, 0}. Version 2 is version 3 without the events scheme. Version 1 is the
+// same without the collision scheme (its particles start at offset 72): only
+// the simultaneous scheme wrote it, so it reads as that. A reader refuses
 // anything else with a message saying what is wrong.
 #pragma once
 
@@ -45,7 +48,7 @@ namespace carom {
 // A checkpoint holds a Snapshot (carom/types.h), but for the world's
 // engine, device and maxTravel: it reads back with their defaults.
 
-constexpr std::uint32_t kCheckpointVersion = 3;  // the version written; versions 1 and 2 are still read
+constexpr std::uint32_t kCheckpointVersion = 4;  // the version written; versions 1 to 3 are still read
 
 // CRC-32 (IEEE, as zlib's crc32) of `size` bytes: the checkpoint's checksum.
 std::uint32_t crc32(const unsigned char* data, std::size_t size);

@@ -88,8 +88,9 @@ TrajectoryWriter::TrajectoryWriter(const std::string& path) : impl_(std::make_un
 namespace {
 
 // What the files a run resumed from `world` appends to must lead up to.
-Resumed resumedFrom(const World& world, std::uint64_t every) {
+Resumed resumedFrom(const World& world, std::uint64_t every, const std::string& name) {
     Resumed resumed;
+    resumed.name = name;
     resumed.step = world.stepCount();
     resumed.time = world.time();
     resumed.collisions = world.collisionCount();
@@ -101,8 +102,9 @@ Resumed resumedFrom(const World& world, std::uint64_t every) {
 
 }  // namespace
 
-TrajectoryWriter::TrajectoryWriter(const std::string& path, const World& resumed, std::uint64_t every) {
-    const Resumed from = resumedFrom(resumed, every);
+TrajectoryWriter::TrajectoryWriter(const std::string& path, const World& resumed, std::uint64_t every,
+                                   const std::string& resumedName) {
+    const Resumed from = resumedFrom(resumed, every, resumedName);
     impl_ = std::make_unique<Impl>(path, &from);
 }
 TrajectoryWriter::~TrajectoryWriter() = default;
@@ -110,9 +112,11 @@ TrajectoryWriter::TrajectoryWriter(TrajectoryWriter&&) noexcept = default;
 TrajectoryWriter& TrajectoryWriter::operator=(TrajectoryWriter&&) noexcept = default;
 
 void TrajectoryWriter::write(const World& world) {
+    // A frame of no disks has no cell depth, and no run continues from it.
+    if (world.diskCount() == 0) throw Error("TrajectoryWriter::write: the world has no disks yet");
     impl_->disks.resize(world.diskCount());
     world.getDisks(impl_->disks.data(), impl_->disks.size());
-    impl_->file.write(impl_->disks, world.def(), world.stepCount(), world.time());
+    impl_->file.write(impl_->disks, world.def(), world.stepCount(), world.time(), world.images());
 }
 std::size_t TrajectoryWriter::frames() const { return impl_->file.frames(); }
 void TrajectoryWriter::close() { impl_->file.commit(); }
@@ -122,8 +126,9 @@ struct StatisticsWriter::Impl : Owned<StatsWriter> {
 };
 
 StatisticsWriter::StatisticsWriter(const std::string& path) : impl_(std::make_unique<Impl>(path)) {}
-StatisticsWriter::StatisticsWriter(const std::string& path, const World& resumed, std::uint64_t every) {
-    const Resumed from = resumedFrom(resumed, every);
+StatisticsWriter::StatisticsWriter(const std::string& path, const World& resumed, std::uint64_t every,
+                                   const std::string& resumedName) {
+    const Resumed from = resumedFrom(resumed, every, resumedName);
     impl_ = std::make_unique<Impl>(path, &from);
 }
 StatisticsWriter::~StatisticsWriter() = default;

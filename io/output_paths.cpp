@@ -83,14 +83,14 @@ void refuseToAppend(const std::string& path, const std::string& why) {
 void requireAppendable(const std::string& path, const char* item, std::uint64_t last, const Resumed& resumed) {
     const std::string at = std::string("its last ") + item + " is at step " + std::to_string(last);
     if (last > resumed.step)
-        refuseToAppend(path, at + ", after the checkpoint's step " + std::to_string(resumed.step) +
+        refuseToAppend(path, at + ", after " + resumed.name + "'s step " + std::to_string(resumed.step) +
                                  ", so the resumed run would repeat steps");
     if (resumed.every == 0) return;
     const std::uint64_t sample = resumed.step - resumed.step % resumed.every;
     if (last < sample)
-        refuseToAppend(path, at + ", but sampling every " + std::to_string(resumed.every) +
-                                 " steps up to the checkpoint's step " + std::to_string(resumed.step) +
-                                 " reaches step " + std::to_string(sample) +
+        refuseToAppend(path, at + ", but sampling every " + std::to_string(resumed.every) + " steps up to " +
+                                 resumed.name + "'s step " + std::to_string(resumed.step) + " reaches step " +
+                                 std::to_string(sample) +
                                  ", so the samples in between would be missing (was it written by this run?)");
 }
 

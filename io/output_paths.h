@@ -64,12 +64,13 @@ bool parseStep(const std::string& text, std::uint64_t& step);
 // The checkpoint a run resumes from, which the files it appends to must
 // lead up to.
 struct Resumed {
-    std::uint64_t step = 0;        // the checkpoint's
-    double time = 0.0;             // its simulated time
-    std::uint64_t collisions = 0;  // its collision count
-    std::uint64_t every = 0;       // the run's steps between samples; 0: not known (any sample up to `step`)
-    std::vector<Disk> disks;       // its disks, in id order
-    WorldDef world;                // its box, boundary, ...
+    std::uint64_t step = 0;               // the checkpoint's
+    double time = 0.0;                    // its simulated time
+    std::uint64_t collisions = 0;         // its collision count
+    std::uint64_t every = 0;              // the run's steps between samples; 0: not known (any sample up to `step`)
+    std::vector<Disk> disks;              // its disks, in id order
+    WorldDef world;                       // its box, boundary, ...
+    std::string name = "the checkpoint";  // what refusals call it ("the world" for a world of the API)
 };
 
 // Throws Error unless an output whose last `item` ("frame", "row") is at

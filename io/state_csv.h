@@ -24,7 +24,8 @@ std::vector<Disk> readStateCsv(const std::string& path, std::uint64_t availableB
 std::vector<Disk> parseStateCsv(std::istream& in, const std::string& path, std::uint64_t availableBytes = 0);
 
 // Writes the state through a temporary file renamed into place, so `path`
-// holds either its old content or the complete new file.
+// holds either its old content or the complete new file. Throws Error, and
+// writes nothing, for no disks or a value that is not finite (neither reads back).
 void writeStateCsv(const std::string& path, const std::vector<Disk>& disks);
 
 }  // namespace carom

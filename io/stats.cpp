@@ -49,12 +49,12 @@ io::Existing continuation(const std::string& path, const Resumed* resumed) {
     if (row.size() != 8 || !parseStep(row[5], collisions))
         refuseToAppend(path, another + "is no row of 8 columns with a count of collisions" + simulation);
     if (collisions > resumed->collisions)
-        refuseToAppend(path, another + "counts " + row[5] + " collisions, more than the checkpoint's " +
+        refuseToAppend(path, another + "counts " + row[5] + " collisions, more than " + resumed->name + "'s " +
                                  std::to_string(resumed->collisions) + simulation);
     if (step == resumed->step && (row[1] != time || collisions != resumed->collisions))
-        refuseToAppend(path, another + "the checkpoint's, has time " + io::printable(row[1]) + " and " + row[5] +
-                                 " collisions, the checkpoint " + time + " and " + std::to_string(resumed->collisions) +
-                                 simulation);
+        refuseToAppend(path, another + resumed->name + "'s, has time " + io::printable(row[1]) + " and " + row[5] +
+                                 " collisions, " + resumed->name + " " + time + " and " +
+                                 std::to_string(resumed->collisions) + simulation);
     return io::Existing::Append;
 }
 

@@ -25,7 +25,10 @@ void appendFrameCell(std::string& out, const std::vector<Disk>& disks, const Wor
     appendNumber(out, 2.0f * maxRadius);
     out += "\" Origin=\"0 0 ";
     appendNumber(out, -maxRadius);
-    out += "\" pbc=\"F F F\" Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1:id:I:1";
+    // A periodic box repeats in x and y, and its disks have images; the slab's depth never does.
+    out += world.boundary == Boundary::Periodic ? "\" pbc=\"T T F\" Properties=species:S:1:pos:R:3:velo:R:3:image:I:3"
+                                                : "\" pbc=\"F F F\" Properties=species:S:1:pos:R:3:velo:R:3";
+    out += ":radius:R:1:mass:R:1:id:I:1";
 }
 
 [[noreturn]] void anotherSimulation(const std::string& path, const std::string& what) {
@@ -45,16 +48,16 @@ void requireSameSimulation(const std::string& path, std::streamoff offset, std::
     std::string line;
     std::getline(in, line);
     if (line.compare(0, expected.size() + 6, expected + " step=") != 0)
-        anotherSimulation(path, "has another cell or other columns than the checkpoint's box and boundary ('" +
-                                    io::printable(line.substr(0, line.find(" pbc="))) + "', the checkpoint's '" +
+        anotherSimulation(path, "has another cell or other columns than " + resumed.name + "'s box and boundary ('" +
+                                    io::printable(line.substr(0, line.find(" pbc="))) + "', " + resumed.name + "'s '" +
                                     io::printable(expected.substr(0, expected.find(" pbc="))) + "')");
     if (step == resumed.step) {
         std::string time;
         appendNumber(time, resumed.time);
         const std::size_t at = line.find(" time=");
         if (at == std::string::npos || line.compare(at + 6, std::string::npos, time) != 0)
-            anotherSimulation(path,
-                              "is at the checkpoint's step " + std::to_string(step) + " but not at its time " + time);
+            anotherSimulation(
+                path, "is at " + resumed.name + "'s step " + std::to_string(step) + " but not at its time " + time);
     }
     std::string disk;
     for (std::size_t i = 0; i < resumed.disks.size(); ++i) {
@@ -68,8 +71,8 @@ void requireSameSimulation(const std::string& path, std::streamoff offset, std::
         if (!std::getline(in, line) || line.size() < tail.size() ||
             line.compare(line.size() - tail.size(), tail.size(), tail) != 0)
             anotherSimulation(path, "has disk " + std::to_string(i) + " as '" + io::printable(line) +
-                                        "', not ending in the checkpoint's radius, mass and id '" + tail.substr(1) +
-                                        "'");
+                                        "', not ending in " + resumed.name + "'s radius, mass and id '" +
+                                        tail.substr(1) + "'");
     }
 }
 
@@ -91,7 +94,7 @@ io::Existing continuation(const std::string& path, const Resumed* resumed) {
             break;
         std::string count;
         if (lines.previous(count) && count != std::to_string(particles))
-            refuseToAppend(path, "its last frame has " + io::printable(count) + " disks, the checkpoint " +
+            refuseToAppend(path, "its last frame has " + io::printable(count) + " disks, " + resumed->name + " " +
                                      std::to_string(particles) + ", so it is another simulation's trajectory");
         if (read != particles)
             anotherSimulation(path, "has " + std::to_string(read) + " disk lines, not " + std::to_string(particles));
@@ -107,7 +110,9 @@ io::Existing continuation(const std::string& path, const Resumed* resumed) {
 TrajectoryWriter::TrajectoryWriter(const std::string& path, const Resumed* resumed)
     : file_(path, continuation(path, resumed)) {}
 
-void TrajectoryWriter::write(const std::vector<Disk>& disks, const WorldDef& world, std::uint64_t step, double time) {
+void TrajectoryWriter::write(const std::vector<Disk>& disks, const WorldDef& world, std::uint64_t step, double time,
+                             const std::vector<Image>& images) {
+    const bool periodic = world.boundary == Boundary::Periodic;
     std::string& out = frame_;
     out.clear();
     appendFrameCell(out, disks, world);
@@ -127,6 +132,13 @@ void TrajectoryWriter::write(const std::vector<Disk>& disks, const WorldDef& wor
         out += ' ';
         appendNumber(out, d.velocity.y);
         out += " 0 ";
+        if (periodic) {
+            const Image image = images.empty() ? Image{0, 0} : images[i];
+            appendNumber(out, image[0]);
+            out += ' ';
+            appendNumber(out, image[1]);
+            out += " 0 ";
+        }
         appendNumber(out, d.radius);
         out += ' ';
         appendNumber(out, d.mass);

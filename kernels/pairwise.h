@@ -464,15 +464,16 @@ static inline void carom_resolve_event(unsigned int k,
 }
 
 /* The end of the step: the disk flies to the end; in a periodic box it is
- * wrapped back in, with walls a disk found past one (its contact was not
+ * wrapped back in (the wraps on its tally), with walls a disk found past one (its contact was not
  * resolved in the rounds) is put back (carom_put_back) as a late contact.
  * Its step time and last partner are cleared for the next step. */
 static inline Particle carom_finish_step(Particle p, CaromStepParams step, CAROM_GLOBAL ContactTally* tally)
 {
     p = carom_fly(p, step.duration, step.gravityX, step.gravityY);
     if (step.box.periodic) {
-        p.position.x = carom_wrap(p.position.x, step.box.width);
-        p.position.y = carom_wrap(p.position.y, step.box.height);
+        int image[2] = {0, 0};
+        p = carom_wrap_position(p, step.box, image);
+        carom_record_image(tally, image);
     } else if (p.position.x - p.radius < -step.tolerance || p.position.y - p.radius < -step.tolerance ||
                (step.box.width - p.radius) - p.position.x < -step.tolerance ||
                (step.box.height - p.radius) - p.position.y < -step.tolerance) {

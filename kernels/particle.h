@@ -41,6 +41,8 @@ typedef struct ContactTally {
     float wallImpulse[4];      /* momentum given to the left, right, bottom, top wall [mass length/time] */
     unsigned int lateContacts; /* pairwise scheme: pairs (i, j > i) found already overlapping, and
                                 * wall contacts found past the wall, when resolved */
+    int image[2];              /* periodic box: the box lengths the disk was wrapped back across in x
+                                * and y, +1 for leaving by the right (top) side, -1 by the left (bottom) */
 } ContactTally;
 
 /* The particles of one grid cell: sortedIndices[start .. start+count). */
@@ -86,8 +88,8 @@ static_assert(offsetof(Particle, position) == 0 && offsetof(Particle, velocity) 
                   offsetof(Particle, mass) == 16 && offsetof(Particle, radius) == 20 &&
                   offsetof(Particle, time) == 24 && offsetof(Particle, lastPartner) == 28,
               "Particle field offsets must match the OpenCL struct");
-static_assert(sizeof(ContactTally) == 28 && offsetof(ContactTally, wallImpulse) == 8 &&
-                  offsetof(ContactTally, lateContacts) == 24,
+static_assert(sizeof(ContactTally) == 36 && offsetof(ContactTally, wallImpulse) == 8 &&
+                  offsetof(ContactTally, lateContacts) == 24 && offsetof(ContactTally, image) == 28,
               "ContactTally must match the OpenCL struct");
 static_assert(sizeof(GridCell) == 8 && offsetof(GridCell, count) == 4, "GridCell is two uints");
 static_assert(sizeof(DiskView) == 16 && offsetof(DiskView, value) == 12, "DiskView is kernels/view.cl's float4");

@@ -80,18 +80,32 @@ static inline float carom_nearest_image(float d, float extent)
     return d;
 }
 
-/* A periodic coordinate back into [0, extent). x + extent can round up to
- * extent itself, which is 0 in a periodic box; so is anything still outside
- * after one correction (a disk that crossed a whole box in one substep). NaN
- * stays NaN, for the diagnostics to report. */
-static inline float carom_wrap(float x, float extent)
+/* A periodic coordinate back into [0, extent), adding the box lengths it
+ * moved back by to *image (+1 for one taken off). x + extent can round up to
+ * extent itself, which is 0 in a periodic box: x was a hair below 0, which
+ * is 0 in this image, so *image stays. Anything still outside after one
+ * correction (a disk that crossed a whole box in one substep) goes to 0 too.
+ * NaN stays NaN, for the diagnostics to report. */
+static inline float carom_wrap(float x, float extent, int* image)
 {
-    if (x < 0.0f)
+    if (x < 0.0f) {
         x += extent;
-    else if (x >= extent)
+        if (x >= extent) return 0.0f;
+        *image -= 1;
+    } else if (x >= extent) {
         x -= extent;
+        *image += 1;
+    }
     if (x >= extent || x < 0.0f) return 0.0f;
     return x;
+}
+
+/* carom_wrap for both coordinates of a disk in a periodic box. */
+static inline Particle carom_wrap_position(Particle p, CaromBox box, int* image)
+{
+    p.position.x = carom_wrap(p.position.x, box.width, &image[0]);
+    p.position.y = carom_wrap(p.position.y, box.height, &image[1]);
+    return p;
 }
 
 /* The changes that particle i collects from its neighbours in one step. */
@@ -286,6 +300,14 @@ static inline void carom_record_walls(CAROM_GLOBAL ContactTally* tally, const fl
     for (int w = 0; w < 4; ++w) tally->wallImpulse[w] += wallImpulse[w];
 }
 
+/* Adds the box lengths a wrap moved the disk back by (carom_wrap). */
+static inline void carom_record_image(CAROM_GLOBAL ContactTally* tally, const int* image)
+{
+    if (image[0] == 0 && image[1] == 0) return;
+    tally->image[0] += image[0];
+    tally->image[1] += image[1];
+}
+
 /* resolveCollisions for particle i: reads the state from before the step
  * (`in`) and writes particle i of the new state (`out`), so no work-item reads
  * what another one writes. All neighbours' responses are summed before the
@@ -339,20 +361,16 @@ static inline void carom_add_wall_impulse(float mass, float before, float after,
 
 /* integrate: one semi-implicit Euler step (velocity first, then position
  * with the new velocity), then the boundary: wrapped around a periodic box,
- * or reflected by the walls, whose impulses are added to wallImpulse (left,
- * right, bottom, top). */
+ * the wraps added to image (x, y), or reflected by the walls, whose impulses
+ * are added to wallImpulse (left, right, bottom, top). */
 static inline Particle carom_integrate(
-    Particle p, float dt, float gravityX, float gravityY, CaromBox box, float* wallImpulse)
+    Particle p, float dt, float gravityX, float gravityY, CaromBox box, float* wallImpulse, int* image)
 {
     p.velocity.x += gravityX * dt;
     p.velocity.y += gravityY * dt;
     p.position.x += p.velocity.x * dt;
     p.position.y += p.velocity.y * dt;
-    if (box.periodic) {
-        p.position.x = carom_wrap(p.position.x, box.width);
-        p.position.y = carom_wrap(p.position.y, box.height);
-        return p;
-    }
+    if (box.periodic) return carom_wrap_position(p, box, image);
     const float vx = p.velocity.x;
     const float vy = p.velocity.y;
     p.velocity.x = carom_wall_velocity(p.position.x, vx, p.radius, box.width);
@@ -364,7 +382,7 @@ static inline Particle carom_integrate(
     return p;
 }
 
-/* integrate for particle i, recording its wall impulses. */
+/* integrate for particle i, recording its wall impulses and wraps. */
 static inline void carom_integrate_into(unsigned int i,
                                         CAROM_GLOBAL Particle* particles,
                                         float dt,
@@ -374,8 +392,10 @@ static inline void carom_integrate_into(unsigned int i,
                                         CAROM_GLOBAL ContactTally* tallies)
 {
     float wallImpulse[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    particles[i] = carom_integrate(particles[i], dt, gravityX, gravityY, box, wallImpulse);
+    int image[2] = {0, 0};
+    particles[i] = carom_integrate(particles[i], dt, gravityX, gravityY, box, wallImpulse, image);
     carom_record_walls(&tallies[i], wallImpulse);
+    carom_record_image(&tallies[i], image);
 }
 
 /* v.x^2 + v.y^2: the quantity the max-speed reduction compares. */

@@ -35,12 +35,14 @@ static inline void carom_step_slot(uint k,
     const CaromResponse sum =
         carom_collect_response_from(i, self, state, sortedIds, cellOrder, cells, step.grid, step.box);
     float wallImpulse[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    int image[2] = {0, 0};
     const Particle moved = carom_integrate(carom_apply_response(self, sum), step.duration, step.gravityX, step.gravityY,
-                                           step.box, wallImpulse);
+                                           step.box, wallImpulse, image);
     next[k] = moved;
     /* The tallies stay in id order, so reading them needs no slot map. */
     carom_record_collisions(&tallies[i], sum);
     carom_record_walls(&tallies[i], wallImpulse);
+    carom_record_image(&tallies[i], image);
     carom_count_into_cell(k, moved.position, step.grid, counts, cellOf, rankInCell);
     carom_record_non_finite(moved, i, stepIndex, firstNonFinite);
 }

@@ -67,7 +67,7 @@ set(backends cpu)
 if(OpenCL_FOUND)
     set(backends cpu,opencl)
 endif()
-foreach(test IN ITEMS trajectory_reads_in_ase stats_csv checkpoint_layout resume_continues_bit_for_bit
+foreach(test IN ITEMS trajectory_reads_in_ase periodic_trajectory_reads_in_ase stats_csv checkpoint_layout resume_continues_bit_for_bit
                       interrupt_writes_everything scene_outputs_and_overrides json_and_quiet_print_no_progress
                       energy_warning blow_up_stops_cleanly special_files
                       same_file_under_two_spellings outputs_never_replace_inputs

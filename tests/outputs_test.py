@@ -86,6 +86,26 @@ def test_trajectory_reads_in_ase():
     no_partial_files(d)
 
 
+def test_periodic_trajectory_reads_in_ase():
+    from ase.io import read  # pip install ase
+
+    d = work("ase_periodic")
+    xyz = os.path.join(d, "t.xyz")
+    carom("run", "--backend", "cpu", *SCENE, "--boundary", "periodic", "--steps", 2000, "--every", 100,
+          "--dt", 0.01, "--trajectory", xyz)
+    frames = read(xyz, index=":", format="extxyz")
+    assert len(frames) == 21, len(frames)
+    for atoms in frames:
+        assert list(atoms.pbc) == [True, True, False], atoms.pbc  # the box repeats in x and y only
+        assert atoms.arrays["image"].shape == (40, 3) and (atoms.arrays["image"][:, 2] == 0).all()
+        assert list(atoms.arrays["id"]) == list(range(40))
+    # The images unwrap the positions: no disk moves half a box between frames (1 time unit at speed ~2).
+    unwrapped = [atoms.positions[:, :2] + 30 * atoms.arrays["image"][:, :2] for atoms in frames]
+    for before, after in zip(unwrapped, unwrapped[1:]):
+        assert (abs(after - before) < 15).all()
+    assert (frames[-1].arrays["image"] != 0).any()  # 40 time units at speed ~2 in a box 30 wide
+
+
 def test_stats_csv():
     d = work("stats")
     stats = os.path.join(d, "s.csv")
@@ -116,10 +136,11 @@ def test_checkpoint_layout():
         magic, mark, version, count = struct.unpack_from("<8sIIQ", data, 0)
         width, height, dt, gx, gy, boundary, step, sim_time, collisions, scheme_code = \
             struct.unpack_from("<5fIQdQI", data, 24)
-        assert (magic, mark, version, count) == (b"CAROMCKP", 0x01020304, 3, 5)
+        assert (magic, mark, version, count) == (b"CAROMCKP", 0x01020304, 4, 5)
         assert (width, height, gx, gy, boundary, step, scheme_code) == (20, 20, 0, -1, 0, 30, code), scheme
         assert abs(dt - 0.02) < 1e-7 and abs(sim_time - 30 * dt) < 1e-12
-        assert len(data) == 76 + 24 * count + 4
+        assert len(data) == 76 + 32 * count + 4
+        assert data[76 + 24 * count:-4] == bytes(8 * count)  # the images: {0, 0} with walls
         assert struct.unpack_from("<I", data, len(data) - 4)[0] == zlib.crc32(data[:-4])
 
 
@@ -864,7 +885,7 @@ def test_resume_forged_count_allocates_nothing():
     forged = os.path.join(d, "forged.ckpt")
     with open(forged, "wb") as f:
         f.write(header)
-        f.truncate(76 + 24 * count + 4)
+        f.truncate(76 + 32 * count + 4)
 
     def limit_memory():
         resource.setrlimit(resource.RLIMIT_AS, (512 << 20, 512 << 20))
@@ -927,8 +948,8 @@ def reseal(data):
 
 
 def test_events_checkpoint_layout():
-    """An events run's checkpoint is format version 3 with scheme code 2 and holds, after the float32
-    particles, the engine's time and 64 bytes per disk (checkpoint.h): each disk's double state at its
+    """An events run's checkpoint is format version 4 with scheme code 2 and holds, after the float32
+    particles and their images, the engine's time and 64 bytes per disk (checkpoint.h): each disk's double state at its
     own time, projected to the engine's time, is the float32 particle; every event is pending (at or
     after that time) and names a kind of event or another disk; no event means an infinite time."""
     d = work("events-layout")
@@ -938,15 +959,15 @@ def test_events_checkpoint_layout():
           "--steps", steps, "--dt", dt, "--gravity", 0, gravity, "--collisions", "events", "--checkpoint", ckpt)
     data = read_bytes(ckpt)
     magic, mark, version, count = struct.unpack_from("<8sIIQ", data, 0)
-    assert (magic, mark, version, count) == (b"CAROMCKP", 0x01020304, 3, n)
+    assert (magic, mark, version, count) == (b"CAROMCKP", 0x01020304, 4, n)
     step, sim_time, _, scheme_code = struct.unpack_from("<QdQI", data, 48)
     assert (step, scheme_code) == (steps, 2)
-    assert len(data) == 76 + 24 * n + 8 + 64 * n + 4
+    assert len(data) == 76 + 32 * n + 8 + 64 * n + 4
     assert struct.unpack_from("<I", data, len(data) - 4)[0] == zlib.crc32(data[:-4])
-    (now,) = struct.unpack_from("<d", data, 76 + 24 * n)
+    (now,) = struct.unpack_from("<d", data, 76 + 32 * n)
     assert abs(now - sim_time) < 1e-9, (now, sim_time)
     for i in range(n):
-        x, y, vx, vy, t, event_time, event, _, _, _ = struct.unpack_from("<6di3I", data, 84 + 24 * n + 64 * i)
+        x, y, vx, vy, t, event_time, event, _, _, _ = struct.unpack_from("<6di3I", data, 84 + 32 * n + 64 * i)
         px, py, pvx, pvy = struct.unpack_from("<4f", data, 76 + 24 * i)
         s = now - t
         assert 0 <= s, (i, t, now)
@@ -1029,7 +1050,7 @@ def test_events_resume_refusals():
         assert "--collisions events runs on the CPU only (one thread, double precision): use --backend cpu" in err
 
     data = bytearray(read_bytes(ckpt))
-    disks = 84 + 24 * n
+    disks = 84 + 32 * n
     forged = os.path.join(d, "forged.ckpt")
     for offset, value, message in ((disks + 48, -12, r"events state: disk 0: event code -12 is unknown; allowed: "
                                                      r"-9 to -1 \(kinds of event\) or a partner id from 0 to 49"),

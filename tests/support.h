@@ -127,10 +127,11 @@ inline WorldDef box(float width, float height, float dt = 0.01f) {
     return w;
 }
 
-// What a run leaves: the particles and the contact totals.
+// What a run leaves: the particles, the contact totals and the images.
 struct Run {
     std::vector<Particle> particles;
     ContactTotals contacts;
+    std::vector<Image> images;
 };
 
 // Runs `steps` steps of `particles` on a fresh backend `def`.
@@ -142,16 +143,19 @@ inline Run run(const EngineDef& def, const WorldDef& world, const std::vector<Pa
     Run r;
     backend->readParticles(r.particles);
     r.contacts = backend->contacts();
+    r.images = backend->images();
     return r;
 }
 
 // Runs `steps` steps of `particles` on a fresh backend and returns the result.
 inline std::vector<Particle> simulate(const EngineDef& def, const WorldDef& world,
                                       const std::vector<Particle>& particles, std::uint64_t steps,
-                                      std::uint64_t* collisions = nullptr, ContactTotals* contacts = nullptr) {
+                                      std::uint64_t* collisions = nullptr, ContactTotals* contacts = nullptr,
+                                      std::vector<Image>* images = nullptr) {
     Run r = run(def, world, particles, steps);
     if (collisions) *collisions = r.contacts.collisions;
     if (contacts) *contacts = r.contacts;
+    if (images) *images = r.images;
     return std::move(r.particles);
 }
 

@@ -1,6 +1,8 @@
 // Periodic boxes, contact statistics (collisions, virial, wall impulses) and
 // adaptive substeps, registered once per backend and pipeline.
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 #include "io/checkpoint.h"
 #include "engine/diagnostics.h"
@@ -42,6 +44,37 @@ CAROM_BACKEND_TEST_CASE("periodic: a disk leaving one side enters the opposite o
     CHECK(after[0].position.y == doctest::Approx(0.75f).epsilon(1e-5));
     CHECK(after[0].velocity.x == 1.0f);
     CHECK(after[0].velocity.y == 1.0f);
+}
+
+CAROM_BACKEND_TEST_CASE("periodic: images count the box lengths crossed, so positions unwrap onto the line") {
+    // (5, 5) moving at (7, -3) for 10 time units: at (75, -25), 3 widths right and 3 heights down.
+    for (const CollisionScheme scheme : {CollisionScheme::Simultaneous, CollisionScheme::Pairwise}) {
+        CAPTURE(collisionSchemeName(scheme));
+        WorldDef world = periodicBox(20, 10, 0.01f);
+        world.collisions = scheme;
+        const Run r = run(def, world, {disk(5, 5, 7, -3, 1, 0.5f)}, 1000);
+        REQUIRE(r.images.size() == 1);
+        CHECK(r.images[0] == Image{3, -3});
+        CHECK(r.particles[0].position.x + 20.0 * r.images[0][0] == doctest::Approx(75).epsilon(1e-4));
+        CHECK(r.particles[0].position.y + 10.0 * r.images[0][1] == doctest::Approx(-25).epsilon(1e-4));
+        world.boundary = Boundary::Walls;  // walls reflect: no images
+        CHECK(run(def, world, {disk(5, 5, 7, -3, 1, 0.5f)}, 1000).images[0] == Image{0, 0});
+    }
+}
+
+CAROM_BACKEND_TEST_CASE("periodic: image counts wrap around modulo 2^32 instead of overflowing") {
+    for (const CollisionScheme scheme :
+         {CollisionScheme::Simultaneous, CollisionScheme::Pairwise, CollisionScheme::Events}) {
+        if (scheme == CollisionScheme::Events && def.engine != ComputeEngine::Cpu) continue;
+        CAPTURE(collisionSchemeName(scheme));
+        WorldDef world = periodicBox(20, 10, 0.01f);
+        world.collisions = scheme;
+        auto backend = makeBackend(def, world);
+        const std::int32_t most = std::numeric_limits<std::int32_t>::max();
+        backend->setParticles({disk(19.5f, 0.5f, 100, -100, 1, 0.25f)}, 0, {Image{most, -most - 1}});
+        backend->step(1);  // to (20.5, -0.5): across the right and the bottom side
+        CHECK(backend->images()[0] == Image{-most - 1, most});
+    }
 }
 
 CAROM_BACKEND_TEST_CASE("periodic: disks collide with the nearest image across the edge") {

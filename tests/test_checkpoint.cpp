@@ -56,7 +56,7 @@ std::string small() {
 
 // 2N steps in one run equal N steps, a checkpoint and N resumed, on backend `def`.
 void checkResumeBitForBit(const EngineDef& def, const Scenario& scenario, std::uint64_t half) {
-    const Snapshot start{scenario.world, 0, 0.0, 0, disksOf(scenario.particles), std::nullopt};
+    const Snapshot start{scenario.world, 0, 0.0, 0, disksOf(scenario.particles), std::nullopt, {}};
     const Snapshot whole = runAndCheckpoint(def, start, 2 * half);
     // A file of its own per engine and scheme: ctest runs the cases of each backend at once.
     const std::string file = std::string("half-") + computeEngineName(def.engine) + "-" +
@@ -97,7 +97,7 @@ TEST_CASE("checkpoint: every field reads back bit for bit") {
     CHECK(sameBits(back.disks, c.disks));
     std::ifstream file("roundtrip.ckpt", std::ios::binary);
     const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-    CHECK(bytes.size() == 76 + 24 * c.disks.size() + 4);
+    CHECK(bytes.size() == 76 + 32 * c.disks.size() + 4);
     CHECK(bytes.substr(0, 8) == "CAROMCKP");
     std::remove("roundtrip.ckpt");
 }
@@ -153,13 +153,29 @@ TEST_CASE("checkpoint: a version-1 file (before the collision schemes) reads as 
     expected.disks = disksOf({disk(3, 4, 0.5f, -0.25f, 2, 1), disk(9, 4, -1, 0, 1, 0.75f)});
     const Snapshot c = decodeCheckpoint(bytes, "v1.ckpt");
     CHECK(c.world.collisions == CollisionScheme::Simultaneous);
-    // Every field, bit for bit; written again, it is a version-3 file.
+    // Every field, bit for bit; written again, it is a version-4 file, its images {0, 0}.
     const std::string rewritten = encodeCheckpoint(c);
     CHECK(rewritten == encodeCheckpoint(expected));
-    CHECK(rewritten.size() == bytes.size() + 4);
-    CHECK(rewritten[12] == 3);
+    CHECK(rewritten.size() == bytes.size() + 4 + 2 * 8);
+    CHECK(rewritten[12] == 4);
 
     CHECK(errorOf(bytes.substr(0, 70)).find("shorter than the 72-byte header") != std::string::npos);
+}
+
+TEST_CASE("checkpoint: images read back, and a version-3 file (before them) reads with images {0, 0}") {
+    Snapshot c;
+    c.world = box(10, 10);
+    c.world.boundary = Boundary::Periodic;
+    c.disks = disksOf({disk(2, 2, 1, 0), disk(5, 5, 0, -1, 2, 0.5f), disk(8, 8, 0.25f, 0.5f, 3, 1.5f)});
+    c.images = {Image{1, -2}, Image{0, 0}, Image{-2147483647 - 1, 2147483647}};
+    const std::string bytes = encodeCheckpoint(c);
+    CHECK(decodeCheckpoint(bytes, "c.ckpt").images == c.images);
+    const Snapshot old = decodeCheckpoint(asVersion(bytes, 3, 3), "v3.ckpt");
+    CHECK(old.images.empty());
+    CHECK(sameBits(old.disks, c.disks));
+    c.images.pop_back();
+    CHECK_THROWS_WITH_AS(encodeCheckpoint(c), "2 images for 3 disks; allowed: one per disk, or none (all {0, 0})",
+                         Error);
 }
 
 CAROM_OPENCL_TEST_CASE("checkpoint: a run resumed on another backend continues bit for bit where the backends agree") {
@@ -169,7 +185,7 @@ CAROM_OPENCL_TEST_CASE("checkpoint: a run resumed on another backend continues b
         return;
     }
     const EngineDef cpu = testEngine(ComputeEngine::Cpu);
-    const Snapshot start{scenario.world, 0, 0.0, 0, disksOf(scenario.particles), std::nullopt};
+    const Snapshot start{scenario.world, 0, 0.0, 0, disksOf(scenario.particles), std::nullopt, {}};
     const Snapshot whole = runAndCheckpoint(cpu, start, 2000);
     const std::string file = std::string("cross-") + computeEngineName(def.engine) + ".ckpt";  // one per pipeline
     for (const auto& [first, second] : {std::pair{cpu, def}, std::pair{def, cpu}}) {
@@ -209,11 +225,11 @@ TEST_CASE("checkpoint: every flipped bit is refused") {
 TEST_CASE("checkpoint: wrong files are refused with what is wrong") {
     const std::string bytes = small();
     std::string version = bytes;
-    putU32(version, 12, 4);
-    CHECK(errorOf(version).find("format version 4; this carom reads versions 1 to 3 (written by a newer carom?)") !=
+    putU32(version, 12, 5);
+    CHECK(errorOf(version).find("format version 5; this carom reads versions 1 to 4 (written by a newer carom?)") !=
           std::string::npos);
     putU32(version, 12, 0);
-    CHECK(errorOf(version).find("format version 0; this carom reads versions 1 to 3") != std::string::npos);
+    CHECK(errorOf(version).find("format version 0; this carom reads versions 1 to 4") != std::string::npos);
     CHECK(errorOf(version).find("newer") == std::string::npos);
 
     std::string swapped = bytes;
@@ -250,7 +266,7 @@ TEST_CASE("checkpoint: a valid checksum over invalid values is still refused") {
     std::string scheme = encodeCheckpoint(c);
     putU32(scheme, 72, 3);
     reseal(scheme);
-    CHECK(errorOf(scheme).find("collision scheme code 3 is unknown in format version 3; allowed: 0 (simultaneous), "
+    CHECK(errorOf(scheme).find("collision scheme code 3 is unknown in format version 4; allowed: 0 (simultaneous), "
                                "1 (pairwise), 2 (events)") != std::string::npos);
 }
 

@@ -1,7 +1,7 @@
 // CPU vs OpenCL, a test case for each OpenCL pipeline (host-grid, resident) and
-// scene, for both collision schemes: bitwise identical trajectories and
-// contact totals (collisions, virial, wall impulses, substeps, late contacts,
-// rounds) where the OpenCL device divides and takes square roots correctly
+// scene, for both collision schemes: bitwise identical trajectories,
+// periodic images and contact totals (collisions, virial, wall impulses,
+// substeps, late contacts, rounds) where the OpenCL device divides and takes square roots correctly
 // rounded (PoCL and NVIDIA do), with walls and periodic boundaries, fixed and
 // adaptive steps, under gravity.
 //
@@ -9,6 +9,7 @@
 // differences grow chaotically, so the comparison drops to a tolerance of
 // 1e-3 (relative to the box) on positions over a horizon of 20 steps, and the
 // test says so.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -34,8 +35,9 @@ void compareWithCpu(const EngineDef& def, const SceneDef& scene, WorldDef rules,
         steps = 20;
     }
     ContactTotals cpuContacts;
+    std::vector<Image> cpuImages;
     const std::vector<Particle> cpu =
-        simulate(testEngine(ComputeEngine::Cpu), world, s.particles, steps, nullptr, &cpuContacts);
+        simulate(testEngine(ComputeEngine::Cpu), world, s.particles, steps, nullptr, &cpuContacts, &cpuImages);
     REQUIRE_MESSAGE(measure(cpu, world).escaped == 0,
                     "the CPU run itself went unstable: nothing meaningful to compare");
 
@@ -60,6 +62,9 @@ void compareWithCpu(const EngineDef& def, const SceneDef& scene, WorldDef rules,
         CHECK(contacts.lateContacts == cpuContacts.lateContacts);
         CHECK(contacts.maxRounds == cpuContacts.maxRounds);
         CHECK(cpuContacts.collisions > cpu.size());  // the comparison covered real collisions
+        CHECK(opencl->images() == cpuImages);
+        if (world.boundary == Boundary::Periodic)  // the comparison covered disks crossing the box
+            CHECK(std::count(cpuImages.begin(), cpuImages.end(), Image{0, 0}) < std::ptrdiff_t(cpuImages.size()));
     } else {
         for (std::size_t i = 0; i < cpu.size(); ++i) {
             CHECK(std::abs(cpu[i].position.x - gpu[i].position.x) < 1e-3f * world.width);

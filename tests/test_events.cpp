@@ -496,7 +496,13 @@ TEST_CASE("events: a disk crossing the periodic boundary many times stays on its
         CHECK(read[0].position.x < 10.0f);
         CHECK(read[0].position.y >= 0.0f);
         CHECK(read[0].position.y < 8.0f);
+        // The images unwrap the positions read onto the line.
+        const Image image = events->images()[0];
+        CHECK(std::abs(read[0].position.x + 10.0 * image[0] - (start.position.x + double(start.velocity.x) * t)) <
+              1e-4);
+        CHECK(std::abs(read[0].position.y + 8.0 * image[1] - (start.position.y + double(start.velocity.y) * t)) < 1e-4);
     }
+    CHECK(events->images()[0] == Image{37, -16});
     CHECK(events->eventCounts().cellCrossings > 20);
     CHECK(events->eventCounts().wallBounces == 0);
 }
@@ -517,10 +523,12 @@ TEST_CASE("events: a checkpoint resumes bit for bit") {
         std::vector<Particle> particles;
         first->readParticles(particles);
         EventDrivenBackend resumed(world);
-        resumed.setParticles(particles, half);
+        resumed.setParticles(particles, half, first->images());
         resumed.restoreState(saved);
         CHECK(resumed.time() == first->time());
+        CHECK(resumed.images() == first->images());
         resumed.step(half);
+        CHECK(resumed.images() == straight->images());
 
         const std::vector<ExactDisk> a = straight->exactState(), b = resumed.exactState();
         REQUIRE(a.size() == b.size());

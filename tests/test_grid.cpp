@@ -117,8 +117,8 @@ TEST_CASE("grid: the overlap search finds exactly the overlapping pairs of brute
             std::vector<Particle> ps = configuration;
             if (box.periodic)
                 for (Particle& p : ps) {
-                    p.position.x = carom_wrap(p.position.x, c.width);
-                    p.position.y = carom_wrap(p.position.y, c.height);
+                    int image[2] = {0, 0};
+                    p = carom_wrap_position(p, box, image);
                 }
             PairSet found;
             CHECK(forEachOverlappingPair(ps.data(), sortIntoCells(ps.data(), ps.size(), box),

@@ -168,7 +168,7 @@ TEST_CASE("checkpoint: the particle count is checked against memory and the chec
     const std::uint64_t count = 10'000'000;
     for (int i = 0; i < 8; ++i) forged[16 + i] = static_cast<char>(count >> (8 * i));
     { std::ofstream("forged.ckpt", std::ios::binary) << forged; }
-    std::filesystem::resize_file("forged.ckpt", 76 + 24 * count + 4);
+    std::filesystem::resize_file("forged.ckpt", 76 + 32 * count + 4);
     CHECK(errorOf([] { readCheckpoint("forged.ckpt"); }).find("checksum mismatch") != std::string::npos);
     std::remove("inputs.ckpt");
     std::remove("forged.ckpt");

@@ -79,7 +79,8 @@ std::vector<Particle> naivePairwise(std::vector<Particle> disks, const WorldDef&
         totals.maxRounds = std::max(totals.maxRounds, rounds);
         for (unsigned int i = 0; i < n; ++i) disks[i] = carom_finish_step(disks[i], step, &tallies[i]);
     }
-    drainTallyArray(tallies.data(), n, totals);
+    std::vector<Image> images(n);
+    drainTallyArray(tallies.data(), n, totals, images.data());
     return disks;
 }
 

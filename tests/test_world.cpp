@@ -407,6 +407,25 @@ TEST_CASE("io: a state written and read back is bit for bit the same") {
     CHECK(std::memcmp(back.data(), scene.disks.data(), back.size() * sizeof(Disk)) == 0);
 }
 
+TEST_CASE("io: writeState and TrajectoryWriter refuse what would not read back, and write nothing") {
+    const std::string path = (std::filesystem::temp_directory_path() / "carom_refused_state.csv").string();
+    std::remove(path.c_str());
+    CHECK_THROWS_WITH_AS(io::writeState(path, {}),
+                         doctest::Contains("0 disks; allowed: at least 1 (a state file holds a world's disks)"), Error);
+    std::vector<Disk> disks = gas(20, 0.3f).disks;
+    disks[7].velocity.y = NAN;
+    CHECK_THROWS_WITH_AS(io::writeState(path, disks), doctest::Contains("disk 7's vy is nan; allowed: finite numbers"),
+                         Error);
+    disks[7].velocity.y = 0;
+    disks[3].mass = -INFINITY;
+    CHECK_THROWS_WITH_AS(io::writeState(path, disks), doctest::Contains("disk 3's mass is -inf"), Error);
+    CHECK_FALSE(std::filesystem::exists(path));
+    // Nor a trajectory frame of no disks.
+    const World empty(box(10, 10));
+    io::TrajectoryWriter trajectory(path);
+    CHECK_THROWS_WITH_AS(trajectory.write(empty), "TrajectoryWriter::write: the world has no disks yet", Error);
+}
+
 TEST_CASE("io: a world resumed from its checkpoint continues bit for bit, events included") {
     const Scene scene = gas(400, 0.4f);
     const std::string path = (std::filesystem::temp_directory_path() / "carom_world.ckpt").string();
@@ -434,6 +453,60 @@ TEST_CASE("io: a world resumed from its checkpoint continues bit for bit, events
     }
     std::remove(path.c_str());
     CHECK_THROWS_AS(io::loadCheckpoint(path), Error);
+}
+
+CAROM_BACKEND_TEST_CASE("world: periodic images go through edits, snapshots and checkpoints") {
+    const std::string path = (std::filesystem::temp_directory_path() /
+                              (std::string("carom_images_") + computeEngineName(def.engine) + ".ckpt"))
+                                 .string();
+    // Two disks flying side by side, 8 apart: they never meet.
+    const std::vector<Disk> disks = disksOf({disk(5, 5, 7, -2.6f, 1, 0.5f), disk(13, 5, 7, -2.6f, 1, 0.5f)});
+    for (const CollisionScheme scheme :
+         {CollisionScheme::Simultaneous, CollisionScheme::Pairwise, CollisionScheme::Events}) {
+        if (scheme == CollisionScheme::Events && def.engine != ComputeEngine::Cpu) continue;
+        CAPTURE(collisionSchemeName(scheme));
+        WorldDef world = box(20, 10, 0.01f);
+        world.boundary = Boundary::Periodic;
+        world.collisions = scheme;
+        world.engine = def.engine;
+        world.device = def.device;
+        World straight(world);
+        straight.setDisks(disks);
+        straight.step(1000);
+        // After 10 time units at (75, -21) and (83, -21).
+        CHECK(straight.images() == std::vector<Image>{Image{3, -3}, Image{4, -3}});
+        io::saveCheckpoint(path, straight);
+        World resumed = io::loadCheckpoint(path, world);
+        CHECK(resumed.images() == straight.images());
+        World restored(world);
+        restored.restore(straight.snapshot());
+        CHECK(restored.images() == straight.images());
+        straight.step(500);
+        resumed.step(500);
+        CHECK(resumed.images() == straight.images());
+        CHECK(resumed.images() == std::vector<Image>{Image{5, -4}, Image{5, -4}});  // (110, -34), (118, -34)
+        // A drag keeps a disk's image, a drop starts at {0, 0}, a new scene at {0, 0} throughout.
+        resumed.setDisk(0, disks[1]);
+        resumed.addDisks(&disks[0], 1);
+        CHECK(resumed.images() == std::vector<Image>{Image{5, -4}, Image{5, -4}, Image{0, 0}});
+        resumed.setDisks(disks);
+        CHECK(resumed.images() == std::vector<Image>(2, Image{0, 0}));
+    }
+    std::remove(path.c_str());
+
+    // Images that do not fit the disks are refused, naming them.
+    World walls(box(20, 10));
+    Snapshot snapshot;
+    snapshot.world = box(20, 10);
+    snapshot.disks = disks;
+    snapshot.images = {Image{1, 0}, Image{0, 0}};
+    CHECK_THROWS_WITH_AS(walls.restore(snapshot),
+                         "snapshot: disk 0 has image {1, 0} in a box with walls; allowed: {0, 0} (only a periodic "
+                         "box has images)",
+                         Error);
+    snapshot.images.pop_back();
+    CHECK_THROWS_WITH_AS(walls.restore(snapshot),
+                         "snapshot: 1 images for 2 disks; allowed: one per disk, or none (all {0, 0})", Error);
 }
 
 TEST_CASE("world: dt and gravity change between steps, and the collision count outlives a reset") {

@@ -263,6 +263,22 @@ WorldDef restoredDef(const WorldDef& world, const Snapshot& snapshot, const std:
     return restored;
 }
 
+// What is wrong with a snapshot's images: one per disk or none, and none
+// but {0, 0} in a box with walls. Empty when nothing is.
+std::string imagesProblem(const Snapshot& snapshot) {
+    const std::vector<Image>& images = snapshot.images;
+    if (!images.empty() && images.size() != snapshot.disks.size())
+        return std::to_string(images.size()) + " images for " + std::to_string(snapshot.disks.size()) +
+               " disks; allowed: one per disk, or none (all {0, 0})";
+    if (snapshot.world.boundary == Boundary::Walls)
+        for (std::size_t i = 0; i < images.size(); ++i)
+            if (images[i] != Image{0, 0})
+                return "disk " + std::to_string(i) + " has image {" + std::to_string(images[i][0]) + ", " +
+                       std::to_string(images[i][1]) + "} in a box with walls; allowed: {0, 0} (only a periodic box " +
+                       "has images)";
+    return {};
+}
+
 }  // namespace
 
 std::vector<std::string> World::Impl::checkStart(const std::vector<Particle>& particles, const WorldDef& world,
@@ -284,7 +300,10 @@ void World::Impl::edit(std::vector<Particle> particles, std::size_t first, std::
     requireDistinctCentres(particles, first, last, what);
     // Counted before setParticles resets the backend's.
     const std::uint64_t collisions = collisionsBefore + backend->contacts().collisions;
-    backend->setParticles(particles, step);
+    // Edited disks keep their images (a drag is a move within the image); added ones start at {0, 0}.
+    std::vector<Image> images = backend->images();
+    images.resize(particles.size(), Image{0, 0});
+    backend->setParticles(particles, step, images);
     loaded(std::move(particles), step, collisions);
 }
 
@@ -326,6 +345,7 @@ Snapshot World::snapshot() const {
     s.collisions = collisionCount();
     s.disks = disks();
     s.events = impl_->backend->saveState();
+    s.images = images();
     return s;
 }
 
@@ -336,6 +356,7 @@ void World::restore(const Snapshot& snapshot, const std::string& source) {
         throw Error(source + ": " + problem);
     if (const std::string problem = eventStatePlaceProblem(snapshot); !problem.empty())
         throw Error(source + ": " + problem);
+    if (const std::string problem = imagesProblem(snapshot); !problem.empty()) throw Error(source + ": " + problem);
     std::vector<Particle> particles = particlesOf(snapshot.disks.data(), snapshot.disks.size());
     std::vector<std::string> found = Impl::checkStart(particles, restored, source, DeepOverlaps::Warn);
     if (snapshot.events) {
@@ -343,7 +364,7 @@ void World::restore(const Snapshot& snapshot, const std::string& source) {
         // a spare one (the events scheme runs on the CPU), so that a refusal
         // leaves this world's as it was.
         std::unique_ptr<Backend> spare = makeBackend(restored);
-        spare->setParticles(particles, snapshot.step);
+        spare->setParticles(particles, snapshot.step, snapshot.images);
         try {
             spare->restoreState(*snapshot.events);
         } catch (const Error& e) {
@@ -354,7 +375,7 @@ void World::restore(const Snapshot& snapshot, const std::string& source) {
         impl_->backend = std::move(spare);
     } else {
         impl_->backend->setMotion(restored.dt, restored.gravity);
-        impl_->backend->setParticles(particles, snapshot.step);
+        impl_->backend->setParticles(particles, snapshot.step, snapshot.images);
     }
     impl_->def = restored;
     impl_->start(std::move(particles), snapshot.step, snapshot.time, snapshot.collisions, std::move(found));
@@ -494,6 +515,11 @@ double World::totalEnergy() const {
 EventCounts World::eventCounts() const { return impl_->backend->eventCounts(); }
 
 std::vector<std::array<double, 2>> World::exactPositions() const { return impl_->backend->exactPositions(); }
+
+std::vector<Image> World::images() const {
+    if (diskCount() == 0) return {};
+    return impl_->backend->images();
+}
 
 double World::temperature() const { return carom::temperature(impl_->current(), impl_->def.boundary); }
 

@@ -146,7 +146,7 @@ float OpenClBackend::maxSpeedSquared() { return views_.maxSpeedSquared(queue_.ge
 
 void OpenClBackend::drainTallies(ContactTotals& totals) {
     std::vector<ContactTally> tallies = readTallies();
-    drainTallyArray(tallies.data(), tallies.size(), totals);
+    drainTallyArray(tallies.data(), tallies.size(), totals, images_.data());
     enqueueZero(queue_.get(), tallies_.get(), tallies.size() * sizeof(ContactTally), "contact tallies");
 }
 

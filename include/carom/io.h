@@ -51,6 +51,8 @@ SceneFile loadScene(const SceneFileDef& scene);
 
 /// A state CSV: the disks, in id order. The file's ids must be exactly
 /// 0..N-1, in any row order; the box is not checked here (World::setDisks does).
+/// writeState throws Error, writing nothing, for no disks or a value that is
+/// not finite: it writes only what readState reads back.
 std::vector<Disk> readState(const std::string& path);
 void writeState(const std::string& path, const std::vector<Disk>& disks);
 
@@ -102,7 +104,7 @@ World loadCheckpoint(CheckpointFile checkpoint, const WorldDef& def = WorldDef{}
 /// time(). The frames stream into a temporary file beside `path`, renamed
 /// into place by close(); a writer destroyed without close() leaves `path`
 /// as it was. Throws Error, naming the file, when it cannot be opened or a
-/// write fails (a full disk).
+/// write fails (a full disk), and for a world without disks.
 class TrajectoryWriter {
 public:
     explicit TrajectoryWriter(const std::string& path);
@@ -113,7 +115,10 @@ public:
     /// (at that step) another time. With `every` > 0, the steps between the
     /// samples, it refuses a file whose last frame is before the last
     /// multiple of `every` up to that step, too: samples would be missing.
-    TrajectoryWriter(const std::string& path, const World& resumed, std::uint64_t every = 0);
+    /// Refusals call `resumed` `resumedName` ("its last frame is at step 20,
+    /// after the world's step 10"): "the checkpoint" where it came from one.
+    TrajectoryWriter(const std::string& path, const World& resumed, std::uint64_t every = 0,
+                     const std::string& resumedName = "the world");
     ~TrajectoryWriter();
     TrajectoryWriter(TrajectoryWriter&&) noexcept;
     TrajectoryWriter& operator=(TrajectoryWriter&&) noexcept;
@@ -137,7 +142,8 @@ public:
     /// refusing a file as TrajectoryWriter does (its last row after that step,
     /// or before its last sample; more collisions than `resumed` counts, or
     /// at its step another time or count).
-    StatisticsWriter(const std::string& path, const World& resumed, std::uint64_t every = 0);
+    StatisticsWriter(const std::string& path, const World& resumed, std::uint64_t every = 0,
+                     const std::string& resumedName = "the world");
     ~StatisticsWriter();
     StatisticsWriter(StatisticsWriter&&) noexcept;
     StatisticsWriter& operator=(StatisticsWriter&&) noexcept;

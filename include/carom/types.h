@@ -44,6 +44,14 @@ struct Disk {
     float radius = 1.0f;        ///< [length], in [kMinLength, kMaxLength]; the disk must fit in the box
 };
 
+/// A disk's periodic image (World::images): the box widths and heights it
+/// has crossed since it was set, +1 each time it left by the right (top)
+/// side and came back in on the left (bottom), -1 the other way; always
+/// {0, 0} with walls. position + image * (width, height) is its unwrapped
+/// centre, for displacements longer than the box. Counted modulo 2^32, as
+/// the int32 images of GSD files are.
+using Image = std::array<std::int32_t, 2>;
+
 /// What a renderer draws of one disk (World::readView): 16 bytes, so that a
 /// frame reads back half of what the disk holds.
 struct DiskView {
@@ -389,6 +397,9 @@ struct Snapshot {
     /// The event-driven engine's exact state: present exactly when
     /// world.collisions is CollisionScheme::Events, with a state per disk.
     std::optional<EventEngineState> events;
+    /// Each disk's periodic image (World::images()), in id order; empty for
+    /// all {0, 0}. Only a periodic box has images other than {0, 0}.
+    std::vector<Image> images;
 };
 
 }  // namespace carom

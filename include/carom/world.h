@@ -165,7 +165,7 @@ public:
     const std::vector<std::string>& warnings() const;
 
     /// Everything the world needs to continue bit for bit (carom/types.h
-    /// Snapshot): its definition, step, time, collision count and disks, and
+    /// Snapshot): its definition, step, time, collision count, disks and images, and
     /// with CollisionScheme::Events the engine's exact double state.
     Snapshot snapshot() const;
     /// Continues from `snapshot`, taken of this world or of another with the
@@ -178,8 +178,9 @@ public:
     /// leaving the world as it was, for a snapshot of another box, boundary
     /// or scheme, dt or gravity out of range, a disk setDisks refuses, a time
     /// that `step` steps of a dt in [kMinDt, kMaxDt] cannot add up to (0 at
-    /// step 0), more than 2^63 collisions, or an events state that does not
-    /// fit the disks (present exactly with the events scheme; every value,
+    /// step 0), more than 2^63 collisions, images not one per disk (or none)
+    /// or other than {0, 0} in a box with walls, or an events state that does
+    /// not fit the disks (present exactly with the events scheme; every value,
     /// event, partner and cell checked, and no two centres equal); `source`
     /// names the snapshot in messages
     /// (a file it came from).
@@ -277,6 +278,13 @@ public:
     /// time() in double, in id order, as the engine holds them (disks() rounds
     /// them to float; in a periodic box both are wrapped into it) [length].
     std::vector<std::array<double, 2>> exactPositions() const;
+    /// Each disk's periodic image (carom/types.h Image), in id order, for the
+    /// positions disks() gives: position + image * (width, height) is the
+    /// disk's unwrapped centre. All {0, 0} with walls. setDisks starts every
+    /// disk at {0, 0}; setDisk and editDisks keep them, addDisks adds disks
+    /// at {0, 0}; snapshots and checkpoints keep them. The same on every
+    /// engine where the positions are (bitwiseReproducible()).
+    std::vector<Image> images() const;
     /// Collisions, pressure and Z over the interval since setDisks or resetMeasurements.
     Measurements measurements() const;
     void resetMeasurements();

@@ -1,6 +1,7 @@
 """GSD trajectories in HOOMD-blue's schema, written with the ``gsd`` package."""
 
 import os
+import tempfile
 
 import gsd.hoomd
 import numpy as np
@@ -15,6 +16,9 @@ class GSDWriter:
 
     ``mode`` is ``"w"`` (create, or truncate an existing file) or ``"a"``
     (append to an existing GSD file, keeping its frames, or create it).
+    Every frame continues the one before it, in the file or written: the
+    same number of disks and box, and a step not before its step; a write
+    that does not raises :class:`carom.InputError` and writes nothing.
     A ``mode`` other than these, or a ``path`` that is a directory or whose
     folder does not exist, raises :class:`carom.InputError`; a file that
     cannot be opened for another reason raises the ``OSError`` (or, for an
@@ -36,12 +40,12 @@ class GSDWriter:
     - ``particles/velocity`` (N, 3) float32 with z = 0 [length/time];
     - ``particles/mass`` [mass]; ``particles/diameter`` = 2 x radius [length];
     - ``particles/typeid`` (all 0) and ``particles/types`` = ``["A"]``;
-    - ``particles/image`` (N, 3) int32, periodic boxes only: ALWAYS ZERO.
-      carom wraps positions into the box and does not count the box lengths
-      a disk has crossed, so the true images are unknown; the positions of a
-      periodic box are wrapped and cannot be unwrapped from this file. (The
-      ``gsd`` package does not store a chunk equal to its default, so the
-      file has no ``particles/image`` chunk; readers get zeros either way.)
+    - ``particles/image`` (N, 3) int32, periodic boxes only: ``world.images``
+      with z = 0, the box lengths each disk has crossed, so that
+      ``position + image * (W, H, 0)`` is its unwrapped position (freud's
+      ``MSD`` takes them). (The ``gsd`` package does not store a chunk equal
+      to its default: a frame whose images are all 0 has no chunk, and
+      readers get zeros.)
     - ``log/carom/time`` (simulated time [time], float64) and
       ``log/carom/kinetic_energy`` ([mass length^2/time^2], float64).
     """
@@ -56,7 +60,13 @@ class GSDWriter:
         if not os.path.isdir(folder):
             raise InputError(f"path: {path!r}: the folder {folder!r} does not exist; allowed: a path in an existing folder")
         self.path = path
-        self._trajectory = gsd.hoomd.open(path, mode)
+        self._trajectory = _open(path, mode)
+        # (step, N, box) of the last frame, which the next one must continue.
+        self._last = None
+        if len(self._trajectory) > 0:
+            frame = self._trajectory[-1]
+            self._last = (int(frame.configuration.step), int(frame.particles.N),
+                          tuple(float(v) for v in frame.configuration.box[:2]))
 
     def write(self, world):
         """Appends one frame holding ``world``'s current state (see the class).
@@ -73,9 +83,11 @@ class GSDWriter:
         if n == 0:
             raise InputError("world: 0 disks; allowed: a world with disks (set_disks or place first)")
         width, height = (float(v) for v in world.box)
+        step = int(world.step_count)
+        self._require_continues(step, n, (width, height))
 
         frame = gsd.hoomd.Frame()
-        frame.configuration.step = int(world.step_count)
+        frame.configuration.step = step
         frame.configuration.box = [width, height, 0, 0, 0, 0]
         frame.configuration.dimensions = 2
         frame.particles.N = n
@@ -90,12 +102,31 @@ class GSDWriter:
         frame.particles.typeid = np.zeros(n, np.uint32)
         frame.particles.types = ["A"]
         if world.boundary == "periodic":
-            frame.particles.image = np.zeros((n, 3), np.int32)
+            image = np.zeros((n, 3), np.int32)
+            image[:, :2] = world.images
+            frame.particles.image = image
         frame.log["carom/time"] = np.array([world.time], np.float64)
         frame.log["carom/kinetic_energy"] = np.array([world.kinetic_energy], np.float64)
 
         self._trajectory.append(frame)
         self._trajectory.flush()
+        self._last = (step, n, (width, height))
+
+    def _require_continues(self, step, n, box):
+        if self._last is None:
+            return
+        last_step, last_n, last_box = self._last
+        problem = None
+        if n != last_n:
+            problem = f"its last frame has {last_n} disks, the world {n}"
+        elif box != last_box:
+            problem = (f"its last frame's box is {last_box[0]:g} x {last_box[1]:g}, the world's "
+                       f"{box[0]:g} x {box[1]:g}")
+        elif step < last_step:
+            problem = f"its last frame is at step {last_step}, after the world's step {step}"
+        if problem:
+            raise InputError(f"cannot append to {self.path!r}: {problem}; allowed: a frame that continues it "
+                             "(the same disks and box, a step not before its last); write to another file")
 
     def close(self):
         """Closes the file; closing again does nothing."""
@@ -113,3 +144,18 @@ class GSDWriter:
         state = "closed" if self._trajectory is None else f"{len(self._trajectory)} frames"
         return f"GSDWriter({self.path!r}, {state})"
 
+
+def _open(path, mode):
+    """gsd.hoomd.open for any path: the gsd package encodes names as UTF-8, so
+    one that UTF-8 cannot spell (bytes that are not UTF-8, as os.fsdecode
+    gives them) is opened through a symlink in a private folder, removed once
+    the file is open."""
+    try:
+        path.encode("utf-8")
+        return gsd.hoomd.open(path, mode)
+    except UnicodeEncodeError:
+        pass
+    with tempfile.TemporaryDirectory() as folder:
+        link = os.path.join(folder, "trajectory.gsd")
+        os.symlink(os.path.abspath(os.fsencode(path)), os.fsencode(link))
+        return gsd.hoomd.open(link, mode)

@@ -45,9 +45,19 @@ class _Serialized:
         return serialized
 
 
+def _unmasked(name: str, value) -> None:
+    """Refuses a masked array with masked values, naming the first: np.asarray would drop the mask."""
+    if np.ma.is_masked(value):
+        mask = np.ma.getmaskarray(value)
+        where = ", ".join(str(int(i)) for i in np.unravel_index(int(np.argmax(mask)), mask.shape))
+        raise InputError(f"{name}{f'[{where}]' if where else ''} is masked; allowed: values only (fill the "
+                         "masked ones first: .filled(value))")
+
+
 def _real_array(name: str, value, shape: tuple) -> np.ndarray:
     """`value` as a C-contiguous float32 array of `shape` (-1: any length),
     refusing what float32 cannot hold, with the index and the value."""
+    _unmasked(name, value)
     array = np.asarray(value)
     if array.dtype.kind not in "fiu":
         raise InputError(f"{name}: arrays of {array.dtype} are not numbers; allowed: float or integer arrays")
@@ -80,10 +90,11 @@ def _disk_arrays(positions, velocities, masses, radii):
 
 
 def _number(name: str, value) -> float:
-    """A finite number as the float32 nearest it (the engine's precision), refused naming the value
-    where there is none or it would be another number (carom/io.h: parseFloat, toFloat)."""
-    if isinstance(value, str):
-        return _finite(name, value, _carom.parse_float(name, value))
+    """A finite number that float32 holds (the engine's precision), refused naming the value otherwise.
+    Text and booleans are not numbers, though float() reads them."""
+    _unmasked(name, value)
+    if isinstance(value, (str, bytes, bool, np.bool_)):
+        raise InputError(f"{name}: {value!r} is not a number; allowed: a finite number")
     try:
         number = float(value)
     except (TypeError, ValueError):
@@ -109,6 +120,7 @@ def _range(name: str, value: Range) -> Pair:
 
 
 def _pair(name: str, value) -> Pair:
+    _unmasked(name, value)
     try:
         x, y = value
     except (TypeError, ValueError):
@@ -254,6 +266,8 @@ class World:
         state = {"engine": core.engine, "device": self._device, "max_travel": core.max_travel, "seed": self.seed,
                  "world": (core.width, core.height, core.dt, tuple(core.gravity), core.boundary,
                            core.collision_scheme)}
+        if hasattr(self, "scene_steps"):
+            state["scene_steps"] = self.scene_steps
         if core.disk_count > 0:
             with tempfile.TemporaryDirectory() as folder:
                 path = os.path.join(folder, "world.ckpt")
@@ -274,6 +288,8 @@ class World:
                     file.write(state["checkpoint"])
                 core = _carom.World.from_checkpoint(path, state["engine"], state["device"], state["max_travel"])
         self._adopt(core, state["device"], state["seed"])
+        if "scene_steps" in state:
+            self.scene_steps = state["scene_steps"]
 
     def copy(self) -> "World":
         """An independent world in the same state, on the same engine: both continue bit for bit alike."""
@@ -415,6 +431,16 @@ class World:
             self._ids = np.arange(self.n, dtype=np.uint32)
             self._ids.flags.writeable = False
         return self._ids
+
+    @property
+    def images(self) -> np.ndarray:
+        """Periodic images, int32 (N, 2), read-only, row i = disk i: the box
+        widths and heights each disk has crossed since set_disks or place (+1
+        each time it left by the right or top side, -1 by the left or bottom),
+        so that positions + images * box is its unwrapped centre, for
+        mean-square displacements. All 0 with walls. Edits keep them (added
+        disks start at 0); copies, pickles and checkpoints keep them. A copy."""
+        return self._core.images()
 
     @property
     def exact_positions(self) -> np.ndarray:

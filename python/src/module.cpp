@@ -7,6 +7,7 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/array.h>
+#include <nanobind/stl/filesystem.h>
 #include <nanobind/stl/optional.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/tuple.h>
@@ -15,6 +16,8 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -30,6 +33,9 @@ using carom::Disk;
 using carom::DiskMemory;
 using carom::World;
 using carom::WorldDef;
+// A file's name as the OS spells it: a str or os.PathLike from Python, encoded
+// as os.fsencode does, so that names that are not UTF-8 reach the file.
+using Path = std::filesystem::path;
 
 // Arrays from Python, already checked and converted by python/carom/_world.py.
 using Pairs = nb::ndarray<const float, nb::shape<-1, 2>, nb::c_contig, nb::device::cpu>;
@@ -78,6 +84,18 @@ nb::tuple arraysOver(const float* base, std::size_t count, std::size_t stride, s
                           ReadPairs(base + DiskMemory::kVelocity, {count, 2}, keep, {s, 1}),
                           ReadValues(base + DiskMemory::kMass, {count}, keep, {s}),
                           ReadValues(base + DiskMemory::kRadius, {count}, keep, {s}));
+}
+
+// A read-only (N, 2) array that owns `pairs`.
+template <typename T>
+nb::ndarray<nb::numpy, const T, nb::ndim<2>> pairArray(std::vector<std::array<T, 2>> pairs) {
+    auto owned = std::make_shared<std::vector<std::array<T, 2>>>(std::move(pairs));
+    static const T kNone[2] = {};
+    const T* data = owned->empty() ? kNone : owned->front().data();
+    const std::size_t count = owned->size();
+    nb::capsule keep(new std::shared_ptr<const void>(std::move(owned)),
+                     [](void* p) noexcept { delete static_cast<std::shared_ptr<const void>*>(p); });
+    return nb::ndarray<nb::numpy, const T, nb::ndim<2>>(data, {count, 2}, keep);
 }
 
 nb::tuple arraysOf(std::vector<Disk> disks) {
@@ -201,7 +219,10 @@ NB_MODULE(_carom, m) {
         try {
             std::rethrow_exception(p);
         } catch (const carom::Error& e) {
-            PyErr_SetString(inputError, e.what());
+            // A message may name a path that is not UTF-8: its bytes as \xNN.
+            PyObject* message = PyUnicode_DecodeUTF8(e.what(), Py_ssize_t(std::strlen(e.what())), "backslashreplace");
+            PyErr_SetObject(inputError, message);
+            Py_XDECREF(message);
         }
     });
 
@@ -261,15 +282,16 @@ NB_MODULE(_carom, m) {
         "particles"_a, "packing"_a, "width"_a, "height"_a, "radius"_a, "mass"_a, "speed"_a, "seed"_a);
 
     m.def(
-        "read_state", [](const std::string& path) { return arraysOf(carom::io::readState(path)); }, "path"_a);
+        "read_state", [](const Path& path) { return arraysOf(carom::io::readState(path.native())); }, "path"_a);
     m.def(
-        "write_state", [](const std::string& path, const World& world) { carom::io::writeState(path, world.disks()); },
-        "path"_a, "world"_a);
+        "write_state",
+        [](const Path& path, const World& world) { carom::io::writeState(path.native(), world.disks()); }, "path"_a,
+        "world"_a);
     m.def(
         "write_xyz",
-        [](const std::string& path, const World& world, bool append) {
+        [](const Path& path, const World& world, bool append) {
             carom::io::TrajectoryWriter writer =
-                append ? carom::io::TrajectoryWriter(path, world) : carom::io::TrajectoryWriter(path);
+                append ? carom::io::TrajectoryWriter(path.native(), world) : carom::io::TrajectoryWriter(path.native());
             writer.write(world);
             writer.close();
         },
@@ -285,30 +307,29 @@ NB_MODULE(_carom, m) {
              "max_travel"_a)
         .def_static(
             "from_scene_file",
-            [](const std::string& path, const std::string& engine, const std::string& device,
-               std::optional<float> maxTravel) {
-                carom::SceneFileDef file = carom::io::readSceneFile(path);
+            [](const Path& path, const std::string& engine, const std::string& device, std::optional<float> maxTravel) {
+                carom::SceneFileDef file = carom::io::readSceneFile(path.native());
                 file.world.engine = carom::parseComputeEngine(engine);
                 file.world.device = device;
                 if (maxTravel) file.world.maxTravel = *maxTravel;  // else the file's (dt = "auto" sets it)
                 const carom::io::SceneFile scene = carom::io::loadScene(file);
                 World world(scene.world);
-                world.setDisks(scene.disks, path);
+                world.setDisks(scene.disks, path.native());
                 return nb::make_tuple(std::move(world), scene.steps);
             },
             "path"_a, "engine"_a, "device"_a, "max_travel"_a)
         .def_static(
             "from_checkpoint",
-            [](const std::string& path, const std::string& engine, const std::string& device, float maxTravel) {
+            [](const Path& path, const std::string& engine, const std::string& device, float maxTravel) {
                 WorldDef def;  // loadCheckpoint takes only the engine, the device and maxTravel from it
                 def.engine = carom::parseComputeEngine(engine);
                 def.device = device;
                 def.maxTravel = maxTravel;
-                return carom::io::loadCheckpoint(path, def);
+                return carom::io::loadCheckpoint(path.native(), def);
             },
             "path"_a, "engine"_a, "device"_a, "max_travel"_a)
         .def(
-            "save_checkpoint", [](const World& w, const std::string& path) { carom::io::saveCheckpoint(path, w); },
+            "save_checkpoint", [](const World& w, const Path& path) { carom::io::saveCheckpoint(path.native(), w); },
             "path"_a)
         .def("copy",
              [](const World& w) {
@@ -365,15 +386,8 @@ NB_MODULE(_carom, m) {
             },
             "steps"_a)
         .def("disk_arrays", &diskArrays)
-        .def("exact_positions",
-             [](const World& w) {
-                 auto exact = std::make_shared<std::vector<std::array<double, 2>>>(w.exactPositions());
-                 nb::capsule keep(new std::shared_ptr<const void>(exact),
-                                  [](void* p) noexcept { delete static_cast<std::shared_ptr<const void>*>(p); });
-                 static const double kNone[2] = {};
-                 const double* data = exact->empty() ? kNone : exact->front().data();
-                 return nb::ndarray<nb::numpy, const double, nb::ndim<2>>(data, {exact->size(), 2}, keep);
-             })
+        .def("exact_positions", [](const World& w) { return pairArray(w.exactPositions()); })
+        .def("images", [](const World& w) { return pairArray(w.images()); })
         .def(
             "set_motion",
             [](World& w, float dt, std::array<float, 2> g) {

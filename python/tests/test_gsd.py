@@ -1,5 +1,6 @@
 """carom.GSDWriter: frames in HOOMD's GSD schema, read back with gsd.hoomd."""
 
+import os
 import re
 
 import gsd.fl
@@ -73,19 +74,57 @@ def test_round_trip(engine, boundary, tmp_path):
 
 
 def test_image_periodic_only(engine, tmp_path):
-    """Images are not tracked by carom: a periodic frame's image is zero (and
-    gsd then stores no chunk, readers getting its default zeros); a walls
-    frame has none either."""
-    for boundary in ("periodic", "walls"):
-        path = tmp_path / f"{boundary}.gsd"
-        world = make_world(engine, boundary)
-        world.step(20)
-        with carom.GSDWriter(path) as writer:
+    """A periodic frame holds the world's images, which unwrap its positions;
+    a walls frame has none (gsd stores no chunk, readers get zeros)."""
+    path = tmp_path / "periodic.gsd"
+    world = make_world(engine, "periodic")
+    with carom.GSDWriter(path) as writer:
+        for _ in range(30):
             writer.write(world)
-        with gsd.hoomd.open(path, "r") as traj:
-            image = traj[0].particles.image
-            assert image.shape == (len(world), 3) and not image.any()
-        assert "particles/image" not in chunk_names(path, 0)
+            world.step(10)  # 0.1 time units at speed ~2: far less than half a box
+    with gsd.hoomd.open(path, "r") as traj:
+        image = traj[-1].particles.image
+        assert image.shape == (len(world), 3) and image.dtype == np.int32
+        np.testing.assert_array_equal(image[:, 2], 0)
+        assert image.any()  # 3 time units at speed 2 in a box 20 x 16: some disks crossed
+        box = np.array([*BOX, 0])
+        unwrapped = [f.particles.position + f.particles.image * box for f in traj]
+        for before, after in zip(unwrapped, unwrapped[1:]):
+            assert (np.abs(after - before) < 1).all()
+
+    path = tmp_path / "walls.gsd"
+    world = make_world(engine, "walls")
+    world.step(20)
+    with carom.GSDWriter(path) as writer:
+        writer.write(world)
+    with gsd.hoomd.open(path, "r") as traj:
+        assert not traj[0].particles.image.any()
+    assert "particles/image" not in chunk_names(path, 0)
+
+
+def test_a_frame_must_continue_the_file(engine, tmp_path):
+    """A frame of earlier steps, another box or another number of disks is refused, in "a" mode against
+    the file's last frame and in either mode against the frame written before; nothing is written."""
+    path = tmp_path / "c.gsd"
+    world = make_world(engine)
+    world.step(5)
+    with carom.GSDWriter(path) as writer:
+        writer.write(world)
+        with pytest.raises(carom.InputError, match="its last frame is at step 5, after the world's step 0"):
+            writer.write(make_world(engine))
+    wider = carom.World(box=(30, 16), engine=engine)
+    wider.place(12, radius=0.5)
+    more = make_world(engine, count=13)
+    wider.step(5)
+    more.step(5)
+    for other, message in ((make_world(engine), "its last frame is at step 5, after the world's step 0"),
+                           (wider, "its last frame's box is 20 x 16, the world's 30 x 16"),
+                           (more, "its last frame has 12 disks, the world 13")):
+        with carom.GSDWriter(path, mode="a") as writer:
+            with pytest.raises(carom.InputError, match=re.escape(f"cannot append to {str(path)!r}: {message}")):
+                writer.write(other)
+    with gsd.hoomd.open(path, "r") as traj:
+        assert len(traj) == 1
 
 
 def test_append_keeps_frames(engine, tmp_path):
@@ -132,6 +171,21 @@ def test_refuses_mode(mode, tmp_path):
     with pytest.raises(carom.InputError, match=re.escape(f"mode: '{mode}'; allowed: 'w', 'a'")):
         carom.GSDWriter(tmp_path / "m.gsd", mode=mode)
     assert not (tmp_path / "m.gsd").exists()
+
+
+def test_a_path_that_is_not_utf8(engine, tmp_path):
+    """A name of bytes that are not UTF-8 (as os.fsdecode gives them) is written under those bytes."""
+    name = os.fsdecode(bytes(tmp_path) + b"/caf\xe9.gsd")
+    world = make_world(engine)
+    with carom.GSDWriter(name) as writer:
+        writer.write(world)
+    world.step(1)
+    with carom.GSDWriter(name, mode="a") as writer:
+        writer.write(world)
+    assert os.listdir(bytes(tmp_path)) == [b"caf\xe9.gsd"]
+    os.symlink(name, tmp_path / "link.gsd")
+    with gsd.hoomd.open(tmp_path / "link.gsd", "r") as traj:
+        assert [f.configuration.step for f in traj] == [0, 1]
 
 
 def test_refuses_directory_and_missing_folder(tmp_path):

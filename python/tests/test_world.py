@@ -2,6 +2,8 @@
 and every refusal naming the value."""
 import gc
 import json
+import os
+import re
 import subprocess
 import time
 
@@ -212,6 +214,11 @@ def test_xyz_frames_replace_or_append(engine, tmp_path):
     assert len(path.read_text().splitlines()) == 22
     with pytest.raises(carom.InputError, match="mode: 'x'; allowed: 'w', 'a'"):
         carom.write_xyz(path, world, mode="x")
+    # Appended frames continue the file: refusals speak of the world (there is no checkpoint).
+    with pytest.raises(carom.InputError, match="its last frame is at step 3, after the world's step 0"):
+        carom.write_xyz(path, gas(engine=engine, particles=20), mode="a")
+    with pytest.raises(carom.InputError, match="its last frame has 20 disks, the world 30"):
+        carom.write_xyz(path, gas(engine=engine, particles=30), mode="a")
 
 
 def test_placement_is_deterministic_in_the_seed(engine):
@@ -290,6 +297,15 @@ REFUSALS = [
     (lambda: gas().place(0), "count: 0 is out of range"),
     (lambda: carom.World.from_scene("no/such/scene.toml"), "no/such/scene.toml"),
     (lambda: carom.make_scene(particles=10, packing=0.95), "0.95"),
+    (lambda: carom.World(box=("100", "100")), "box: '100' is not a number; allowed: a finite number"),
+    (lambda: carom.World(box=(True, True)), "box: True is not a number"),
+    (lambda: carom.World(box=(10, 10), dt=np.bool_(True)), "True_ is not a number"),
+    (lambda: carom.World(box=(10, 10), gravity=(b"1", 0)), "gravity: b'1' is not a number"),
+    (lambda: gas().place(10, radius="1"), "radius: '1' is not a number"),
+    (lambda: carom.World(box=np.ma.masked_array([10, 10], mask=[0, 1])), "box[1] is masked"),
+    (lambda: carom.write_state("empty.csv", carom.World(box=(10, 10))),
+     "state file 'empty.csv': 0 disks; allowed: at least 1"),
+    (lambda: carom.write_xyz("empty.xyz", carom.World(box=(10, 10))), "the world has no disks yet"),
 ]
 
 
@@ -302,6 +318,9 @@ def test_bad_arguments_are_refused_naming_the_value(make, message):
 
 
 BAD_DISKS = [
+    ({"masses": np.ma.masked_array([1, 2, 3], mask=[0, 0, 1])}, "masses[2] is masked; allowed: values only"),
+    ({"positions": np.ma.masked_array([[2, 2], [5, 5], [8, 8]], mask=[[0, 0], [0, 1], [0, 0]])},
+     "positions[1, 1] is masked"),
     ({"positions": np.zeros((3, 3))}, "positions: shape (3, 3); allowed: (N, 2)"),
     ({"velocities": np.zeros((2, 2))}, "velocities: shape (2, 2); allowed: (3, 2)"),
     ({"masses": np.ones((3, 1))}, "masses: shape (3, 1); allowed: (3,)"),
@@ -330,6 +349,61 @@ def test_bad_disks_are_refused_naming_the_index_and_value(engine, change, messag
         world.set_disks(**disks)
     assert message in str(error.value)
     assert len(world) == 1  # kept as it was
+
+
+def test_masked_arrays_without_masked_values_are_taken():
+    world = carom.World(box=(10, 10))
+    world.set_disks(np.ma.masked_array([[2, 2], [6, 6]], mask=False), np.zeros((2, 2)), [1, 1], [1, 1])
+    assert world.positions[1, 0] == 6.0
+
+
+def test_images_unwrap_the_positions(engine, tmp_path):
+    """world.images: int32 (N, 2), read-only; positions + images * box is the unwrapped centre. Kept by
+    copies, pickles and checkpoints; edits keep them, added disks start at 0, set_disks restarts them."""
+    import pickle
+
+    world = carom.World(box=(20, 10), boundary="periodic", engine=engine, collisions="simultaneous")
+    world.set_disks([[5, 5], [13, 5]], [[7, -2.6], [7, -2.6]], [1, 1], [0.5, 0.5])  # side by side, 8 apart
+    world.step(1000)  # 10 time units: at (75, -21) and (83, -21)
+    images = world.images
+    assert images.dtype == np.int32 and images.shape == (2, 2) and not images.flags.writeable
+    np.testing.assert_array_equal(images, [[3, -3], [4, -3]])
+    unwrapped = world.positions + images * np.array(world.box)
+    np.testing.assert_allclose(unwrapped, [[75, -21], [83, -21]], atol=1e-2)
+    world.save_checkpoint(tmp_path / "w.ckpt")
+    for twin in (world.copy(), pickle.loads(pickle.dumps(world)),
+                 carom.World.from_checkpoint(tmp_path / "w.ckpt", engine=engine)):
+        np.testing.assert_array_equal(twin.images, images)
+    world.add_disks([[1, 1]], [[0, 0]], [1], [0.5])
+    np.testing.assert_array_equal(world.images, [[3, -3], [4, -3], [0, 0]])
+    world.set_disks([[5, 5]], [[1, 0]], [1], [0.5])
+    np.testing.assert_array_equal(world.images, [[0, 0]])
+    assert carom.World(box=(20, 10)).images.shape == (0, 2)
+
+
+def test_pickle_keeps_scene_steps(scenes):
+    import pickle
+
+    world = carom.World.from_scene(scenes / "ideal_gas.toml")
+    assert pickle.loads(pickle.dumps(world)).scene_steps == world.scene_steps
+
+
+def test_paths_that_are_not_utf8(engine, tmp_path):
+    """Names of bytes that are not UTF-8 (as os.fsdecode gives them) reach the files, and messages show
+    their bytes as \\xNN."""
+    world = carom.World(box=(20, 20), engine=engine, seed=1)
+    world.place(10, radius=0.5)
+    folder = bytes(tmp_path)
+    for name in (os.fsdecode(folder + b"/caf\xe9.ckpt"), folder + b"/caf\xe9.ckpt"):
+        world.save_checkpoint(name)
+        assert carom.World.from_checkpoint(name, engine=engine).step_count == 0
+    carom.write_state(os.fsdecode(folder + b"/caf\xe9.csv"), world)
+    np.testing.assert_array_equal(carom.read_state(os.fsdecode(folder + b"/caf\xe9.csv")).positions,
+                                  world.positions)
+    carom.write_xyz(os.fsdecode(folder + b"/caf\xe9.xyz"), world)
+    assert sorted(os.listdir(folder)) == [b"caf\xe9.ckpt", b"caf\xe9.csv", b"caf\xe9.xyz"]
+    with pytest.raises(carom.InputError, match=re.escape("no-such-caf\\xe9.ckpt")):
+        carom.World.from_checkpoint(os.fsdecode(folder + b"/no-such-caf\xe9.ckpt"))
 
 
 def test_deep_overlaps_are_allowed_on_request_with_a_warning():
