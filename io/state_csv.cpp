@@ -2,6 +2,7 @@
 #include "io/state_csv.h"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include <carom/files.h>

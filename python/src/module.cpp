@@ -226,12 +226,9 @@ NB_MODULE(_carom, m) {
         }
     });
 
-    // The package's real-valued arguments go through carom's one reader of
-    // numbers (carom/io.h), each refusal naming the argument.
-    m.def(
-        "parse_float",
-        [](const std::string& name, const std::string& text) { return named(name, carom::io::parseFloat, text); },
-        "name"_a, "text"_a);
+    // The package's real-valued arguments (numbers only: text is refused)
+    // go through carom's one float32 rule (carom/io.h), each refusal naming
+    // the argument.
     m.def(
         "to_float", [](const std::string& name, double value) { return named(name, carom::io::toFloat, value); },
         "name"_a, "value"_a);

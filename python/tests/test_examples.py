@@ -18,7 +18,8 @@ def test_mean_square_displacement_example(tmp_path):
     with gsd.hoomd.open(tmp_path / "msd.gsd", "r") as frames:
         box = np.array(frames[0].configuration.box[:2], np.float64)
         wrapped = np.array([f.particles.position[:, :2] for f in frames], np.float64)
-        assert frames[-1].particles.image.any()  # disks crossed the box    moves = np.diff(wrapped, axis=0)
+        assert frames[-1].particles.image.any()  # disks crossed the box
+    moves = np.diff(wrapped, axis=0)
     moves -= box * np.round(moves / box)  # each to the nearest image
     assert np.abs(moves).max() < box.min() / 4
     summed = np.concatenate([np.zeros((1, *moves.shape[1:])), np.cumsum(moves, axis=0)])
