@@ -128,7 +128,8 @@ std::string Backend::tooManySubsteps(float speedSquared, const CaromSubstepRule&
            (world_.maxTravel > 0.0f && rule.allowed == world_.maxTravel * minRadius_
                 ? "maxTravel " + std::to_string(world_.maxTravel) + " x radius " + std::to_string(minRadius_)
                 : "the pairwise grid's allowance " + std::to_string(rule.allowed)) +
-           "; at most " + std::to_string(kMaxSubsteps) + " are allowed (the state may have blown up, or use a smaller dt)";
+           "; at most " + std::to_string(kMaxSubsteps) +
+           " are allowed (the state may have blown up, or use a smaller dt)";
 }
 
 std::uint64_t Backend::advanceWhileSubstepsHold(std::uint64_t steps, std::uint64_t substeps, float dt,
