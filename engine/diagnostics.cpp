@@ -2,12 +2,22 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <vector>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "engine/grid.h"
 
 namespace carom {
 
 namespace {
+
+// Entries of the sorted disks per run of cells that findOverlaps searches on
+// one thread: large enough that a run's share of the wave's wait is small.
+constexpr std::size_t kOverlapRun = 1 << 16;
 
 // One disk's share of the sums, in double: measureMotion and measureView add
 // the same terms, so their energies and momentum agree bit for bit.
@@ -92,21 +102,58 @@ Overlaps findOverlaps(const std::vector<Particle>& particles, const WorldDef& wo
         return d - extent * std::round(d / extent);
     };
     const std::size_t counted = kOverlapsCountedPerDisk * particles.size();
-    found.allCounted = forEachOverlappingPair(particles.data(), cells, [&](std::uint32_t i, std::uint32_t j) {
-        if (found.pairs == counted) return false;  // one more than counted: "more than"
-        const Particle& a = particles[i];
-        const Particle& b = particles[j];
-        const double distance = std::hypot(separation(double(a.position.x) - b.position.x, world.width),
-                                           separation(double(a.position.y) - b.position.y, world.height));
-        const double overlap = double(a.radius) + b.radius - distance;
-        const std::array<std::uint32_t, 2> pair{i, j};
-        if (overlap > found.deepest || (overlap == found.deepest && found.pairs > 0 && pair < found.deepestPair)) {
-            found.deepest = overlap;
-            found.deepestPair = pair;
+    // Visits the pairs of sorted[from, to) into `into` until it holds `counted`.
+    const auto search = [&](std::size_t from, std::size_t to, Overlaps& into) {
+        return forEachOverlappingPairIn(cells, from, to, [&](std::uint32_t i, std::uint32_t j) {
+            if (into.pairs == counted) return false;  // one more than counted: "more than"
+            const Particle& a = particles[i];
+            const Particle& b = particles[j];
+            const double distance = std::hypot(separation(double(a.position.x) - b.position.x, world.width),
+                                               separation(double(a.position.y) - b.position.y, world.height));
+            const double overlap = double(a.radius) + b.radius - distance;
+            const std::array<std::uint32_t, 2> pair{i, j};
+            if (overlap > into.deepest || (overlap == into.deepest && into.pairs > 0 && pair < into.deepestPair)) {
+                into.deepest = overlap;
+                into.deepestPair = pair;
+            }
+            ++into.pairs;
+            return true;
+        });
+    };
+    // Runs of cells searched in parallel, a wave at a time, and taken in
+    // order: the deepest pair is the same whichever run found it. The run
+    // in which the count passes `counted` is searched again from where the
+    // runs before it left off, so the pairs counted are those a search in
+    // one pass counts, and a wave past that point is all the extra work.
+    const std::vector<std::size_t> runs = cellRuns(cells, kOverlapRun);
+    const std::size_t runCount = runs.size() - 1;
+    std::size_t wave = 1;
+#ifdef _OPENMP
+    wave = 4 * std::size_t(omp_get_max_threads());
+#endif
+    std::vector<Overlaps> parts(std::min(wave, runCount));
+    for (std::size_t first = 0; first < runCount; first += wave) {
+        const auto n = static_cast<std::int64_t>(std::min(wave, runCount - first));
+#pragma omp parallel for schedule(dynamic, 1) if (n > 1)
+        for (std::int64_t r = 0; r < n; ++r) {
+            parts[std::size_t(r)] = Overlaps{};
+            parts[std::size_t(r)].allCounted =
+                search(runs[first + std::size_t(r)], runs[first + std::size_t(r) + 1], parts[std::size_t(r)]);
         }
-        ++found.pairs;
-        return true;
-    });
+        for (std::size_t r = 0; r < std::size_t(n); ++r) {
+            const Overlaps& part = parts[r];
+            if (!part.allCounted || found.pairs + part.pairs > counted) {
+                found.allCounted = search(runs[first + r], cells.sorted.size(), found);
+                return found;
+            }
+            if (part.pairs > 0 && (part.deepest > found.deepest || (part.deepest == found.deepest && found.pairs > 0 &&
+                                                                    part.deepestPair < found.deepestPair))) {
+                found.deepest = part.deepest;
+                found.deepestPair = part.deepestPair;
+            }
+            found.pairs += part.pairs;
+        }
+    }
     return found;
 }
 

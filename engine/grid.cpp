@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -60,6 +62,29 @@ double pairChecksPerDisk(const GridGeometry& g, std::size_t count, Boundary boun
     const double cols = boundary == Boundary::Periodic ? reach : std::min(reach, g.cols);
     const double rows = boundary == Boundary::Periodic ? reach : std::min(reach, g.rows);
     return cols * rows * double(count) / (double(g.cols) * double(g.rows));
+}
+
+// Below this many entries a sort runs on one thread.
+constexpr std::int64_t kParallelSortBlock = 1 << 16;
+
+// std::sort of `items` by `less`, a total order (so the result is the one
+// sorted sequence, whatever the thread count): blocks sorted in parallel,
+// then merged pairwise, the merges of each level in parallel.
+template <class T, class Less>
+void sortInParallel(std::vector<T>& items, Less less) {
+    const auto n = static_cast<std::int64_t>(items.size());
+    std::int64_t blocks = 1;
+#ifdef _OPENMP
+    while (blocks < omp_get_max_threads() && n / (2 * blocks) >= kParallelSortBlock) blocks *= 2;
+#endif
+    const auto at = [&](std::int64_t b) { return items.begin() + std::min(n, n * b / blocks); };
+#pragma omp parallel for schedule(static, 1) if (blocks > 1)
+    for (std::int64_t b = 0; b < blocks; ++b) std::sort(at(b), at(b + 1), less);
+    for (std::int64_t width = 1; width < blocks; width *= 2) {
+#pragma omp parallel for schedule(static, 1) if (blocks / width > 2)
+        for (std::int64_t b = 0; b < blocks; b += 2 * width)
+            std::inplace_merge(at(b), at(b + width), at(std::min(blocks, b + 2 * width)), less);
+    }
 }
 
 }  // namespace
@@ -119,20 +144,39 @@ DiskCells sortIntoCells(const Particle* particles, std::size_t count, CaromBox b
     const auto coord = [](float x, float extent, double n) {
         return std::uint64_t(std::clamp(std::floor(double(x) * n / extent), 0.0, n - 1.0));
     };
-    cells.sorted.reserve(count);
-    for (std::size_t i = 0; i < count; ++i) {
+    // Non-finite centres get the last cell, sort to the end, and are cut off.
+    constexpr std::uint64_t kLeftOut = ~std::uint64_t{0};
+    cells.sorted.resize(count);
+    const auto n = static_cast<std::int64_t>(count);
+    std::int64_t finite = 0;
+#pragma omp parallel for reduction(+ : finite) schedule(static) if (n >= kParallelSortBlock)
+    for (std::int64_t i = 0; i < n; ++i) {
         const float x = particles[i].position.x + 0.0f, y = particles[i].position.y + 0.0f;
-        if (!std::isfinite(x) || !std::isfinite(y)) continue;
-        const std::uint64_t cell = coord(y, box.height, rows) * cells.cols + coord(x, box.width, cols);
-        cells.sorted.push_back({cell, x, y, static_cast<std::uint32_t>(i)});
+        const bool kept = std::isfinite(x) && std::isfinite(y);
+        finite += kept;
+        const std::uint64_t cell =
+            kept ? coord(y, box.height, rows) * cells.cols + coord(x, box.width, cols) : kLeftOut;
+        cells.sorted[std::size_t(i)] = {cell, x, y, static_cast<std::uint32_t>(i), particles[i].radius};
     }
-    std::sort(cells.sorted.begin(), cells.sorted.end(), [](const DiskCells::Entry& a, const DiskCells::Entry& b) {
+    sortInParallel(cells.sorted, [](const DiskCells::Entry& a, const DiskCells::Entry& b) {
         if (a.cell != b.cell) return a.cell < b.cell;
         if (a.x != b.x) return a.x < b.x;
         if (a.y != b.y) return a.y < b.y;
         return a.id < b.id;
     });
+    cells.sorted.resize(std::size_t(finite));
     return cells;
+}
+
+std::vector<std::size_t> cellRuns(const DiskCells& cells, std::size_t entries) {
+    const std::vector<DiskCells::Entry>& sorted = cells.sorted;
+    std::vector<std::size_t> runs{0};
+    while (runs.back() < sorted.size()) {
+        std::size_t end = std::min(sorted.size(), runs.back() + std::max<std::size_t>(entries, 1));
+        while (end < sorted.size() && sorted[end].cell == sorted[end - 1].cell) ++end;
+        runs.push_back(end);
+    }
+    return runs;
 }
 
 void buildGrid(const Particle* particles, std::size_t count, Grid& grid) {

@@ -124,6 +124,7 @@ struct DiskCells {
         std::uint64_t cell;  // row * cols + column
         float x, y;          // the centre (-0 read as 0, so that equal centres sort together)
         std::uint32_t id;
+        float radius;  // the search reads the entries alone
     };
     std::vector<Entry> sorted;
     std::uint64_t cols = 1, rows = 1;
@@ -138,7 +139,13 @@ DiskCells sortIntoCells(const Particle* particles, std::size_t count, CaromBox b
 // visited. Costs the pairs in neighbouring cells: with disks of similar
 // sizes, a constant times N plus the overlapping pairs visited.
 template <class Visit>
-bool forEachOverlappingPair(const Particle* particles, const DiskCells& cells, Visit&& visit);
+bool forEachOverlappingPair(const DiskCells& cells, Visit&& visit);
+// The same for the disks in sorted[from, to) (each end a cell's first entry,
+// or the end) and their partners j > i anywhere.
+template <class Visit>
+bool forEachOverlappingPairIn(const DiskCells& cells, std::size_t from, std::size_t to, Visit&& visit);
+// Runs of whole cells of about `entries` entries each: sorted[runs[r], runs[r + 1]).
+std::vector<std::size_t> cellRuns(const DiskCells& cells, std::size_t entries);
 
 }  // namespace carom
 

@@ -175,7 +175,7 @@ void requireNoOverlap(const SceneFileDef& scene, const std::vector<Particle>& pa
     // Disks are placed inside the box, so an overlap across a periodic edge is
     // not possible: the walled search finds every one.
     const DiskCells cells = sortIntoCells(particles.data(), particles.size(), carom_box(width, height, 0));
-    forEachOverlappingPair(particles.data(), cells, [&](std::uint32_t i, std::uint32_t j) -> bool {
+    forEachOverlappingPair(cells, [&](std::uint32_t i, std::uint32_t j) -> bool {
         const DiskDef& d = scene.disks[j - firstDisk];  // j > i, so j is a [[disk]]
         fail(scene.path, ':', d.line, ": ", name(j), " at (", d.position.x, ", ", d.position.y, ") overlaps ", name(i),
              " at (", particles[i].position.x, ", ", particles[i].position.y, "); disks may touch but not overlap");

@@ -1,10 +1,16 @@
 // The shared grid builder and the 3x3 neighbour search, against brute force.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <set>
 #include <utility>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "engine/diagnostics.h"
 #include "engine/grid.h"
 #include "support.h"
 
@@ -121,11 +127,11 @@ TEST_CASE("grid: the overlap search finds exactly the overlapping pairs of brute
                     p = carom_wrap_position(p, box, image);
                 }
             PairSet found;
-            CHECK(forEachOverlappingPair(ps.data(), sortIntoCells(ps.data(), ps.size(), box),
-                                         [&](std::uint32_t i, std::uint32_t j) {
-                                             CHECK(found.insert({i, j}).second);  // each pair once
-                                             return true;
-                                         }));
+            CHECK(
+                forEachOverlappingPair(sortIntoCells(ps.data(), ps.size(), box), [&](std::uint32_t i, std::uint32_t j) {
+                    CHECK(found.insert({i, j}).second);  // each pair once
+                    return true;
+                }));
             const PairSet expected = bruteForcePairs(ps, box);
             CHECK(expected.size() > 100);  // the configurations do overlap
             CHECK(found == expected);
@@ -183,5 +189,62 @@ TEST_CASE("grid: the parallel build equals the serial one for any number of thre
                 CHECK(split.cellOf == serial.cellOf);
             }
         }
+    }
+}
+
+// findOverlaps and sortIntoCells share runs of cells among threads: the
+// pairs counted and the deepest pair must be those of one pass in cell
+// order, on any number of threads, also where counting stops part-way.
+TEST_CASE("grid: the overlap search in parallel finds what one pass finds, for any number of threads") {
+    std::mt19937 random(7);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    const float width = 1200, height = 1200;
+    std::vector<Particle> ps;
+    for (int k = 0; k < 300'000; ++k) ps.push_back(disk(width * unit(random), height * unit(random), 0, 0, 1, 0.5f));
+    const WorldDef w = test::box(width, height);
+    // What the search finds in one pass over the cells, counting as findOverlaps does.
+    const auto onePass = [&](const std::vector<Particle>& disks) {
+        Overlaps found;
+        const std::size_t counted = kOverlapsCountedPerDisk * disks.size();
+        const DiskCells cells = sortIntoCells(disks.data(), disks.size(), caromBoxOf(w));
+        REQUIRE(std::is_sorted(cells.sorted.begin(), cells.sorted.end(),
+                               [](const DiskCells::Entry& a, const DiskCells::Entry& b) { return a.cell < b.cell; }));
+        found.allCounted = forEachOverlappingPair(cells, [&](std::uint32_t i, std::uint32_t j) {
+            if (found.pairs == counted) return false;
+            const Particle &a = disks[i], &b = disks[j];
+            const double overlap = double(a.radius) + b.radius -
+                                   std::hypot(double(a.position.x) - b.position.x, double(a.position.y) - b.position.y);
+            const std::array<std::uint32_t, 2> pair{i, j};
+            if (overlap > found.deepest || (overlap == found.deepest && found.pairs > 0 && pair < found.deepestPair)) {
+                found.deepest = overlap;
+                found.deepestPair = pair;
+            }
+            ++found.pairs;
+            return true;
+        });
+        return found;
+    };
+    std::vector<Particle> heaped = ps;  // a heap of 3 000 disks in the middle: more pairs than are counted
+    for (int k = 0; k < 3000; ++k)
+        heaped[std::size_t(k) * 97].position = {600.0f + 0.01f * float(k % 40), 600.0f + 0.01f * float(k / 40)};
+    for (const std::vector<Particle>* disks : {&ps, &heaped}) {
+        const Overlaps expected = onePass(*disks);
+        CHECK(expected.pairs > 1000);
+        CHECK(expected.allCounted == (disks == &ps));
+#ifdef _OPENMP
+        const int threads = omp_get_max_threads();
+        for (const int t : {1, 2, 3, 8}) {
+            CAPTURE(t);
+            omp_set_num_threads(t);
+#endif
+            const Overlaps found = findOverlaps(*disks, w);
+            CHECK(found.pairs == expected.pairs);
+            CHECK(found.allCounted == expected.allCounted);
+            CHECK(found.deepest == expected.deepest);
+            CHECK(found.deepestPair == expected.deepestPair);
+#ifdef _OPENMP
+        }
+        omp_set_num_threads(threads);
+#endif
     }
 }
