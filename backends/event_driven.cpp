@@ -550,25 +550,9 @@ std::uint64_t EventDrivenBackend::advance(std::uint64_t substeps, float dt) {
     return substeps;
 }
 
-void EventDrivenBackend::keepStepStart() {
-    kept_ = Kept{disks_,           scheduled_,   mass_, previous_, head_,   calendar_,
-                 eventsSinceSort_, eventsAtNow_, step_, now_,      counts_, undrained_};
-}
+void EventDrivenBackend::keepStepStart() { kept_ = changedByStep(); }
 
-void EventDrivenBackend::returnToStepStart() {
-    disks_ = kept_.disks;
-    scheduled_ = kept_.scheduled;
-    mass_ = kept_.mass;
-    previous_ = kept_.previous;
-    head_ = kept_.head;
-    calendar_ = kept_.calendar;
-    eventsSinceSort_ = kept_.eventsSinceSort;
-    eventsAtNow_ = kept_.eventsAtNow;
-    step_ = kept_.step;
-    now_ = kept_.now;
-    counts_ = kept_.counts;
-    undrained_ = kept_.undrained;
-}
+void EventDrivenBackend::returnToStepStart() { changedByStep() = kept_; }
 
 void EventDrivenBackend::motionChanged() {
     // Every disk to now_ under the old gravity, then new trajectories.

@@ -32,6 +32,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <tuple>
 #include <vector>
 
 #include <carom/types.h>
@@ -171,19 +172,15 @@ private:
     ContactTotals undrained_;           // collisions, virial and wall impulses since the last drainTallies
     std::uint64_t lastStepEvents_ = 0;  // the events of the last runUntil
 
-    // What a step changes, as keepStepStart() found it.
-    struct Kept {
-        std::vector<Disk> disks;
-        std::vector<Scheduled> scheduled;
-        std::vector<double> mass;
-        std::vector<std::int32_t> previous, head;
-        EventCalendar calendar;
-        std::uint64_t eventsSinceSort = 0, eventsAtNow = 0, step = 0;
-        double now = 0.0;
-        EventCounts counts;
-        ContactTotals undrained;
-    };
-    Kept kept_;
+    // What a step changes: keepStepStart() copies it, returnToStepStart() restores it.
+    auto changedByStep() {
+        return std::tie(disks_, scheduled_, mass_, previous_, head_, calendar_, eventsSinceSort_, eventsAtNow_, step_,
+                        now_, counts_, undrained_);
+    }
+    std::tuple<std::vector<Disk>, std::vector<Scheduled>, std::vector<double>, std::vector<std::int32_t>,
+               std::vector<std::int32_t>, EventCalendar, std::uint64_t, std::uint64_t, std::uint64_t, double,
+               EventCounts, ContactTotals>
+        kept_;
 };
 
 }  // namespace carom

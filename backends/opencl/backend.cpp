@@ -51,6 +51,9 @@ void OpenClBackend::load(std::vector<Particle> particles) {
     state_.reset();
     next_.reset();
     tallies_.reset();
+    startState_.reset();
+    startIds_.reset();
+    startTallies_.reset();
     views_.release();
 
     state_ = createBuffer(context_.get(), n * sizeof(Particle), "particle state");
@@ -108,33 +111,51 @@ std::uint64_t OpenClBackend::advance(std::uint64_t steps, float dt) {
 }
 
 void OpenClBackend::keepStepStart() {
-    readParticles(stepStart_);
-    stepStartTallies_ = readTallies();
+    const std::size_t n = particleCount_;
+    cl_mem ids = slotIds();
+    if (!startState_.get()) {
+        startState_ = createBuffer(context_.get(), n * sizeof(Particle), "the step's start");
+        startTallies_ = createBuffer(context_.get(), n * sizeof(ContactTally), "the step's start tallies");
+        if (ids) startIds_ = createBuffer(context_.get(), n * sizeof(cl_uint), "the step's start ids");
+    }
+    enqueueCopy(queue_.get(), state_.get(), startState_.get(), n * sizeof(Particle), "the step's start");
+    enqueueCopy(queue_.get(), tallies_.get(), startTallies_.get(), n * sizeof(ContactTally),
+                "the step's start tallies");
+    if (ids) enqueueCopy(queue_.get(), ids, startIds_.get(), n * sizeof(cl_uint), "the step's start ids");
 }
 
 void OpenClBackend::returnToStepStart() {
-    load(stepStart_);
-    check(
-        clEnqueueWriteBuffer(queue_.get(), tallies_.get(), CL_TRUE, 0, stepStartTallies_.size() * sizeof(ContactTally),
-                             stepStartTallies_.data(), 0, nullptr, nullptr),
-        "clEnqueueWriteBuffer(contact tallies)");
-}
-
-std::vector<ContactTally> OpenClBackend::readTallies() {
-    std::vector<ContactTally> tallies(particleCount_);
-    check(clEnqueueReadBuffer(queue_.get(), tallies_.get(), CL_TRUE, 0, tallies.size() * sizeof(ContactTally),
-                              tallies.data(), 0, nullptr, nullptr),
-          "clEnqueueReadBuffer(contact tallies)");
-    return tallies;
+    std::vector<Particle> particles;
+    readInIdOrder(startState_.get(), startIds_.get(), particles);
+    // The copy of the tallies outlives the load, which frees the others.
+    opencl::Buffer tallies = std::move(startTallies_);
+    load(std::move(particles));
+    enqueueCopy(queue_.get(), tallies.get(), tallies_.get(), particleCount_ * sizeof(ContactTally), "contact tallies");
+    finish();
 }
 
 void OpenClBackend::awaitSteps() { finish(); }
 
 void OpenClBackend::readParticles(std::vector<Particle>& particles) {
-    particles.resize(particleCount_);
-    check(clEnqueueReadBuffer(queue_.get(), state_.get(), CL_TRUE, 0, particleCount_ * sizeof(Particle),
-                              particles.data(), 0, nullptr, nullptr),
+    readInIdOrder(state_.get(), slotIds(), particles);
+}
+
+void OpenClBackend::readInIdOrder(cl_mem state, cl_mem ids, std::vector<Particle>& particles) {
+    const std::size_t n = particleCount_;
+    particles.resize(n);
+    if (!ids) {
+        check(clEnqueueReadBuffer(queue_.get(), state, CL_TRUE, 0, n * sizeof(Particle), particles.data(), 0, nullptr,
+                                  nullptr),
+              "clEnqueueReadBuffer(particle state)");
+        return;
+    }
+    std::vector<Particle> slots(n);
+    std::vector<cl_uint> slotIds(n);
+    check(clEnqueueReadBuffer(queue_.get(), state, CL_TRUE, 0, n * sizeof(Particle), slots.data(), 0, nullptr, nullptr),
           "clEnqueueReadBuffer(particle state)");
+    check(clEnqueueReadBuffer(queue_.get(), ids, CL_TRUE, 0, n * sizeof(cl_uint), slotIds.data(), 0, nullptr, nullptr),
+          "clEnqueueReadBuffer(particle ids)");
+    for (std::size_t s = 0; s < n; ++s) particles[slotIds[s]] = slots[s];
 }
 
 std::optional<ViewSums> OpenClBackend::readView(ViewValue value, DiskView* out) {
@@ -145,7 +166,10 @@ std::optional<ViewSums> OpenClBackend::readView(ViewValue value, DiskView* out) 
 float OpenClBackend::maxSpeedSquared() { return views_.maxSpeedSquared(queue_.get(), state_.get(), particleCount_); }
 
 void OpenClBackend::drainTallies(ContactTotals& totals) {
-    std::vector<ContactTally> tallies = readTallies();
+    std::vector<ContactTally> tallies(particleCount_);
+    check(clEnqueueReadBuffer(queue_.get(), tallies_.get(), CL_TRUE, 0, tallies.size() * sizeof(ContactTally),
+                              tallies.data(), 0, nullptr, nullptr),
+          "clEnqueueReadBuffer(contact tallies)");
     drainTallyArray(tallies.data(), tallies.size(), totals, images_.data());
     enqueueZero(queue_.get(), tallies_.get(), tallies.size() * sizeof(ContactTally), "contact tallies");
 }

@@ -29,7 +29,7 @@ public:
     bool exactArithmetic() const override { return device_.correctlyRoundedDivideSqrt; }
     const opencl::DeviceInfo& deviceInfo() const { return device_; }
 
-    // Reads state_, stored by id.
+    // Reads state_, in id order (slotIds()).
     void readParticles(std::vector<Particle>& particles) override;
     // On the device (DeviceViews::read): reads back 16 bytes a disk and the
     // work-groups' sums.
@@ -63,6 +63,9 @@ protected:
     }
     // The id of the disk in each slot of state_; null where slot = id.
     virtual cl_mem slotIds() const { return nullptr; }
+    // The disks of `state`, whose slots hold the disks `ids` names (null:
+    // slot = id), in id order.
+    void readInIdOrder(cl_mem state, cl_mem ids, std::vector<Particle>& particles);
     // Whether enqueueStep ends in a wait of its own; else advance() waits
     // every kStepsPerSync steps and at its end.
     virtual bool waitsEachStep() const { return false; }
@@ -123,18 +126,20 @@ private:
     void load(std::vector<Particle> particles) final;
     std::uint64_t advance(std::uint64_t substeps, float dt) final;
     void drainTallies(ContactTotals& totals) final;
-    // On the host: a stop is rare, and a load (the pipeline's buffers
-    // afresh) is the one way back every pipeline has.
+    // Copies on the device, made each step a stop may cut short (a read to
+    // the host would cost more than the step at 10^6 disks); a stop is
+    // rare, and a load (the pipeline's buffers afresh) is the one way back
+    // every pipeline has.
     void keepStepStart() final;
     void returnToStepStart() final;
-    std::vector<ContactTally> readTallies();
     void awaitSteps() final;
 
     opencl::DeviceViews views_;
     std::uint64_t substep_ = 0;        // substeps enqueued since setParticles
     std::uint64_t nonFiniteBase_ = 0;  // the substep that step index 0 means
-    std::vector<Particle> stepStart_;  // keepStepStart's copies
-    std::vector<ContactTally> stepStartTallies_;
+    // keepStepStart's copies of state_, slotIds() (where the pipeline has
+    // them) and tallies_; made at the first, freed by load().
+    opencl::Buffer startState_, startIds_, startTallies_;
 };
 
 }  // namespace carom

@@ -211,20 +211,6 @@ void OpenClResidentBackend::swapStepBuffers() {
     deviceGrid_.advance();
 }
 
-// Slot s holds particle ids[s].
-void OpenClResidentBackend::readParticles(std::vector<Particle>& particles) {
-    particles.resize(particleCount_);
-    std::vector<Particle> slots(particleCount_);
-    std::vector<cl_uint> ids(particleCount_);
-    check(clEnqueueReadBuffer(queue_.get(), state_.get(), CL_TRUE, 0, particleCount_ * sizeof(Particle), slots.data(),
-                              0, nullptr, nullptr),
-          "clEnqueueReadBuffer(particle state)");
-    check(clEnqueueReadBuffer(queue_.get(), ids_.get(), CL_TRUE, 0, particleCount_ * sizeof(cl_uint), ids.data(), 0,
-                              nullptr, nullptr),
-          "clEnqueueReadBuffer(particle ids)");
-    for (std::size_t s = 0; s < particleCount_; ++s) particles[ids[s]] = slots[s];
-}
-
 // A pairwise step takes the largest speed as it finishes; otherwise the reduction.
 float OpenClResidentBackend::maxSpeedSquared() {
     if (!speedKnown_) return OpenClBackend::maxSpeedSquared();

@@ -23,8 +23,6 @@ public:
     // See OpenClBackend.
     OpenClResidentBackend(const WorldDef& world, const std::string& device, bool profiling = false);
 
-    void readParticles(std::vector<Particle>& particles) override;
-
     // The grid of the current state as the device builds it, read back
     // (tests compare it with the shared builder's).
     Grid readDeviceGrid();

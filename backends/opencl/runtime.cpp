@@ -269,6 +269,11 @@ void enqueueZero(cl_command_queue queue, cl_mem buffer, std::size_t bytes, const
           (std::string("clEnqueueFillBuffer(") + what + ")").c_str());
 }
 
+void enqueueCopy(cl_command_queue queue, cl_mem from, cl_mem to, std::size_t bytes, const char* what) {
+    check(clEnqueueCopyBuffer(queue, from, to, 0, 0, bytes, 0, nullptr, nullptr),
+          (std::string("clEnqueueCopyBuffer(") + what + ")").c_str());
+}
+
 void setLocalArg(cl_kernel kernel, cl_uint index, std::size_t bytes) {
     check(clSetKernelArg(kernel, index, bytes, nullptr), "clSetKernelArg(local)");
 }

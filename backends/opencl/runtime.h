@@ -137,6 +137,8 @@ void enqueue1d(cl_command_queue queue, cl_kernel kernel, std::size_t items, std:
 
 // Sets `bytes` bytes of the buffer to zero (clEnqueueFillBuffer).
 void enqueueZero(cl_command_queue queue, cl_mem buffer, std::size_t bytes, const char* what);
+// Copies the first `bytes` bytes of `from` into `to` on the device (clEnqueueCopyBuffer).
+void enqueueCopy(cl_command_queue queue, cl_mem from, cl_mem to, std::size_t bytes, const char* what);
 
 // Sets all arguments of a kernel in order.
 template <class... Args>
