@@ -132,6 +132,7 @@ World startWorld(Start& start, const RunOptions& o) {
     }
     World world(def);
     world.setDisks(start.setup.disks, start.setup.source);
+    std::vector<Disk>().swap(start.setup.disks);  // the world has them: no second copy for the whole run
     return world;
 }
 

@@ -70,8 +70,8 @@ constexpr std::int64_t kParallelSortBlock = 1 << 16;
 // std::sort of `items` by `less`, a total order (so the result is the one
 // sorted sequence, whatever the thread count): blocks sorted in parallel,
 // then merged pairwise, the merges of each level in parallel.
-template <class T, class Less>
-void sortInParallel(std::vector<T>& items, Less less) {
+template <class Items, class Less>
+void sortInParallel(Items& items, Less less) {
     const auto n = static_cast<std::int64_t>(items.size());
     std::int64_t blocks = 1;
 #ifdef _OPENMP
@@ -169,7 +169,7 @@ DiskCells sortIntoCells(const Particle* particles, std::size_t count, CaromBox b
 }
 
 std::vector<std::size_t> cellRuns(const DiskCells& cells, std::size_t entries) {
-    const std::vector<DiskCells::Entry>& sorted = cells.sorted;
+    const auto& sorted = cells.sorted;
     std::vector<std::size_t> runs{0};
     while (runs.back() < sorted.size()) {
         std::size_t end = std::min(sorted.size(), runs.back() + std::max<std::size_t>(entries, 1));

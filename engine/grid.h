@@ -9,7 +9,11 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <new>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "engine/scene.h"
@@ -119,6 +123,28 @@ inline CaromBox caromBoxOf(const WorldDef& world) {
 // overlaps do, not N^2. Sorted by cell, then centre, then id, so that equal
 // centres lie next to each other. Disks whose centre is not finite are left
 // out: they overlap nothing.
+// An allocator whose resize leaves the new elements default-initialised
+// (not zeroed) where they have a trivial constructor, so that the parallel
+// loop that writes them is the first to touch their pages.
+template <class T>
+struct UninitialisedAllocator : std::allocator<T> {
+    template <class U>
+    struct rebind {
+        using other = UninitialisedAllocator<U>;
+    };
+    UninitialisedAllocator() = default;
+    template <class U>
+    UninitialisedAllocator(const UninitialisedAllocator<U>&) noexcept {}
+    template <class U>
+    void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+};
+
 struct DiskCells {
     struct Entry {
         std::uint64_t cell;  // row * cols + column
@@ -126,7 +152,7 @@ struct DiskCells {
         std::uint32_t id;
         float radius;  // the search reads the entries alone
     };
-    std::vector<Entry> sorted;
+    std::vector<Entry, UninitialisedAllocator<Entry>> sorted;
     std::uint64_t cols = 1, rows = 1;
     CaromBox box{};
 };

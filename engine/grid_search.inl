@@ -15,13 +15,13 @@ bool forEachOverlappingPair(const DiskCells& cells, Visit&& visit) {
 template <class Visit>
 bool forEachOverlappingPairIn(const DiskCells& cells, std::size_t from, std::size_t to, Visit&& visit) {
     using Entry = DiskCells::Entry;
-    const std::vector<Entry>& sorted = cells.sorted;
+    const auto& sorted = cells.sorted;
     const auto byCell = [](const Entry& e, std::uint64_t cell) { return e.cell < cell; };
     // The first entry of cell `other` or after it, found from `hint` onwards
     // in steps that double where every entry before the hint lies in an
     // earlier cell (the sweep's usual case: a few entries on), else by
     // bisection of the whole.
-    using Iterator = typename std::vector<Entry>::const_iterator;
+    using Iterator = decltype(sorted.begin());
     const auto seek = [&](std::uint64_t other, Iterator hint) {
         if (hint != sorted.begin() && std::prev(hint)->cell >= other)
             return std::lower_bound(sorted.begin(), sorted.end(), other, byCell);
