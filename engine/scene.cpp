@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <sstream>
+#include <vector>
 
 #include "engine/scene.h"
 #include "engine/constants.h"
@@ -42,6 +43,9 @@ double floatSpacingBelow(float extent) { return double(extent) - std::nextafter(
 // 2^k the spacing is 2^(k - 24).
 double largestBoxFor(double spacing) { return std::exp2(std::floor(std::log2(spacing)) + 24); }
 
+// Disks per block of motionScale's sums.
+constexpr std::int64_t kMotionBlock = 1 << 16;
+
 // What the particles and the world imply for the motion, for the range checks.
 struct MotionScale {
     double fastest = 0.0;     // a bound on any disk's speed: the fastest now, plus a step of gravity and a fall
@@ -62,16 +66,35 @@ struct MotionScale {
 MotionScale motionScale(const std::vector<Particle>& particles, const WorldDef& world) {
     const double fall =
         std::fabs(double(world.gravity.x)) * world.width + std::fabs(double(world.gravity.y)) * world.height;
-    double fastest = 0.0, twiceKinetic = 0.0, heaviest = 0.0, smallestRadius = HUGE_VAL;
-    std::vector<double> moving;  // the squared speeds of the disks that move, the fall added
-    for (const Particle& p : particles) {
-        const double speed = std::hypot(double(p.velocity.x), double(p.velocity.y));
-        fastest = std::max(fastest, speed);
-        twiceKinetic += p.mass * speed * speed;
-        heaviest = std::max(heaviest, double(p.mass));
-        smallestRadius = std::min(smallestRadius, double(p.radius));
-        if (speed * speed + fall > 0.0) moving.push_back(speed * speed + fall);
+    // In blocks of fixed size, in parallel; the blocks' sums added in order:
+    // the same bits on any number of threads.
+    const auto n = static_cast<std::int64_t>(particles.size());
+    const std::int64_t blocks = (n + kMotionBlock - 1) / kMotionBlock;
+    std::vector<double> blockKinetic(std::size_t(blocks), 0.0);
+    double fastest = 0.0, heaviest = 0.0, smallestRadius = HUGE_VAL;
+    // The squared speeds of the disks that move, the fall added; +inf for
+    // those that do not, which lie above the median of those that do.
+    std::vector<double> moving(particles.size());
+    std::int64_t movingCount = 0;
+#pragma omp parallel for schedule(static) reduction(max : fastest, heaviest) reduction(min : smallestRadius) \
+    reduction(+ : movingCount) if (blocks > 1)
+    for (std::int64_t b = 0; b < blocks; ++b) {
+        double twiceKinetic = 0.0;
+        for (std::int64_t i = b * kMotionBlock; i < std::min(n, (b + 1) * kMotionBlock); ++i) {
+            const Particle& p = particles[std::size_t(i)];
+            const double speed = std::hypot(double(p.velocity.x), double(p.velocity.y));
+            fastest = std::max(fastest, speed);
+            twiceKinetic += p.mass * speed * speed;
+            heaviest = std::max(heaviest, double(p.mass));
+            smallestRadius = std::min(smallestRadius, double(p.radius));
+            const bool moves = speed * speed + fall > 0.0;
+            moving[std::size_t(i)] = moves ? speed * speed + fall : HUGE_VAL;
+            movingCount += moves;
+        }
+        blockKinetic[std::size_t(b)] = twiceKinetic;
     }
+    double twiceKinetic = 0.0;
+    for (const double k : blockKinetic) twiceKinetic += k;
     const double gravity = std::hypot(double(world.gravity.x), double(world.gravity.y));
     MotionScale m;
     m.diagonal = std::hypot(double(world.width), double(world.height));
@@ -79,8 +102,8 @@ MotionScale motionScale(const std::vector<Particle>& particles, const WorldDef& 
     m.fastest = m.fastestNow + std::sqrt(2 * gravity * m.diagonal);
     m.smallestRadius = smallestRadius;
     m.typical = std::sqrt(twiceKinetic / (double(particles.size()) * heaviest) + fall);
-    if (!moving.empty()) {
-        const auto median = moving.begin() + moving.size() / 2;
+    if (movingCount > 0) {
+        const auto median = moving.begin() + movingCount / 2;
         std::nth_element(moving.begin(), median, moving.end());
         m.typical = std::min(m.typical, std::sqrt(*median));
     }
@@ -94,10 +117,8 @@ MotionScale motionScale(const std::vector<Particle>& particles, const WorldDef& 
     return m;
 }
 
-}  // namespace
-
-void requireValidMotion(const std::vector<Particle>& particles, const WorldDef& world, const std::string& what) {
-    const MotionScale m = motionScale(particles, world);
+// Refuses motion outside the ranges the checks of `m` allow (requireValidMotion).
+void requireValidMotion(const MotionScale& m, const WorldDef& world, const std::string& what) {
     if (m.fastest > kMaxSpeed || m.fastest * m.diagonal > kMaxLengthTimesSpeed)
         fail(what, ": the largest speed a disk can reach, ", m.fastest,
              " (the fastest now plus what gravity adds across the box), times the box diagonal ", m.diagonal, " is ",
@@ -118,6 +139,12 @@ void requireValidMotion(const std::vector<Particle>& particles, const WorldDef& 
             ", less than the float32 spacing ", m.spacing, " of positions in the ", world.width, " x ", world.height,
             " box, so its motion would be lost or wrong by more than 50 %; for these speeds and dt the largest box is ",
             largestBoxFor(m.move() / kMinStepSpacings), " (README, Limits)");
+}
+
+}  // namespace
+
+void requireValidMotion(const std::vector<Particle>& particles, const WorldDef& world, const std::string& what) {
+    requireValidMotion(motionScale(particles, world), world, what);
 }
 
 Boundary parseBoundary(const std::string& name) {
@@ -250,7 +277,8 @@ void validateParticles(const std::vector<Particle>& particles, const WorldDef& w
 std::vector<std::string> validateStart(const std::vector<Particle>& particles, const WorldDef& world,
                                        const std::string& what, DeepOverlaps deepOverlaps) {
     validateParticles(particles, world, what);
-    requireValidMotion(particles, world, what);
+    const MotionScale m = motionScale(particles, world);
+    requireValidMotion(m, world, what);
     const Overlaps overlaps = findOverlaps(particles, world);
     if (overlaps.coincident > 0) {
         const auto [i, j] = overlaps.coincidentPair;
@@ -261,7 +289,6 @@ std::vector<std::string> validateStart(const std::vector<Particle>& particles, c
 
     std::vector<std::string> warnings;
     std::ostringstream text;
-    const MotionScale m = motionScale(particles, world);
     if (world.collisions != CollisionScheme::Events && m.typical > 0.0 && m.spacings() < kWarnStepSpacings) {
         text << "a step moves a typical disk by " << m.move() << ", only " << m.spacings()
              << " float32 spacings of the positions in this box: each step may be off by up to " << 50.0 / m.spacings()
