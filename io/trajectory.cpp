@@ -145,6 +145,10 @@ void TrajectoryWriter::write(const std::vector<Disk>& disks, const WorldDef& wor
         out += ' ';
         appendNumber(out, i);
         out += '\n';
+        if (out.size() >= kFramePiece) {  // written in pieces: the text of a frame is about 60 bytes a disk
+            file_.append(out);
+            out.clear();
+        }
     }
     file_.append(out);
     ++frames_;

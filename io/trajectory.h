@@ -48,7 +48,8 @@ public:
 
 private:
     io::AtomicFile file_;
-    std::string frame_;  // reused from frame to frame
+    static constexpr std::size_t kFramePiece = std::size_t(1) << 20;  // bytes of text written at a time
+    std::string frame_;                                               // reused from frame to frame
     std::size_t frames_ = 0;
 };
 
