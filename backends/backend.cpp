@@ -146,6 +146,10 @@ void Backend::substepped(std::uint64_t substeps, float substepDt) {
     const ContactTotals totals = totals_;
     const std::uint64_t taken = substepsTaken_, sinceDrain = substepsSinceDrain_;
     const Batch batch = batch_, previousBatch = previousBatch_;
+    // A drain within the step adds to the images; the tallies it drained
+    // come back with the step's start, and are drained again.
+    std::vector<Image> images;
+    if (keep && sinceDrain + substeps > kTallySubsteps) images = images_;
     if (keep) keepStepStart();
     stopAllowed_ = keep;
     for (std::uint64_t done = 0; done < substeps && !stopped_;)
@@ -159,6 +163,7 @@ void Backend::substepped(std::uint64_t substeps, float substepDt) {
     substepsSinceDrain_ = sinceDrain;
     batch_ = batch;
     previousBatch_ = previousBatch;
+    if (!images.empty()) images_ = std::move(images);
     returnToStepStart();
 }
 

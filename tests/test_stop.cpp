@@ -1,6 +1,7 @@
 // World::setStopCheck: a stop request is honoured within a step (between
 // events, between substeps), and a step cut short returns to its start, so
 // that stepping on gives the bits of a call never stopped.
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <cstring>
@@ -130,4 +131,39 @@ TEST_CASE("stop: a restored events world keeps its stop check") {
     world.step(1);
     CHECK(calls == 1);
     CHECK(world.stepCount() == 0);
+}
+
+// The tallies are drained every 1 024 substeps, the periodic images with
+// them: a long step that began with a drain of the steps before, then was
+// cut short, must give those images back (its tallies return to the step's
+// start, undrained, and are drained again).
+CAROM_BACKEND_TEST_CASE("stop: a step cut short after its tallies were drained keeps the periodic images") {
+    const Scene scene = gas(2000, 10.0f);
+    auto periodic = [&] {
+        WorldDef box;
+        box.width = scene.width;
+        box.height = scene.height;
+        box.boundary = Boundary::Periodic;
+        box.dt = 0.5f;
+        box.maxTravel = 3e-3f;  // ~1 700 substeps a step at this speed, a tenth of the disks wrapped
+        box.engine = def.engine;
+        box.device = def.device;
+        World world(box);
+        world.setDisks(scene.disks);
+        return world;
+    };
+    World world = periodic(), fresh = periodic();
+    world.step(1);  // leaves wraps in the tallies, and the drain's count past 0
+    fresh.step(1);
+    int calls = 0;
+    world.setStopCheck(StopAtOnce{&calls});
+    world.step(1);
+    CHECK(world.stepCount() == 1);
+    world.setStopCheck({});
+    world.step(1);
+    fresh.step(1);
+    CHECK(sameDisks(world, fresh));
+    const std::vector<Image> images = world.images();
+    CHECK(images == fresh.images());
+    CHECK(std::any_of(images.begin(), images.end(), [](const Image& i) { return i[0] != 0 || i[1] != 0; }));
 }
