@@ -179,11 +179,22 @@ private:
         }
     }
 
+    // The node's integer, refused where written in hexadecimal, octal or
+    // binary, as every other number carom reads is (io::parseRealNumber).
+    const toml::value<std::int64_t>* decimalInteger(const toml::node& node, const std::string& key) const {
+        const auto* i = node.as_integer();
+        constexpr auto kOtherBases = toml::value_flags::format_as_binary | toml::value_flags::format_as_octal |
+                                     toml::value_flags::format_as_hexadecimal;
+        if (i && (i->flags() & kOtherBases) != toml::value_flags::none)
+            fail(node, key, "must be written in decimal (0x, 0o and 0b numbers are not read)");
+        return i;
+    }
+
     float real(const toml::node& node, const std::string& key, Bound bound) const {
         double value = 0.0;
         if (const auto* f = node.as_floating_point()) {
             value = f->get();
-        } else if (const auto* i = node.as_integer()) {
+        } else if (const auto* i = decimalInteger(node, key)) {
             value = static_cast<double>(i->get());
         } else {
             fail(node, key, std::string("must be ") + describe(bound));
@@ -200,7 +211,7 @@ private:
     }
 
     std::int64_t integer(const toml::node& node, const std::string& key, std::int64_t min, std::int64_t max) const {
-        const auto* i = node.as_integer();
+        const auto* i = decimalInteger(node, key);
         const std::string allowed = "must be an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]";
         if (!i || i->get() < min || i->get() > max) fail(node, key, allowed);
         return i->get();

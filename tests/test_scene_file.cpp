@@ -188,6 +188,11 @@ TEST_CASE("scene file: bad input is refused with file, line, key, value and what
              Case{"box = [60, -4]\n", "s.toml:1: box[1] = -4: must be a finite number > 0"},
              Case{"box = [60, \"wide\"]\n", "box[1] = \"wide\": must be a finite number > 0"},
              Case{"box = [60, inf]\n", "box[1] = inf: must be a finite number > 0"},
+             // numbers in decimal only, as on the command line
+             Case{"box = [0x3c, 40]\n",
+                  "s.toml:1: box[0] = 0x3C: must be written in decimal (0x, 0o and 0b numbers are not read)"},
+             Case{"box = [60, 40]\nseed = 0o17\n", "s.toml:2: seed = 0o17: must be written in decimal"},
+             Case{"box = [60, 40]\n[[group]]\ncount = 0b11\n", "s.toml:3: group[1].count = 0b11: must be written"},
              Case{"box = [60, 1e39]\n", "s.toml:1: box[1] = 1e+39 is too large for a 32-bit float"},
              Case{"box = [60, 1e-50]\n", "box[1] = 1e-50 is too small for a 32-bit float"},
              Case{"packing = 0.8\n", "s.toml:1: packing = 0.8: must be in (0, 0.7]"},
