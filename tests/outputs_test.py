@@ -1417,8 +1417,10 @@ def test_signal_ends_the_wait_for_a_fifo_reader():
     os.mkfifo(fifo)
     reader = threading.Thread(target=lambda: read_bytes(fifo), daemon=True)  # some checkpoints, then gone
     reader.start()
+    # Samples far apart (about 0.2 s): the next checkpoint's open comes after the reader has closed the
+    # FIFO, not between its end of file and its close (where the open would succeed and the write fail).
     process = subprocess.Popen([ARGS.carom, *map(str, ["run", "--backend", "cpu", "--particles", 10, "--steps",
-                                                       10 ** 9, "--every", 10, "--quiet", "--checkpoint", fifo,
+                                                       10 ** 9, "--every", 200000, "--quiet", "--checkpoint", fifo,
                                                        "--stats", "s.csv"])],
                                cwd=d, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     reader.join(timeout=60)
