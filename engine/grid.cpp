@@ -144,7 +144,8 @@ DiskCells sortIntoCells(const Particle* particles, std::size_t count, CaromBox b
     const auto coord = [](float x, float extent, double n) {
         return std::uint64_t(std::clamp(std::floor(double(x) * n / extent), 0.0, n - 1.0));
     };
-    // Non-finite centres get the last cell, sort to the end, and are cut off.
+    // Non-finite centres get the last cell and the centre 0 (NaN would not
+    // sort), sort to the end, and are cut off.
     constexpr std::uint64_t kLeftOut = ~std::uint64_t{0};
     cells.sorted.resize(count);
     const auto n = static_cast<std::int64_t>(count);
@@ -156,7 +157,8 @@ DiskCells sortIntoCells(const Particle* particles, std::size_t count, CaromBox b
         finite += kept;
         const std::uint64_t cell =
             kept ? coord(y, box.height, rows) * cells.cols + coord(x, box.width, cols) : kLeftOut;
-        cells.sorted[std::size_t(i)] = {cell, x, y, static_cast<std::uint32_t>(i), particles[i].radius};
+        cells.sorted[std::size_t(i)] = {cell, kept ? x : 0.0f, kept ? y : 0.0f, static_cast<std::uint32_t>(i),
+                                        particles[i].radius};
     }
     sortInParallel(cells.sorted, [](const DiskCells::Entry& a, const DiskCells::Entry& b) {
         if (a.cell != b.cell) return a.cell < b.cell;
