@@ -19,6 +19,12 @@ namespace {
 // one thread: large enough that a run's share of the wave's wait is small.
 constexpr std::size_t kOverlapRun = 1 << 16;
 
+// Whether a pair overlapping by `overlap` is the deepest of those `found`
+// holds: deeper, or as deep with the lower ids (so in any order of visits).
+bool deeper(double overlap, std::array<std::uint32_t, 2> pair, const Overlaps& found) {
+    return overlap > found.deepest || (overlap == found.deepest && found.pairs > 0 && pair < found.deepestPair);
+}
+
 // One disk's share of the sums, in double: measureMotion and measureView add
 // the same terms, so their energies and momentum agree bit for bit.
 struct MotionTerms {
@@ -78,6 +84,28 @@ ViewSums measureView(const std::vector<Particle>& particles, const WorldDef& wor
     return sums;
 }
 
+double overlapOf(const Particle& a, const Particle& b, const WorldDef& world) {
+    const bool periodic = world.boundary == Boundary::Periodic;
+    // The separation along one axis, to the nearest image in a periodic box.
+    const auto separation = [&](double d, double extent) {
+        if (!periodic) return d;
+        return d - extent * std::round(d / extent);
+    };
+    const double distance = std::hypot(separation(double(a.position.x) - b.position.x, world.width),
+                                       separation(double(a.position.y) - b.position.y, world.height));
+    return double(a.radius) + b.radius - distance;
+}
+
+bool countOverlap(Overlaps& found, std::size_t counted, std::array<std::uint32_t, 2> pair, double overlap) {
+    if (found.pairs == counted) return false;  // one more than counted: "more than"
+    if (deeper(overlap, pair, found)) {
+        found.deepest = overlap;
+        found.deepestPair = pair;
+    }
+    ++found.pairs;
+    return true;
+}
+
 Overlaps findOverlaps(const std::vector<Particle>& particles, const WorldDef& world) {
     Overlaps found;
     const DiskCells cells = sortIntoCells(particles.data(), particles.size(), caromBoxOf(world));
@@ -95,29 +123,11 @@ Overlaps findOverlaps(const std::vector<Particle>& particles, const WorldDef& wo
         first = last;
     }
 
-    const bool periodic = world.boundary == Boundary::Periodic;
-    // The separation along one axis, to the nearest image in a periodic box.
-    const auto separation = [&](double d, double extent) {
-        if (!periodic) return d;
-        return d - extent * std::round(d / extent);
-    };
     const std::size_t counted = kOverlapsCountedPerDisk * particles.size();
     // Visits the pairs of sorted[from, to) into `into` until it holds `counted`.
     const auto search = [&](std::size_t from, std::size_t to, Overlaps& into) {
         return forEachOverlappingPairIn(cells, from, to, [&](std::uint32_t i, std::uint32_t j) {
-            if (into.pairs == counted) return false;  // one more than counted: "more than"
-            const Particle& a = particles[i];
-            const Particle& b = particles[j];
-            const double distance = std::hypot(separation(double(a.position.x) - b.position.x, world.width),
-                                               separation(double(a.position.y) - b.position.y, world.height));
-            const double overlap = double(a.radius) + b.radius - distance;
-            const std::array<std::uint32_t, 2> pair{i, j};
-            if (overlap > into.deepest || (overlap == into.deepest && into.pairs > 0 && pair < into.deepestPair)) {
-                into.deepest = overlap;
-                into.deepestPair = pair;
-            }
-            ++into.pairs;
-            return true;
+            return countOverlap(into, counted, {i, j}, overlapOf(particles[i], particles[j], world));
         });
     };
     // Runs of cells searched in parallel, a wave at a time, and taken in
@@ -146,8 +156,7 @@ Overlaps findOverlaps(const std::vector<Particle>& particles, const WorldDef& wo
                 found.allCounted = search(runs[first + r], cells.sorted.size(), found);
                 return found;
             }
-            if (part.pairs > 0 && (part.deepest > found.deepest || (part.deepest == found.deepest && found.pairs > 0 &&
-                                                                    part.deepestPair < found.deepestPair))) {
+            if (part.pairs > 0 && deeper(part.deepest, part.deepestPair, found)) {
                 found.deepest = part.deepest;
                 found.deepestPair = part.deepestPair;
             }

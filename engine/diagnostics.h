@@ -36,6 +36,11 @@ struct Overlaps {
     std::array<std::uint32_t, 2> coincidentPair{};  // the one with the lowest first id, then second id
 };
 Overlaps findOverlaps(const std::vector<Particle>& particles, const WorldDef& world);
+// r_a + r_b - |x_a - x_b| in double, to the nearest image in a periodic box.
+double overlapOf(const Particle& a, const Particle& b, const WorldDef& world);
+// Counts a pair that overlaps by `overlap` into `found`, as findOverlaps
+// does; false, counting nothing, once `found` holds `counted` pairs.
+bool countOverlap(Overlaps& found, std::size_t counted, std::array<std::uint32_t, 2> pair, double overlap);
 
 // Every field.
 Diagnostics measure(const std::vector<Particle>& particles, const WorldDef& world);

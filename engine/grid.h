@@ -116,13 +116,6 @@ inline CaromBox caromBoxOf(const WorldDef& world) {
     return carom_box(world.width, world.height, world.boundary == Boundary::Periodic ? 1 : 0);
 }
 
-// The disks sorted into square cells at least as wide as the largest
-// diameter, however many cells that takes (Grid caps them at about 4 per
-// disk, so that a dilute step allocates little): the broad phase of the
-// checks of a state, where disks piled into one place must cost what their
-// overlaps do, not N^2. Sorted by cell, then centre, then id, so that equal
-// centres lie next to each other. Disks whose centre is not finite are left
-// out: they overlap nothing.
 // An allocator whose resize leaves the new elements default-initialised
 // (not zeroed) where they have a trivial constructor, so that the parallel
 // loop that writes them is the first to touch their pages.
@@ -145,6 +138,13 @@ struct UninitialisedAllocator : std::allocator<T> {
     }
 };
 
+// The disks sorted into square cells at least as wide as the largest
+// diameter, however many cells that takes (Grid caps them at about 4 per
+// disk, so that a dilute step allocates little): the broad phase of the
+// checks of a state, where disks piled into one place must cost what their
+// overlaps do, not N^2. Sorted by cell, then centre, then id, so that equal
+// centres lie next to each other. Disks whose centre is not finite are left
+// out: they overlap nothing.
 struct DiskCells {
     struct Entry {
         std::uint64_t cell;  // row * cols + column

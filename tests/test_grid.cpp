@@ -232,17 +232,7 @@ TEST_CASE("grid: the overlap search in parallel finds what one pass finds, for a
         REQUIRE(std::is_sorted(cells.sorted.begin(), cells.sorted.end(),
                                [](const DiskCells::Entry& a, const DiskCells::Entry& b) { return a.cell < b.cell; }));
         found.allCounted = forEachOverlappingPair(cells, [&](std::uint32_t i, std::uint32_t j) {
-            if (found.pairs == counted) return false;
-            const Particle &a = disks[i], &b = disks[j];
-            const double overlap = double(a.radius) + b.radius -
-                                   std::hypot(double(a.position.x) - b.position.x, double(a.position.y) - b.position.y);
-            const std::array<std::uint32_t, 2> pair{i, j};
-            if (overlap > found.deepest || (overlap == found.deepest && found.pairs > 0 && pair < found.deepestPair)) {
-                found.deepest = overlap;
-                found.deepestPair = pair;
-            }
-            ++found.pairs;
-            return true;
+            return countOverlap(found, counted, {i, j}, overlapOf(disks[i], disks[j], w));
         });
         return found;
     };

@@ -27,10 +27,12 @@ Scene gas(std::uint32_t count, float speed) {
     return makeScene(def);
 }
 
-World worldOf(const Scene& scene, const EngineDef& engine, CollisionScheme scheme, float dt, float maxTravel) {
+World worldOf(const Scene& scene, const EngineDef& engine, CollisionScheme scheme, float dt, float maxTravel,
+              Boundary boundary = Boundary::Walls) {
     WorldDef def;
     def.width = scene.width;
     def.height = scene.height;
+    def.boundary = boundary;
     def.dt = dt;
     def.collisions = scheme;
     def.maxTravel = maxTravel;
@@ -139,20 +141,9 @@ TEST_CASE("stop: a restored events world keeps its stop check") {
 // start, undrained, and are drained again).
 CAROM_BACKEND_TEST_CASE("stop: a step cut short after its tallies were drained keeps the periodic images") {
     const Scene scene = gas(2000, 10.0f);
-    auto periodic = [&] {
-        WorldDef box;
-        box.width = scene.width;
-        box.height = scene.height;
-        box.boundary = Boundary::Periodic;
-        box.dt = 0.5f;
-        box.maxTravel = 3e-3f;  // ~1 700 substeps a step at this speed, a tenth of the disks wrapped
-        box.engine = def.engine;
-        box.device = def.device;
-        World world(box);
-        world.setDisks(scene.disks);
-        return world;
-    };
-    World world = periodic(), fresh = periodic();
+    // ~1 700 substeps a step at this speed, a tenth of the disks wrapped
+    World world = worldOf(scene, def, CollisionScheme::Pairwise, 0.5f, 3e-3f, Boundary::Periodic);
+    World fresh = worldOf(scene, def, CollisionScheme::Pairwise, 0.5f, 3e-3f, Boundary::Periodic);
     world.step(1);  // leaves wraps in the tallies, and the drain's count past 0
     fresh.step(1);
     int calls = 0;

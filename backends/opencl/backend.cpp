@@ -150,12 +150,12 @@ void OpenClBackend::readInIdOrder(cl_mem state, cl_mem ids, std::vector<Particle
         return;
     }
     std::vector<Particle> slots(n);
-    std::vector<cl_uint> slotIds(n);
+    std::vector<cl_uint> idOfSlot(n);
     check(clEnqueueReadBuffer(queue_.get(), state, CL_TRUE, 0, n * sizeof(Particle), slots.data(), 0, nullptr, nullptr),
           "clEnqueueReadBuffer(particle state)");
-    check(clEnqueueReadBuffer(queue_.get(), ids, CL_TRUE, 0, n * sizeof(cl_uint), slotIds.data(), 0, nullptr, nullptr),
+    check(clEnqueueReadBuffer(queue_.get(), ids, CL_TRUE, 0, n * sizeof(cl_uint), idOfSlot.data(), 0, nullptr, nullptr),
           "clEnqueueReadBuffer(particle ids)");
-    for (std::size_t s = 0; s < n; ++s) particles[slotIds[s]] = slots[s];
+    for (std::size_t s = 0; s < n; ++s) particles[idOfSlot[s]] = slots[s];
 }
 
 std::optional<ViewSums> OpenClBackend::readView(ViewValue value, DiskView* out) {
