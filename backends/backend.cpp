@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <sstream>
 #include <string>
 #include <utility>
 
+#include "engine/parallel.h"
 #include "kernels/physics.h"
 
 namespace carom {
@@ -28,25 +30,38 @@ void Backend::setParticles(const std::vector<Particle>& particles, std::uint64_t
     if (!images.empty() && images.size() != particles.size())
         throw Error("images: " + std::to_string(images.size()) + " for " + std::to_string(particles.size()) +
                     " particles; allowed: one per particle, or none (all {0, 0})");
-    float maxRadius = 0.0f;
-    for (const Particle& p : particles) maxRadius = std::max(maxRadius, p.radius);
+    const auto n = static_cast<std::int64_t>(particles.size());
+    float maxRadius = 0.0f, minRadius = HUGE_VALF;
+    std::int64_t midStep = 0;  // disks with a time or a last partner
+#pragma omp parallel for schedule(static) reduction(max : maxRadius) reduction(min : minRadius) \
+    reduction(+ : midStep) if (n >= kParallelLength)
+    for (std::int64_t i = 0; i < n; ++i) {
+        const Particle& p = particles[std::size_t(i)];
+        maxRadius = std::max(maxRadius, p.radius);
+        minRadius = std::min(minRadius, p.radius);
+        midStep += p.time != 0.0f || p.lastPartner != 0u;
+    }
     grid_.geometry = gridGeometryFor(world_, maxRadius, particles.size());
     gridTravel_ = gridTravelAllowance(grid_.geometry, world_.width, world_.height, maxRadius, world_.boundary);
-    minRadius_ = particles.front().radius;
-    for (const Particle& p : particles) minRadius_ = std::min(minRadius_, p.radius);
+    minRadius_ = minRadius;
     particleCount_ = particles.size();
-    // A step starts with every disk at time 0 and no last partner.
-    std::vector<Particle> start = particles;
-    for (Particle& p : start) {
-        p.time = 0.0f;
-        p.lastPartner = 0u;
-    }
     stepNumber_ = step;
     substepsTaken_ = 0;
     batch_ = previousBatch_ = Batch{};
     nonFinite_.reset();
     images_ = images.empty() ? std::vector<Image>(particles.size(), Image{0, 0}) : images;
-    load(std::move(start));
+    if (midStep == 0) {
+        load(particles);
+    } else {
+        // A step starts with every disk at time 0 and no last partner.
+        std::vector<Particle> start(particles.size());
+        parallelFor(start.size(), [&](std::size_t i) {
+            start[i] = particles[i];
+            start[i].time = 0.0f;
+            start[i].lastPartner = 0u;
+        });
+        load(start);
+    }
     totals_ = ContactTotals{};
     substepsSinceDrain_ = 0;
 }

@@ -150,7 +150,8 @@ public:
     const GridGeometry& gridGeometry() const { return grid_.geometry; }
 
 protected:
-    virtual void load(std::vector<Particle> particles) = 0;  // takes the copy setParticles made
+    // The particles setParticles checked, each at time 0 with no last partner.
+    virtual void load(const std::vector<Particle>& particles) = 0;
     // Takes `substeps` steps of `dt` with world_'s gravity and boundary, and
     // returns how many it took: fewer only where stopHere() said stop
     // between two of them, or a substep went non-finite.

@@ -233,12 +233,12 @@ void CpuBackend::TeamChoice::record(bool team, double seconds) {
     nextTrial_ = elapsed_ + wait_;
 }
 
-void CpuBackend::load(std::vector<Particle> particles) {
+void CpuBackend::load(const std::vector<Particle>& particles) {
     const std::size_t n = particles.size();
     if (state_.use_count() > 1 && state_->size() == n)
         std::copy(particles.begin(), particles.end(), state_->begin());
     else
-        state_ = std::make_shared<std::vector<Particle>>(std::move(particles));
+        state_ = std::make_shared<std::vector<Particle>>(particles);
     speedKnown_ = false;
     teamChoice_ = TeamChoice{};  // measured afresh for these disks
     tallies_.assign(n, ContactTally{});

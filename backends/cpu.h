@@ -36,7 +36,7 @@ protected:
     std::vector<ContactTally> stepStartTallies_;
 
 private:
-    void load(std::vector<Particle> particles) override;
+    void load(const std::vector<Particle>& particles) override;
     std::uint64_t advance(std::uint64_t substeps, float dt) override;
     void keepStepStart() override;
     void returnToStepStart() override;

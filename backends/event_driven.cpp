@@ -118,7 +118,7 @@ EventDrivenBackend::EventDrivenBackend(const WorldDef& world) : Backend(world) {
 
 std::string EventDrivenBackend::device() const { return "CPU, one thread, double precision (event-driven)"; }
 
-void EventDrivenBackend::load(std::vector<Particle> particles) {
+void EventDrivenBackend::load(const std::vector<Particle>& particles) {
     const std::size_t n = particles.size();
     width_ = world_.width;
     height_ = world_.height;

@@ -96,7 +96,7 @@ private:
     // The energies, momentum, mass and v^2 of `exact` summed in double (no values).
     ViewSums exactSums(const std::vector<ExactDisk>& exact) const;
 
-    void load(std::vector<Particle> particles) override;
+    void load(const std::vector<Particle>& particles) override;
     std::uint64_t advance(std::uint64_t substeps, float dt) override;
     void keepStepStart() override;
     void returnToStepStart() override;

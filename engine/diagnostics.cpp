@@ -5,11 +5,8 @@
 #include <cstdint>
 #include <vector>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 #include "engine/grid.h"
+#include "engine/parallel.h"
 
 namespace carom {
 
@@ -137,10 +134,7 @@ Overlaps findOverlaps(const std::vector<Particle>& particles, const WorldDef& wo
     // one pass counts, and a wave past that point is all the extra work.
     const std::vector<std::size_t> runs = cellRuns(cells, kOverlapRun);
     const std::size_t runCount = runs.size() - 1;
-    std::size_t wave = 1;
-#ifdef _OPENMP
-    wave = 4 * std::size_t(omp_get_max_threads());
-#endif
+    const std::size_t wave = 4 * std::size_t(parallelThreads());
     std::vector<Overlaps> parts(std::min(wave, runCount));
     for (std::size_t first = 0; first < runCount; first += wave) {
         const auto n = static_cast<std::int64_t>(std::min(wave, runCount - first));

@@ -22,16 +22,8 @@ inline Particle particleOf(const Disk& d) {
 
 inline Disk diskOf(const Particle& p) { return Disk{p.position, p.velocity, p.mass, p.radius}; }
 
-inline std::vector<Particle> particlesOf(const Disk* disks, std::size_t count) {
-    std::vector<Particle> particles(count);
-    for (std::size_t i = 0; i < count; ++i) particles[i] = particleOf(disks[i]);
-    return particles;
-}
-
-inline std::vector<Disk> disksOf(const std::vector<Particle>& particles) {
-    std::vector<Disk> disks(particles.size());
-    for (std::size_t i = 0; i < particles.size(); ++i) disks[i] = diskOf(particles[i]);
-    return disks;
-}
+// Both in parallel (engine/disk_conversion.cpp).
+std::vector<Particle> particlesOf(const Disk* disks, std::size_t count);
+std::vector<Disk> disksOf(const std::vector<Particle>& particles);
 
 }  // namespace carom

@@ -7,10 +7,6 @@
 #include <string>
 #include <vector>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 #include "kernels/physics.h"
 
 namespace carom {
@@ -64,41 +60,22 @@ double pairChecksPerDisk(const GridGeometry& g, std::size_t count, Boundary boun
     return cols * rows * double(count) / (double(g.cols) * double(g.rows));
 }
 
-// Below this many entries a sort runs on one thread.
-constexpr std::int64_t kParallelSortBlock = 1 << 16;
-
-// std::sort of `items` by `less`, a total order (so the result is the one
-// sorted sequence, whatever the thread count): blocks sorted in parallel,
-// then merged pairwise, the merges of each level in parallel.
-template <class Items, class Less>
-void sortInParallel(Items& items, Less less) {
-    const auto n = static_cast<std::int64_t>(items.size());
-    std::int64_t blocks = 1;
-#ifdef _OPENMP
-    while (blocks < omp_get_max_threads() && n / (2 * blocks) >= kParallelSortBlock) blocks *= 2;
-#endif
-    const auto at = [&](std::int64_t b) { return items.begin() + std::min(n, n * b / blocks); };
-#pragma omp parallel for schedule(static, 1) if (blocks > 1)
-    for (std::int64_t b = 0; b < blocks; ++b) std::sort(at(b), at(b + 1), less);
-    for (std::int64_t width = 1; width < blocks; width *= 2) {
-#pragma omp parallel for schedule(static, 1) if (blocks / width > 2)
-        for (std::int64_t b = 0; b < blocks; b += 2 * width)
-            std::inplace_merge(at(b), at(b + width), at(std::min(blocks, b + 2 * width)), less);
-    }
-}
-
 }  // namespace
+
+float largestRadius(const Particle* particles, std::size_t count) {
+    const auto n = static_cast<std::int64_t>(count);
+    float largest = 0.0f;
+#pragma omp parallel for reduction(max : largest) schedule(static) if (n >= kParallelLength)
+    for (std::int64_t i = 0; i < n; ++i) largest = std::max(largest, particles[i].radius);
+    return largest;
+}
 
 GridCost estimateGridCost(const std::vector<Particle>& particles, const WorldDef& world) {
     GridCost cost;
     if (particles.empty()) return cost;
-    std::vector<float> radii(particles.size());
-    for (std::size_t i = 0; i < particles.size(); ++i) radii[i] = particles[i].radius;
-    const auto middle = radii.begin() + radii.size() / 2;
-    std::nth_element(radii.begin(), middle, radii.end());
-    cost.typicalRadius = *middle;
-    cost.largestRadius = *std::max_element(radii.begin(), radii.end());
     const std::size_t n = particles.size();
+    cost.typicalRadius = kthSmallest(n, n / 2, [&](std::size_t i) { return particles[i].radius; });
+    cost.largestRadius = largestRadius(particles.data(), n);
     const double largest = pairChecksPerDisk(gridGeometryFor(world, cost.largestRadius, n), n, world.boundary);
     const double typical = pairChecksPerDisk(gridGeometryFor(world, cost.typicalRadius, n), n, world.boundary);
     const double disk = world.collisions == CollisionScheme::Pairwise ? kPairwiseDiskCost : kSimultaneousDiskCost;
@@ -129,8 +106,7 @@ float gridTravelAllowance(const GridGeometry& geometry, float width, float heigh
 DiskCells sortIntoCells(const Particle* particles, std::size_t count, CaromBox box) {
     DiskCells cells;
     cells.box = box;
-    float maxRadius = 0.0f;
-    for (std::size_t i = 0; i < count; ++i) maxRadius = std::max(maxRadius, particles[i].radius);
+    const float maxRadius = largestRadius(particles, count);
     // A hair more than the diameter, as in gridGeometryFor; at most 2^20 cells
     // a side, so that the cell's number fits (wider cells are still correct).
     const double diameter = 2.0 * maxRadius * (1.0 + 1e-5);
@@ -150,7 +126,7 @@ DiskCells sortIntoCells(const Particle* particles, std::size_t count, CaromBox b
     cells.sorted.resize(count);
     const auto n = static_cast<std::int64_t>(count);
     std::int64_t finite = 0;
-#pragma omp parallel for reduction(+ : finite) schedule(static) if (n >= kParallelSortBlock)
+#pragma omp parallel for reduction(+ : finite) schedule(static) if (n >= kParallelLength)
     for (std::int64_t i = 0; i < n; ++i) {
         const float x = particles[i].position.x + 0.0f, y = particles[i].position.y + 0.0f;
         const bool kept = std::isfinite(x) && std::isfinite(y);

@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "engine/parallel.h"
 #include "engine/scene.h"
 #include "kernels/physics.h"
 
@@ -45,6 +46,9 @@ constexpr float kPairwiseCellSlack = 0.15f;
 // The cells a backend uses for `particleCount` disks of at most `maxRadius`
 // in `world`: gridGeometryFor with the slack its collision scheme needs.
 GridGeometry gridGeometryFor(const WorldDef& world, float maxRadius, std::size_t particleCount);
+
+// The largest radius of particles[0, count) (0 for none), in parallel.
+float largestRadius(const Particle* particles, std::size_t count);
 
 // One cell size serves every disk, sized for the largest: among much smaller
 // disks, each searches cells far wider than it needs. What that costs.
@@ -116,28 +120,6 @@ inline CaromBox caromBoxOf(const WorldDef& world) {
     return carom_box(world.width, world.height, world.boundary == Boundary::Periodic ? 1 : 0);
 }
 
-// An allocator whose resize leaves the new elements default-initialised
-// (not zeroed) where they have a trivial constructor, so that the parallel
-// loop that writes them is the first to touch their pages.
-template <class T>
-struct UninitialisedAllocator : std::allocator<T> {
-    template <class U>
-    struct rebind {
-        using other = UninitialisedAllocator<U>;
-    };
-    UninitialisedAllocator() = default;
-    template <class U>
-    UninitialisedAllocator(const UninitialisedAllocator<U>&) noexcept {}
-    template <class U>
-    void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
-        ::new (static_cast<void*>(p)) U;
-    }
-    template <class U, class... Args>
-    void construct(U* p, Args&&... args) {
-        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-    }
-};
-
 // The disks sorted into square cells at least as wide as the largest
 // diameter, however many cells that takes (Grid caps them at about 4 per
 // disk, so that a dilute step allocates little): the broad phase of the
@@ -152,7 +134,7 @@ struct DiskCells {
         std::uint32_t id;
         float radius;  // the search reads the entries alone
     };
-    std::vector<Entry, UninitialisedAllocator<Entry>> sorted;
+    UninitialisedVector<Entry> sorted;
     std::uint64_t cols = 1, rows = 1;
     CaromBox box{};
 };

@@ -10,6 +10,7 @@
 #include "engine/constants.h"
 #include "engine/diagnostics.h"
 #include "engine/error_message.h"
+#include "engine/parallel.h"
 
 namespace carom {
 namespace {
@@ -74,7 +75,7 @@ MotionScale motionScale(const std::vector<Particle>& particles, const WorldDef& 
     double fastest = 0.0, heaviest = 0.0, smallestRadius = HUGE_VAL;
     // The squared speeds of the disks that move, the fall added; +inf for
     // those that do not, which lie above the median of those that do.
-    std::vector<double> moving(particles.size());
+    UninitialisedVector<double> moving(particles.size());
     std::int64_t movingCount = 0;
 #pragma omp parallel for schedule(static) reduction(max : fastest, heaviest) reduction(min : smallestRadius) \
     reduction(+ : movingCount) if (blocks > 1)
@@ -103,9 +104,9 @@ MotionScale motionScale(const std::vector<Particle>& particles, const WorldDef& 
     m.smallestRadius = smallestRadius;
     m.typical = std::sqrt(twiceKinetic / (double(particles.size()) * heaviest) + fall);
     if (movingCount > 0) {
-        const auto median = moving.begin() + movingCount / 2;
-        std::nth_element(moving.begin(), median, moving.end());
-        m.typical = std::min(m.typical, std::sqrt(*median));
+        const double median =
+            kthSmallest(moving.size(), std::size_t(movingCount / 2), [&](std::size_t i) { return moving[i]; });
+        m.typical = std::min(m.typical, std::sqrt(median));
     }
     m.step = world.dt;
     if (world.maxTravel > 0.0f) {
@@ -255,9 +256,6 @@ void checkParticle(const Particle& p, std::size_t i, const WorldDef& world, cons
              world.height - r, "]");
 }
 
-// Particles per thread below which the check runs on one thread.
-constexpr std::int64_t kParallelChecks = 1 << 16;
-
 }  // namespace
 
 void validateParticles(const std::vector<Particle>& particles, const WorldDef& world, const std::string& what) {
@@ -266,7 +264,7 @@ void validateParticles(const std::vector<Particle>& particles, const WorldDef& w
     // The lowest id that does not fit, found in parallel; then its message.
     const auto n = static_cast<std::int64_t>(particles.size());
     std::int64_t first = n;
-#pragma omp parallel for reduction(min : first) schedule(static) if (n >= kParallelChecks)
+#pragma omp parallel for reduction(min : first) schedule(static) if (n >= kParallelLength)
     for (std::int64_t i = 0; i < n; ++i)
         if (!particleFits(particles[i], world)) first = std::min(first, i);
     if (first == n) return;

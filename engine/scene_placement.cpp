@@ -212,13 +212,19 @@ InitialState makeInitialState(const SceneDef& scene) {
     InitialState state;
     state.particles.resize(scene.particles);
 
+    // Each disk's radius, then its mass, as Random::uniformFloat draws them
+    // (a fixed one takes no number from the stream).
+    const bool radiusDrawn = scene.radiusMin != scene.radiusMax, massDrawn = scene.massMin != scene.massMax;
+    const auto uniformFloat = [](float lo, float hi, double u) {
+        return static_cast<float>(double(lo) + (double(hi) - double(lo)) * u);
+    };
+    inBlocks(random, scene.particles, radiusDrawn + massDrawn, [&](std::uint32_t k, const double* u) {
+        Particle& p = state.particles[k];
+        p.radius = radiusDrawn ? uniformFloat(scene.radiusMin, scene.radiusMax, u[0]) : scene.radiusMin;
+        p.mass = massDrawn ? uniformFloat(scene.massMin, scene.massMax, u[radiusDrawn]) : scene.massMin;
+    });
     double diskArea = 0.0;
-    for (Particle& p : state.particles) {
-        p = Particle{};
-        p.radius = random.uniformFloat(scene.radiusMin, scene.radiusMax);
-        p.mass = random.uniformFloat(scene.massMin, scene.massMax);
-        diskArea += kPi * double(p.radius) * p.radius;
-    }
+    for (const Particle& p : state.particles) diskArea += kPi * double(p.radius) * p.radius;
     const bool boxGiven = scene.width > 0.0f;
     state.width = boxGiven ? scene.width : static_cast<float>(std::sqrt(diskArea / scene.packing));
     state.height = boxGiven ? scene.height : state.width;

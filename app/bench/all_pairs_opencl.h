@@ -17,7 +17,7 @@ public:
 private:
     const char* pipelineName() const override { return "all-pairs"; }
     void releaseState() override {}
-    void loadState(std::vector<Particle>) override {}
+    void loadState(const std::vector<Particle>&) override {}
     void enqueueStep(float dt) override;
 
     opencl::Kernel allPairsKernel_;   // resolveAllPairs

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <utility>
 
+#include "engine/parallel.h"
+
 namespace carom {
 
 using namespace opencl;
@@ -44,7 +46,7 @@ void OpenClBackend::fitWorkGroups(std::initializer_list<cl_kernel> perParticle,
         while (reductionGroupSize_ > kernelWorkGroupLimit(kernel, device_.id)) reductionGroupSize_ /= 2;
 }
 
-void OpenClBackend::load(std::vector<Particle> particles) {
+void OpenClBackend::load(const std::vector<Particle>& particles) {
     const std::size_t n = particles.size();
     // Free the previous state's buffers first: a state may fill the device.
     releaseState();
@@ -67,7 +69,7 @@ void OpenClBackend::load(std::vector<Particle> particles) {
                                0, nullptr, nullptr),
           "clEnqueueWriteBuffer(first non-finite step and particle)");
     substep_ = nonFiniteBase_ = substepsTaken();  // 0 but where a step returns to its start
-    loadState(std::move(particles));
+    loadState(particles);
     finish();
     if (profiler_) profiler_->clear();  // the profile covers steps only
 }
@@ -129,7 +131,7 @@ void OpenClBackend::returnToStepStart() {
     readInIdOrder(startState_.get(), startIds_.get(), particles);
     // The copy of the tallies outlives the load, which frees the others.
     opencl::Buffer tallies = std::move(startTallies_);
-    load(std::move(particles));
+    load(particles);
     enqueueCopy(queue_.get(), tallies.get(), tallies_.get(), particleCount_ * sizeof(ContactTally), "contact tallies");
     finish();
 }
@@ -149,13 +151,14 @@ void OpenClBackend::readInIdOrder(cl_mem state, cl_mem ids, std::vector<Particle
               "clEnqueueReadBuffer(particle state)");
         return;
     }
-    std::vector<Particle> slots(n);
-    std::vector<cl_uint> idOfSlot(n);
+    // Written first by the reads; then scattered into id order in parallel.
+    UninitialisedVector<Particle> slots(n);
+    UninitialisedVector<cl_uint> idOfSlot(n);
     check(clEnqueueReadBuffer(queue_.get(), state, CL_TRUE, 0, n * sizeof(Particle), slots.data(), 0, nullptr, nullptr),
           "clEnqueueReadBuffer(particle state)");
     check(clEnqueueReadBuffer(queue_.get(), ids, CL_TRUE, 0, n * sizeof(cl_uint), idOfSlot.data(), 0, nullptr, nullptr),
           "clEnqueueReadBuffer(particle ids)");
-    for (std::size_t s = 0; s < n; ++s) particles[idOfSlot[s]] = slots[s];
+    parallelFor(n, [&](std::size_t s) { particles[idOfSlot[s]] = slots[s]; });
 }
 
 std::optional<ViewSums> OpenClBackend::readView(ViewValue value, DiskView* out) {

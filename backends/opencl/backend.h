@@ -51,7 +51,7 @@ protected:
     // Frees the buffers the pipeline keeps for the state loaded before.
     virtual void releaseState() = 0;
     // Makes the pipeline's buffers for `particles`, which state_ holds by id.
-    virtual void loadState(std::vector<Particle> particles) = 0;
+    virtual void loadState(const std::vector<Particle>& particles) = 0;
     // Enqueues one substep of dt.
     virtual void enqueueStep(float dt) = 0;
     // Enqueues up to `steps` (>= 1) substeps of dt and returns how many: one
@@ -123,7 +123,7 @@ protected:
     opencl::Buffer halt_;
 
 private:
-    void load(std::vector<Particle> particles) final;
+    void load(const std::vector<Particle>& particles) final;
     std::uint64_t advance(std::uint64_t substeps, float dt) final;
     void drainTallies(ContactTotals& totals) final;
     // Copies on the device, made each step a stop may cut short (a read to

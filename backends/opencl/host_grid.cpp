@@ -25,9 +25,9 @@ void OpenClHostGridBackend::releaseState() {
     pairwise_ = DevicePairwise();
 }
 
-void OpenClHostGridBackend::loadState(std::vector<Particle> particles) {
+void OpenClHostGridBackend::loadState(const std::vector<Particle>& particles) {
     const std::size_t n = particles.size();
-    hostState_ = std::move(particles);
+    hostState_ = particles;
     sortedIndices_ = createBuffer(context_.get(), n * sizeof(cl_uint), "sorted indices");
     cells_ = createBuffer(context_.get(), std::size_t(grid_.geometry.cols) * grid_.geometry.rows * sizeof(GridCell),
                           "grid cells");

@@ -21,7 +21,7 @@ public:
 private:
     const char* pipelineName() const override { return "host-grid"; }
     void releaseState() override;
-    void loadState(std::vector<Particle> particles) override;
+    void loadState(const std::vector<Particle>& particles) override;
     void enqueueStep(float dt) override;
     float maxSpeedSquared() override { return maxSpeedSquaredOf(hostState_.data(), hostState_.size()); }
     void stepSimultaneous(float dt);

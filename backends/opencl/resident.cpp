@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <chrono>
-#include <numeric>
 #include <utility>
 
 #include "backends/opencl/program.h"
+#include "engine/parallel.h"
 
 namespace carom {
 
@@ -42,12 +42,12 @@ void OpenClResidentBackend::releaseState() {
 }
 
 // Slot s holds particle s to begin with; the first step writes them in cell order.
-void OpenClResidentBackend::loadState(std::vector<Particle> particles) {
+void OpenClResidentBackend::loadState(const std::vector<Particle>& particles) {
     const std::size_t n = particles.size();
     ids_ = createBuffer(context_.get(), n * sizeof(cl_uint), "particle ids");
     sortedIds_ = createBuffer(context_.get(), n * sizeof(cl_uint), "particle ids in cell order");
-    std::vector<cl_uint> ids(n);
-    std::iota(ids.begin(), ids.end(), cl_uint{0});
+    UninitialisedVector<cl_uint> ids(n);
+    parallelFor(n, [&](std::size_t i) { ids[i] = cl_uint(i); });
     check(clEnqueueWriteBuffer(queue_.get(), ids_.get(), CL_TRUE, 0, n * sizeof(cl_uint), ids.data(), 0, nullptr,
                                nullptr),
           "clEnqueueWriteBuffer(particle ids)");

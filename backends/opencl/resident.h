@@ -30,7 +30,7 @@ public:
 private:
     const char* pipelineName() const override { return "resident"; }
     void releaseState() override;
-    void loadState(std::vector<Particle> particles) override;
+    void loadState(const std::vector<Particle>& particles) override;
     void enqueueStep(float dt) override;
     std::uint64_t enqueueSteps(std::uint64_t steps, float dt) override;
     cl_mem slotIds() const override { return ids_.get(); }
