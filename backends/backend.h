@@ -197,6 +197,8 @@ protected:
     void recordRounds(unsigned int rounds);
     // What every kernel of a (sub)step of duration dt reads (kernels/params.h).
     CaromStepParams stepParams(float dt) const;
+    // How far a disk may move in a substep (gridTravelAllowance of grid_).
+    float gridTravel() const { return gridTravel_; }
 
     WorldDef world_;
     Grid grid_;  // geometry fixed by setParticles, contents rebuilt each step

@@ -14,6 +14,7 @@
 #include <omp.h>
 #endif
 
+#include "engine/parallel.h"
 #include "kernels/pairwise.h"
 
 namespace carom {
@@ -123,17 +124,18 @@ constexpr unsigned int kParallelRoundLength = 1024;
 // share of a step's last pass (own cache line).
 struct alignas(64) ThreadResult {
     float maxSpeedSquared = 0.0f;
+    float maxDisplacementSquared = 0.0f;  // pairwise with neighbour lists: since they were built
     std::uint32_t nonFinite = kAllFinite;
 };
 
 // The grid's phases, each shared among the region's threads (the same grid,
 // bit for bit, whoever runs which block).
 template <class Progress>
-void buildGridInRegion(Progress& passes, GridBuilder& builder, Grid& grid, const Particle* particles,
-                       std::size_t count) {
+void buildGridInRegion(Progress& passes, std::size_t firstPass, GridBuilder& builder, Grid& grid,
+                       const Particle* particles, std::size_t count) {
     const auto blocks = static_cast<std::size_t>(builder.blocks());
     for (int phase = 0; phase < GridBuilder::kPhases; ++phase)
-        passes.run(std::size_t(phase), blocks, 1,
+        passes.run(firstPass + std::size_t(phase), blocks, 1,
                    [&](std::size_t b) { builder.run(phase, static_cast<int>(b), particles, count, grid); });
 }
 
@@ -144,6 +146,7 @@ ThreadResult combined(const std::vector<ThreadResult>& results) {
     for (const ThreadResult& r : results) {
         all.nonFinite = std::min(all.nonFinite, r.nonFinite);
         all.maxSpeedSquared = std::max(all.maxSpeedSquared, r.maxSpeedSquared);
+        all.maxDisplacementSquared = std::max(all.maxDisplacementSquared, r.maxDisplacementSquared);
     }
     return all;
 }
@@ -247,6 +250,10 @@ void CpuBackend::load(const std::vector<Particle>& particles) {
         return;
     }
     events_.resize(n);
+    lists_.clear();
+    identity_.resize(n);
+    parallelFor(n, [&](std::size_t i) { identity_[i] = static_cast<unsigned int>(i); });
+    startCells_.resize(n);
     for (auto* list : {&pending_, &nextPending_, &changed_, &dirty_}) list->resize(n);
     for (auto* marks : {&pendingMark_, &changedMark_, &dirtyMark_}) marks->assign(n, 0u);
     epoch_ = 0;
@@ -261,6 +268,7 @@ void CpuBackend::returnToStepStart() {
     std::copy(stepStart_.begin(), stepStart_.end(), state_->begin());  // into the views' buffer
     tallies_ = stepStartTallies_;
     speedKnown_ = false;
+    lists_.clear();  // their displacement was measured from a later state
 }
 
 std::uint64_t CpuBackend::advance(std::uint64_t substeps, float dt) {
@@ -279,6 +287,7 @@ std::uint64_t CpuBackend::advance(std::uint64_t substeps, float dt) {
             teamChoice_.record(team, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
         if (nonFinite != kAllFinite) {
             speedKnown_ = false;
+            lists_.clear();
             recordNonFinite(substepsTaken() + s, nonFinite);
             return s + 1;
         }
@@ -306,7 +315,7 @@ std::uint32_t CpuBackend::stepSimultaneous(float dt) {
     // for bit).
 #pragma omp parallel num_threads(threads) if (threads > 1)
     {
-        buildGridInRegion(passes, gridBuilder_, grid_, in, count);
+        buildGridInRegion(passes, 0, gridBuilder_, grid_, in, count);
         ThreadResult mine;
         passes.share(GridBuilder::kPhases, count, chunkFor(count, threads), [&](std::size_t i) {
             const auto id = static_cast<unsigned int>(i);
@@ -333,7 +342,9 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
     const std::size_t count = state_->size();
     const CaromStepParams step = stepParams(dt);
     const int threads = teamSize();
-    gridBuilder_.prepare(count, grid_, threads);
+    const std::size_t chunk = chunkFor(count, threads);
+    const ListPlan plan = planLists(dt, threads, chunk);
+    if (!plan.hold) gridBuilder_.prepare(count, grid_, threads);
     // The step's epochs, epoch_ + 1 .. epoch_ + 1 + kMaxPairwiseRounds, must
     // not wrap; when they would, the marks are cleared once.
     if (epoch_ > std::numeric_limits<unsigned int>::max() - (kMaxPairwiseRounds + 1)) {
@@ -342,10 +353,6 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
     }
     const unsigned int firstEpoch = epoch_ + 1;
     Particle* state = state_->data();
-    // State by id, so a disk's slot is its id: sortedIndices serves as both.
-    const unsigned int* sorted = grid_.sortedIndices.data();
-    const unsigned int* cellOf = grid_.cellOf.data();
-    const GridCell* cells = grid_.cells.data();
     ContactTally* tallies = tallies_.data();
     CaromEvent* events = events_.data();
     // The list lengths of the first search (index 0) and of each round, so
@@ -357,32 +364,56 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
     auto listOf = [](std::vector<unsigned int>& items, unsigned int& length, std::vector<unsigned int>& marks) {
         return CaromList{items.data(), &length, marks.data()};
     };
-    // The substep's passes, each with its own counters: the grid's phases,
-    // the forward search, the first dirty search, three per round, the rest
-    // of the rounds on one thread, the finish.
-    constexpr std::size_t kForwardPass = GridBuilder::kPhases, kDirtyPass = kForwardPass + 1,
-                          kTailPass = kDirtyPass + 1 + 3 * kMaxPairwiseRounds, kFinishPass = kTailPass + 1,
-                          kEnd = kFinishPass + 1;
+    // The substep's passes, each with its own counters: a build of the
+    // lists (their grid's phases, collect, sum, place), the grid's phases (or
+    // with the lists the start cells), the forward search, the first dirty
+    // search, three per round, the rest of the rounds on one thread, the
+    // finish.
+    constexpr std::size_t kCollectPass = GridBuilder::kPhases, kSumPass = kCollectPass + 1, kPlacePass = kSumPass + 1,
+                          kGridPass = kPlacePass + 1, kForwardPass = kGridPass + GridBuilder::kPhases,
+                          kDirtyPass = kForwardPass + 1, kTailPass = kDirtyPass + 1 + 3 * kMaxPairwiseRounds,
+                          kFinishPass = kTailPass + 1, kEnd = kFinishPass + 1;
     PassProgress<kEnd + 1> passes;
     std::vector<ThreadResult> results(static_cast<std::size_t>(threads));
     unsigned int roundsUsed = 0;  // rounds run
 
 #pragma omp parallel num_threads(threads) if (threads > 1)
     {
-        buildGridInRegion(passes, gridBuilder_, grid_, state, count);
+        if (plan.build) {
+            buildGridInRegion(passes, 0, lists_.builder(), lists_.grid(), state, count);
+            passes.run(kCollectPass, count, chunk, [&](std::size_t i) { lists_.collect(i); });
+            passes.run(kSumPass, 1, 1, [&](std::size_t) { lists_.sum(); });
+            passes.run(kPlacePass, lists_.chunks(), 1, [&](std::size_t c) { lists_.place(c); });
+        }
+        // Every thread reads the same after the lists' last pass.
+        const bool listed = plan.hold || (plan.build && lists_.built());
+        // The grid, or with the lists the cell each disk starts in (the
+        // grid's cellOf, without the grid).
+        if (listed)
+            passes.run(kGridPass, count, chunk, [&](std::size_t i) {
+                startCells_[i] = static_cast<unsigned int>(carom_cell_index(state[i].position, grid_.geometry));
+            });
+        else
+            buildGridInRegion(passes, kGridPass, gridBuilder_, grid_, state, count);
+        // State by id, so a disk's slot is its id: the disks in the grid's
+        // order (sortedIndices) or, with the lists, by id serve as both.
+        const unsigned int* sorted = listed ? identity_.data() : grid_.sortedIndices.data();
+        const CaromNeighbours neighbours =
+            listed ? CaromNeighbours{startCells_.data(), grid_.cells.data(), lists_.starts(), lists_.list()}
+                   : carom_grid_neighbours(grid_.cellOf.data(), grid_.cells.data());
 
         // Every disk's earliest event: forward over each pair once, then the
         // disks met from behind look at all their neighbours.
         const CaromList firstChanged = listOf(changed_, changedCount[0], changedMark_);
         const CaromList firstDirty = listOf(dirty_, dirtyCount[0], dirtyMark_);
         const CaromList firstPending = listOf(pending_, pendingCount[0], pendingMark_);
-        passes.run(kForwardPass, count, chunkFor(count, threads), [&](std::size_t k) {
-            carom_find_event(static_cast<unsigned int>(k), state, sorted, sorted, cellOf, cells, step, events,
+        passes.run(kForwardPass, count, chunk, [&](std::size_t k) {
+            carom_find_event(static_cast<unsigned int>(k), state, sorted, sorted, neighbours, step, events,
                              CAROM_SEARCH_FORWARD, firstChanged, firstDirty, firstPending, firstEpoch);
         });
         auto dirtySearch = [&](std::size_t e) {
-            carom_find_event(dirty_[e], state, sorted, sorted, cellOf, cells, step, events, CAROM_SEARCH_ALL,
-                             firstChanged, firstDirty, firstPending, firstEpoch);
+            carom_find_event(dirty_[e], state, sorted, sorted, neighbours, step, events, CAROM_SEARCH_ALL, firstChanged,
+                             firstDirty, firstPending, firstEpoch);
         };
 
         // Round r: resolve, the changed disks search, the dirty ones search;
@@ -404,12 +435,12 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
                 carom_resolve_event(pending[e], state, sorted, sorted, events, step, tallies, changed, next, epoch);
             });
             run(pass + 1, changedCount[round], [&](std::size_t e) {
-                carom_find_event(changed_[e], state, sorted, sorted, cellOf, cells, step, events, CAROM_SEARCH_CHANGED,
+                carom_find_event(changed_[e], state, sorted, sorted, neighbours, step, events, CAROM_SEARCH_CHANGED,
                                  changed, dirty, next, epoch);
             });
             run(pass + 2, dirtyCount[round], [&](std::size_t e) {
-                carom_find_event(dirty_[e], state, sorted, sorted, cellOf, cells, step, events, CAROM_SEARCH_ALL,
-                                 changed, dirty, next, epoch);
+                carom_find_event(dirty_[e], state, sorted, sorted, neighbours, step, events, CAROM_SEARCH_ALL, changed,
+                                 dirty, next, epoch);
             });
         };
         // The rest of the rounds, on the thread that claims them: while few
@@ -436,10 +467,13 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
         // Every disk flies to the end of the step; its largest speed is the
         // next step's (maxSpeedSquared).
         ThreadResult mine;
-        passes.share(kFinishPass, count, chunkFor(count, threads), [&](std::size_t i) {
+        passes.share(kFinishPass, count, chunk, [&](std::size_t i) {
             state[i] = carom_finish_step(state[i], step, &tallies[i]);
             if (!carom_is_finite(state[i])) mine.nonFinite = std::min(mine.nonFinite, static_cast<std::uint32_t>(i));
             mine.maxSpeedSquared = std::max(mine.maxSpeedSquared, carom_speed_squared(state[i]));
+            if (listed)
+                mine.maxDisplacementSquared =
+                    std::max(mine.maxDisplacementSquared, lists_.displacementSquared(i, state[i].position));
         });
         results[static_cast<std::size_t>(threadNumber())] = mine;
         arriveAll(passes, kEnd);
@@ -451,8 +485,26 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
     recordRounds(roundsChanged);
     const ThreadResult all = combined(results);
     maxSpeedSquared_ = all.maxSpeedSquared;
+    maxDisplacementSquared_ = all.maxDisplacementSquared;
+    listBuilds_ += plan.build && lists_.built();
     speedKnown_ = true;
     return all.nonFinite;
+}
+
+CpuBackend::ListPlan CpuBackend::planLists(float dt, int threads, std::size_t chunk) {
+    if (!useLists_) return {};
+    // The farthest a disk travels in the substep, on the margin the grid's
+    // allowance assumes for the speeds its collisions may reach (at most
+    // gridTravel(): the substeps are sized so).
+    const float gravity = std::hypot(world_.gravity.x, world_.gravity.y);
+    const float travel = kPairwiseSpeedMargin * (std::sqrt(maxSpeedSquared()) + gravity * dt) * dt;
+    if (lists_.hold(maxDisplacementSquared_, travel)) return {true, false};
+    const std::vector<Particle>& state = *state_;
+    const float maxRadius = largestRadius(state.data(), state.size());
+    maxDisplacementSquared_ = 0.0f;
+    return {false,
+            lists_.begin(state.data(), state.size(), maxRadius, NeighbourLists::automaticSkin(maxRadius, gridTravel()),
+                         caromBoxOf(world_), threads, chunk)};
 }
 
 }  // namespace carom

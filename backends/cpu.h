@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "backends/backend.h"
+#include "engine/neighbour_lists.h"
 
 namespace carom {
 
@@ -21,6 +22,14 @@ public:
     bool exactArithmetic() const override { return true; }
 
     void readParticles(std::vector<Particle>& particles) override { particles = *state_; }
+    // Whether pairwise substeps may search neighbour lists (the default)
+    // instead of the grid: the same bits either way, which the tests check.
+    void useNeighbourLists(bool use) {
+        useLists_ = use;
+        lists_.clear();
+    }
+    // How many times the lists were built since the backend was made.
+    std::uint64_t neighbourListBuilds() const { return listBuilds_; }
     std::shared_ptr<const std::vector<Particle>> sharedState() override { return state_; }
 
 protected:
@@ -52,6 +61,14 @@ private:
     // non-finite, or kAllFinite.
     std::uint32_t stepSimultaneous(float dt);
     std::uint32_t stepPairwise(float dt);
+    // What a pairwise substep of dt does with the neighbour lists: search
+    // them where they hold, else build them afresh in its region (the team
+    // of `threads`, in chunks of `chunk` disks) where they can be; neither
+    // searches the grid.
+    struct ListPlan {
+        bool hold = false, build = false;
+    };
+    ListPlan planLists(float dt, int threads, std::size_t chunk);
     // The threads of the next substep's team: one below kParallelPassLength
     // disks, or while one thread has lately been faster (teamChoice_).
     int teamSize() const;
@@ -101,6 +118,15 @@ private:
     std::vector<unsigned int> pending_, nextPending_, changed_, dirty_;
     std::vector<unsigned int> pendingMark_, changedMark_, dirtyMark_;
     unsigned int epoch_ = 0;
+    // Pairwise with neighbour lists: a disk's position is its id (identity_
+    // serves as the ids and the slots), the cell each disk starts the
+    // substep in (the grid's geometry, for the walls it can reach), and the
+    // farthest any disk has moved since the lists were built, squared.
+    bool useLists_ = true;
+    NeighbourLists lists_;
+    std::vector<unsigned int> identity_, startCells_;
+    float maxDisplacementSquared_ = 0.0f;
+    std::uint64_t listBuilds_ = 0;
 };
 
 }  // namespace carom

@@ -76,8 +76,9 @@ __kernel void findEventsForward(__global const uint* halt,
     const uint k = get_global_id(0);
     if (k >= step.count) return;
     const CaromList none = carom_list(0, counts, 0, 0);
-    carom_find_event(k, state, slots, ids, cellOf, cells, step, events, CAROM_SEARCH_FORWARD, none,
-                     carom_list(dirty, counts, 2, dirtyMarks), carom_list(pending, counts, 0, pendingMarks), epoch);
+    carom_find_event(k, state, slots, ids, carom_grid_neighbours(cellOf, cells), step, events, CAROM_SEARCH_FORWARD,
+                     none, carom_list(dirty, counts, 2, dirtyMarks), carom_list(pending, counts, 0, pendingMarks),
+                     epoch);
 }
 
 /* Round r's search of the disks on `listed` (counts[listIndex] of them) in
@@ -110,8 +111,8 @@ __kernel void searchListed(__global const uint* halt,
     const CaromList dirtyList = carom_list(dirty, counts, 3 * round + 2, dirtyMarks);
     const CaromList pendingList = carom_list(pending, counts, 3 * round, pendingMarks);
     for (uint e = get_global_id(0); e < length; e += get_global_size(0))
-        carom_find_event(listed[e], state, slots, ids, cellOf, cells, step, events, mode, changedList, dirtyList,
-                         pendingList, epoch);
+        carom_find_event(listed[e], state, slots, ids, carom_grid_neighbours(cellOf, cells), step, events, mode,
+                         changedList, dirtyList, pendingList, epoch);
 }
 
 /* Round r >= 1: resolves the events on round r - 1's pending list. */
@@ -188,11 +189,11 @@ static inline void carom_rounds_in_group(uint firstRound,
             resolving, lengths, 3 * (round - 1), k,
             carom_resolve_event(k, state, slots, ids, events, step, tallies, changedList, pendingList, epoch));
         CAROM_FOR_LISTED(changed, lengths, 3 * round + 1, k,
-                         carom_find_event(k, state, slots, ids, cellOf, cells, step, events, CAROM_SEARCH_CHANGED,
-                                          changedList, dirtyList, pendingList, epoch));
+                         carom_find_event(k, state, slots, ids, carom_grid_neighbours(cellOf, cells), step, events,
+                                          CAROM_SEARCH_CHANGED, changedList, dirtyList, pendingList, epoch));
         CAROM_FOR_LISTED(dirty, lengths, 3 * round + 2, k,
-                         carom_find_event(k, state, slots, ids, cellOf, cells, step, events, CAROM_SEARCH_ALL,
-                                          changedList, dirtyList, pendingList, epoch));
+                         carom_find_event(k, state, slots, ids, carom_grid_neighbours(cellOf, cells), step, events,
+                                          CAROM_SEARCH_ALL, changedList, dirtyList, pendingList, epoch));
     }
 }
 

@@ -248,16 +248,82 @@ static inline void carom_list_add(CaromList list, unsigned int k, unsigned int e
     2 /* every neighbour, for a disk that changed this round: unchanged neighbours
                                 * whose earliest event it beats, or whose earliest event was with it, are dirty */
 
-/* The earliest event of the disk at sorted position k, searched over the
- * 3x3 cells around the cell it started the step in (the grid's cells are
- * wide enough for every pair that can meet within the step), as `mode`
- * says. */
+/* Where a search finds a disk's candidates: the grid's 3x3 cells around the
+ * cell the disk started the step in (cellOf, by slot: the grid's cells are
+ * wide enough for every pair that can meet within the step); or, where
+ * `listStarts` is not null, the disk's neighbour list, positions ascending,
+ * list[listStarts[k] .. listStarts[k + 1]), which holds every disk it can
+ * meet within the step (the CPU backend's lists with a skin). The earliest
+ * event is a minimum, so both give the same bits. */
+typedef struct CaromNeighbours {
+    CAROM_GLOBAL const unsigned int* cellOf;
+    CAROM_GLOBAL const GridCell* cells;
+    CAROM_GLOBAL const unsigned int* listStarts;
+    CAROM_GLOBAL const unsigned int* list;
+} CaromNeighbours;
+
+static inline CaromNeighbours carom_grid_neighbours(CAROM_GLOBAL const unsigned int* cellOf,
+                                                    CAROM_GLOBAL const GridCell* cells)
+{
+    CaromNeighbours neighbours;
+    neighbours.cellOf = cellOf;
+    neighbours.cells = cells;
+    neighbours.listStarts = 0;
+    neighbours.list = 0;
+    return neighbours;
+}
+
+/* What a search's best event so far is, with its pair's ids for ties. */
+typedef struct CaromBest {
+    CaromEvent event;
+    unsigned int lo, hi;
+} CaromBest;
+
+/* Candidate q of the search of disk k (`self`, id selfId), as `mode` says
+ * (carom_search). */
+static inline void carom_search_candidate(unsigned int k,
+                                          Particle self,
+                                          unsigned int selfId,
+                                          unsigned int q,
+                                          CAROM_GLOBAL const Particle* state,
+                                          CAROM_GLOBAL const unsigned int* slots,
+                                          CAROM_GLOBAL const unsigned int* ids,
+                                          CaromStepParams step,
+                                          CAROM_GLOBAL const CaromEvent* events,
+                                          int mode,
+                                          CaromList changed,
+                                          CaromList dirty,
+                                          unsigned int epoch,
+                                          CaromBest* best)
+{
+    const unsigned int otherId = ids[q];
+    const float t = carom_pair_event_time(self, selfId, state[slots[q]], otherId, step);
+    if (t != CAROM_NEVER) {
+        const unsigned int lo = selfId < otherId ? selfId : otherId;
+        const unsigned int hi = selfId < otherId ? otherId : selfId;
+        if (best->event.time == CAROM_NEVER || carom_event_before(t, lo, hi, best->event.time, best->lo, best->hi)) {
+            best->event.time = t;
+            best->event.partner = q;
+            best->lo = lo;
+            best->hi = hi;
+        }
+        if (mode == CAROM_SEARCH_FORWARD) carom_list_add(dirty, q, epoch);
+    }
+    if (mode == CAROM_SEARCH_CHANGED && changed.marks[q] != epoch) {
+        const CaromEvent theirs = events[q];
+        if (theirs.partner == k ||
+            (t != CAROM_NEVER && carom_pair_event_before(t, selfId, otherId, theirs, otherId, ids)))
+            carom_list_add(dirty, q, epoch);
+    }
+}
+
+/* The earliest event of the disk at sorted position k, over its candidates
+ * (CaromNeighbours), as `mode` says. */
 static inline CaromEvent carom_search(unsigned int k,
                                       CAROM_GLOBAL const Particle* state,
                                       CAROM_GLOBAL const unsigned int* slots,
                                       CAROM_GLOBAL const unsigned int* ids,
-                                      CAROM_GLOBAL const unsigned int* cellOf,
-                                      CAROM_GLOBAL const GridCell* cells,
+                                      CaromNeighbours neighbours,
                                       CaromStepParams step,
                                       CAROM_GLOBAL const CaromEvent* events,
                                       int mode,
@@ -267,39 +333,33 @@ static inline CaromEvent carom_search(unsigned int k,
 {
     const Particle self = state[slots[k]];
     const unsigned int selfId = ids[k];
-    const unsigned int cell = cellOf[slots[k]];
+    const unsigned int cell = neighbours.cellOf[slots[k]];
     const int cellX = (int)(cell % (unsigned int)step.grid.cols);
     const int cellY = (int)(cell / (unsigned int)step.grid.cols);
-    CaromEvent best = carom_wall_event(self, cellX, cellY, step);
-    unsigned int bestLo = selfId, bestHi = best.partner;
+    CaromBest best;
+    best.event = carom_wall_event(self, cellX, cellY, step);
+    best.lo = selfId;
+    best.hi = best.event.partner;
     const unsigned int first = mode == CAROM_SEARCH_FORWARD ? k + 1u : 0u;
+    if (neighbours.listStarts) {
+        const unsigned int end = neighbours.listStarts[k + 1];
+        for (unsigned int e = neighbours.listStarts[k]; e < end; ++e) {
+            const unsigned int q = neighbours.list[e];
+            if (q >= first)
+                carom_search_candidate(k, self, selfId, q, state, slots, ids, step, events, mode, changed, dirty, epoch,
+                                       &best);
+        }
+        return best.event;
+    }
     for (int run = 0; run < 6; ++run) {
         unsigned int begin, end;
-        if (!carom_neighbour_run(run, cellX, cellY, cells, step.grid, step.box, &begin, &end)) continue;
-        for (unsigned int q = begin > first ? begin : first; q < end; ++q) {
-            if (q == k) continue;
-            const unsigned int otherId = ids[q];
-            const float t = carom_pair_event_time(self, selfId, state[slots[q]], otherId, step);
-            if (t != CAROM_NEVER) {
-                const unsigned int lo = selfId < otherId ? selfId : otherId;
-                const unsigned int hi = selfId < otherId ? otherId : selfId;
-                if (best.time == CAROM_NEVER || carom_event_before(t, lo, hi, best.time, bestLo, bestHi)) {
-                    best.time = t;
-                    best.partner = q;
-                    bestLo = lo;
-                    bestHi = hi;
-                }
-                if (mode == CAROM_SEARCH_FORWARD) carom_list_add(dirty, q, epoch);
-            }
-            if (mode == CAROM_SEARCH_CHANGED && changed.marks[q] != epoch) {
-                const CaromEvent theirs = events[q];
-                if (theirs.partner == k ||
-                    (t != CAROM_NEVER && carom_pair_event_before(t, selfId, otherId, theirs, otherId, ids)))
-                    carom_list_add(dirty, q, epoch);
-            }
-        }
+        if (!carom_neighbour_run(run, cellX, cellY, neighbours.cells, step.grid, step.box, &begin, &end)) continue;
+        for (unsigned int q = begin > first ? begin : first; q < end; ++q)
+            if (q != k)
+                carom_search_candidate(k, self, selfId, q, state, slots, ids, step, events, mode, changed, dirty, epoch,
+                                       &best);
     }
-    return best;
+    return best.event;
 }
 
 /* Disks a and b (ids idA < idB) collide at time t: both fly there and
@@ -408,8 +468,7 @@ static inline void carom_find_event(unsigned int k,
                                     CAROM_GLOBAL const Particle* state,
                                     CAROM_GLOBAL const unsigned int* slots,
                                     CAROM_GLOBAL const unsigned int* ids,
-                                    CAROM_GLOBAL const unsigned int* cellOf,
-                                    CAROM_GLOBAL const GridCell* cells,
+                                    CaromNeighbours neighbours,
                                     CaromStepParams step,
                                     CAROM_GLOBAL CaromEvent* events,
                                     int mode,
@@ -418,8 +477,7 @@ static inline void carom_find_event(unsigned int k,
                                     CaromList pending,
                                     unsigned int epoch)
 {
-    const CaromEvent event =
-        carom_search(k, state, slots, ids, cellOf, cells, step, events, mode, changed, dirty, epoch);
+    const CaromEvent event = carom_search(k, state, slots, ids, neighbours, step, events, mode, changed, dirty, epoch);
     events[k] = event;
     if (event.time != CAROM_NEVER) carom_list_add(pending, k, epoch);
 }

@@ -175,12 +175,12 @@ __kernel void stepSmallPairwise(__global Particle* state,
         const CaromList dirtyList = carom_list(dirty, lengths, 2, dirtyMarks);
         const CaromList pendingList = carom_list(pending0, lengths, 0, pendingMarks);
         for (uint k = lid; k < step.count; k += size)
-            carom_find_event(k, state, cellOrder, sortedIds, cellOf, cells, step, events, CAROM_SEARCH_FORWARD, none,
-                             dirtyList, pendingList, epoch);
+            carom_find_event(k, state, cellOrder, sortedIds, carom_grid_neighbours(cellOf, cells), step, events,
+                             CAROM_SEARCH_FORWARD, none, dirtyList, pendingList, epoch);
         barrier(CLK_GLOBAL_MEM_FENCE);
         CAROM_FOR_LISTED(dirty, lengths, 2, k,
-                         carom_find_event(k, state, cellOrder, sortedIds, cellOf, cells, step, events, CAROM_SEARCH_ALL,
-                                          changedList, dirtyList, pendingList, epoch));
+                         carom_find_event(k, state, cellOrder, sortedIds, carom_grid_neighbours(cellOf, cells), step,
+                                          events, CAROM_SEARCH_ALL, changedList, dirtyList, pendingList, epoch));
 
         carom_rounds_in_group(1, maxRounds, epoch + 1, state, cellOrder, sortedIds, cellOf, cells, step, tallies,
                               events, pending0, pending1, changed, dirty, pendingMarks, changedMarks, dirtyMarks,

@@ -1,0 +1,108 @@
+#include "engine/neighbour_lists.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "kernels/physics.h"
+
+namespace carom {
+
+namespace {
+
+// Calls visit(j) for every disk j != i whose centre lies within contact
+// plus `skin` of disk i's (to the nearest image in a periodic box), from the
+// grid's 3 x 3 cells around disk i's, which are at least that wide.
+template <class Visit>
+void forEachWithin(std::size_t i, const Particle* particles, const Grid& grid, CaromBox box, float skin,
+                   Visit&& visit) {
+    const Particle& self = particles[i];
+    const GridGeometry& g = grid.geometry;
+    const int cellX = carom_cell_coord(self.position.x, g.cellsPerLengthX, g.cols);
+    const int cellY = carom_cell_coord(self.position.y, g.cellsPerLengthY, g.rows);
+    for (int run = 0; run < 6; ++run) {
+        unsigned int begin, end;
+        if (!carom_neighbour_run(run, cellX, cellY, grid.cells.data(), g, box, &begin, &end)) continue;
+        for (unsigned int q = begin; q < end; ++q) {
+            const std::uint32_t j = grid.sortedIndices[q];
+            if (j == i) continue;
+            float dx = self.position.x - particles[j].position.x;
+            float dy = self.position.y - particles[j].position.y;
+            if (box.periodic) {
+                dx = carom_nearest_image(dx, box.width);
+                dy = carom_nearest_image(dy, box.height);
+            }
+            const float reach = self.radius + particles[j].radius + skin;
+            if (dx * dx + dy * dy < reach * reach) visit(j);
+        }
+    }
+}
+
+}  // namespace
+
+float NeighbourLists::automaticSkin(float maxRadius, float travel) {
+    // Half a diameter leaves the disks 0.3 radii to move between builds at
+    // the pairwise scheme's usual allowance (0.15 radii a substep); a larger
+    // one (cells widened in a dilute box) widens it.
+    return std::max(maxRadius, 4.0f * travel);
+}
+
+bool NeighbourLists::begin(const Particle* particles, std::size_t count, float maxRadius, float skin, CaromBox box,
+                           int threads, std::size_t chunk) {
+    built_ = false;
+    const Boundary boundary = box.periodic ? Boundary::Periodic : Boundary::Walls;
+    grid_.geometry = gridGeometryFor(box.width, box.height, maxRadius, count, boundary, skin);
+    // The 3 x 3 cells hold every disk within reach only where a cell is that wide.
+    const double reach = 2.0 * maxRadius * (1.0 + 1e-5) + skin;
+    if (double(box.width) / grid_.geometry.cols < reach || double(box.height) / grid_.geometry.rows < reach)
+        return false;
+    builder_.prepare(count, grid_, threads);
+    particles_ = particles;
+    count_ = count;
+    chunk_ = std::max<std::size_t>(chunk, 1);
+    skin_ = skin;
+    box_ = box;
+    starts_.resize(count + 1);
+    origins_.resize(count);
+    chunkLists_.resize((count + chunk_ - 1) / chunk_);
+    return true;
+}
+
+void NeighbourLists::collect(std::size_t i) {
+    std::vector<std::uint32_t>& mine = chunkLists_[i / chunk_];
+    if (i % chunk_ == 0) mine.clear();
+    const std::size_t first = mine.size();
+    forEachWithin(i, particles_, grid_, box_, skin_, [&](std::uint32_t j) { mine.push_back(j); });
+    std::sort(mine.begin() + std::ptrdiff_t(first), mine.end());
+    starts_[i + 1] = std::uint32_t(mine.size() - first);
+    origins_[i] = particles_[i].position;
+}
+
+void NeighbourLists::sum() {
+    starts_[0] = 0;
+    std::uint64_t total = 0;
+    for (std::size_t i = 1; i <= count_; ++i) {
+        total += starts_[i];
+        starts_[i] = std::uint32_t(total);
+    }
+    // Past 32-bit offsets (more than 64 neighbours a disk on average) no
+    // lists are placed, and the substep searches the grid.
+    fits_ = total <= std::numeric_limits<std::uint32_t>::max();
+    if (fits_) list_.resize(std::size_t(total));
+}
+
+void NeighbourLists::place(std::size_t c) {
+    if (!fits_) return;
+    const std::vector<std::uint32_t>& mine = chunkLists_[c];
+    std::copy(mine.begin(), mine.end(), list_.begin() + std::ptrdiff_t(starts_[c * chunk_]));
+    if (c + 1 == chunkLists_.size()) built_ = true;
+}
+
+bool NeighbourLists::hold(float maxDisplacementSquared, float travel) const {
+    // A pair left out was more than contact plus the skin apart at the
+    // build: it can meet only once both disks' moves since then and in the
+    // substep close the skin. A tenth of the skin is left to rounding.
+    return built_ && 2.0 * (std::sqrt(double(maxDisplacementSquared)) + double(travel)) < 0.9 * double(skin_);
+}
+
+}  // namespace carom
