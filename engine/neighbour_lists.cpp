@@ -68,6 +68,27 @@ bool NeighbourLists::begin(const Particle* particles, std::size_t count, float m
     return true;
 }
 
+bool NeighbourLists::build(const Particle* particles, std::size_t count, float maxRadius, float skin, CaromBox box,
+                           int threads) {
+    threads = std::max(threads, 1);
+    const std::size_t chunk = std::max<std::size_t>(256, (count + 4 * std::size_t(threads) - 1) / (4 * threads));
+    if (!begin(particles, count, maxRadius, skin, box, threads, chunk)) return false;
+    buildGridParallel(particles, count, grid_, builder_, threads);
+    const auto chunks = static_cast<std::int64_t>(chunkLists_.size());
+#pragma omp parallel num_threads(threads) if (threads > 1)
+    {
+#pragma omp for schedule(dynamic, 1)
+        for (std::int64_t c = 0; c < chunks; ++c)
+            for (std::size_t i = std::size_t(c) * chunk_; i < std::min(count, std::size_t(c + 1) * chunk_); ++i)
+                collect(i);
+#pragma omp single
+        sum();
+#pragma omp for schedule(static)
+        for (std::int64_t c = 0; c < chunks; ++c) place(std::size_t(c));
+    }
+    return built_;
+}
+
 void NeighbourLists::collect(std::size_t i) {
     std::vector<std::uint32_t>& mine = chunkLists_[i / chunk_];
     if (i % chunk_ == 0) mine.clear();

@@ -32,6 +32,9 @@ public:
     // (a periodic box under 3 of them a side) or the disks too many.
     bool begin(const Particle* particles, std::size_t count, float maxRadius, float skin, CaromBox box, int threads,
                std::size_t chunk);
+    // Every phase at once, on a team of `threads` (outside a substep: the
+    // benchmark's profile times it so).
+    bool build(const Particle* particles, std::size_t count, float maxRadius, float skin, CaromBox box, int threads);
     Grid& grid() { return grid_; }
     GridBuilder& builder() { return builder_; }
     // Disk i's list, ascending, into the scratch of its chunk (disks

@@ -46,7 +46,7 @@ function(carom_bench_profile_test name methods particles parts)
                      -DMETHODS=${methods} -DPARTICLES=${particles} "-DPARTS=${parts}"
                      -P ${CMAKE_CURRENT_SOURCE_DIR}/cli_bench_profile.cmake)
 endfunction()
-carom_bench_profile_test(cpu_pairwise cpu 500 "buildGrid (host, 1 thread)")
+carom_bench_profile_test(cpu_pairwise cpu 500 "neighbour lists (host, 1 thread)")
 if(OpenCL_FOUND)
     carom_cli_test(run_resident pass "\"backend\": \"opencl\""
                    "run|--backend|opencl|--pipeline|resident|--particles|100|--steps|10|--json")

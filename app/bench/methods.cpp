@@ -11,6 +11,8 @@
 #include "app/bench/all_pairs_cpu.h"
 #include "engine/disk_conversion.h"
 #include "backends/backend.h"
+#include "backends/cpu.h"
+#include "engine/neighbour_lists.h"
 #include "engine/grid.h"
 #ifdef CAROM_HAVE_OPENCL
 #include "backends/opencl/host_grid.h"
@@ -96,28 +98,56 @@ std::unique_ptr<Backend> makeAllPairsBackend(const Method& method, const WorldDe
 #endif
 }
 
-// The CPU backend's grid build (GridBuilder), timed alone on the scene's
-// particles, once per substep, on as many threads as the backend's team
-// (one below kParallelPassLength disks).
-std::map<std::string, double> profileHostGrid(const WorldDef& world, const std::vector<Particle>& particles,
-                                              std::uint64_t steps, double substepsPerStep) {
-    float maxRadius = 0;
-    for (const Particle& p : particles) maxRadius = std::max(maxRadius, p.radius);
+// The seconds of one call of `work`, the mean of `repeats` after one
+// untimed call (which allocates, as a running backend has).
+template <class Work>
+double secondsEach(std::uint64_t repeats, Work&& work) {
+    work();
+    const auto start = std::chrono::steady_clock::now();
+    for (std::uint64_t r = 0; r < repeats; ++r) work();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / double(repeats);
+}
+
+// The CPU backend's serial part, timed alone on the scene's particles, on as
+// many threads as the backend's team (one below kParallelPassLength disks):
+// the grid build (GridBuilder) once per substep; with the pairwise scheme,
+// the neighbour lists' builds (NeighbourLists) as often as a run of `steps`
+// steps after `warmupSteps` built them, and the grid's for any substep
+// that did not search them.
+std::map<std::string, double> profileCpu(const WorldDef& world, const std::vector<Particle>& particles,
+                                         std::uint64_t steps, double substepsPerStep, std::uint64_t warmupSteps) {
+    const float maxRadius = largestRadius(particles.data(), particles.size());
     int threads = 1;
 #ifdef _OPENMP
     if (static_cast<std::int64_t>(particles.size()) >= kParallelPassLength) threads = omp_get_max_threads();
 #endif
+    const std::string team = std::to_string(threads) + (threads == 1 ? " thread" : " threads");
     Grid grid;
     grid.geometry = gridGeometryFor(world, maxRadius, particles.size());
     GridBuilder builder;
-    // Allocates the vectors once, as a running backend has.
-    buildGridParallel(particles.data(), particles.size(), grid, builder, threads);
-    const auto start = std::chrono::steady_clock::now();
-    for (std::uint64_t s = 0; s < steps; ++s)
+    const double gridSeconds = secondsEach(std::max<std::uint64_t>(steps, 1), [&] {
         buildGridParallel(particles.data(), particles.size(), grid, builder, threads);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const std::string name = "buildGrid (host, " + std::to_string(threads) + (threads == 1 ? " thread)" : " threads)");
-    return {{name, seconds / double(steps) * substepsPerStep}};
+    });
+    if (world.collisions != CollisionScheme::Pairwise)
+        return {{"buildGrid (host, " + team + ")", gridSeconds * substepsPerStep}};
+
+    CpuBackend backend(world);
+    backend.setParticles(particles);
+    backend.step(warmupSteps);
+    const std::uint64_t buildsBefore = backend.neighbourListBuilds();
+    backend.step(steps);
+    const double buildsPerStep = double(backend.neighbourListBuilds() - buildsBefore) / double(steps);
+    const float skin = NeighbourLists::automaticSkin(
+        maxRadius, gridTravelAllowance(grid.geometry, world.width, world.height, maxRadius, world.boundary));
+    NeighbourLists lists;
+    const double listSeconds = secondsEach(std::min<std::uint64_t>(std::max<std::uint64_t>(steps, 1), 20), [&] {
+        lists.build(particles.data(), particles.size(), maxRadius, skin, caromBoxOf(world), threads);
+    });
+    std::map<std::string, double> perStep;
+    if (buildsPerStep > 0) perStep["neighbour lists (host, " + team + ")"] = listSeconds * buildsPerStep;
+    // Substeps that built no lists and found none to hold searched the grid.
+    if (!lists.built()) perStep["buildGrid (host, " + team + ")"] = gridSeconds * substepsPerStep;
+    return perStep;
 }
 
 }  // namespace
@@ -173,7 +203,7 @@ std::map<std::string, double> profileMethod(const Method& method, const WorldDef
     if (!method.opencl)
         return method.allPairs || method.eventDriven
                    ? std::map<std::string, double>{}
-                   : profileHostGrid(world, particlesOf(disks.data(), disks.size()), steps, substepsPerStep);
+                   : profileCpu(world, particlesOf(disks.data(), disks.size()), steps, substepsPerStep, warmupSteps);
 #ifdef CAROM_HAVE_OPENCL
     const std::unique_ptr<OpenClBackend> backend = makeOpenClBackend(method, world, true);
     backend->setParticles(particlesOf(disks.data(), disks.size()));

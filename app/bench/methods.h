@@ -75,9 +75,10 @@ std::unique_ptr<Stepper> makeStepper(const Method& method, const WorldDef& world
 // profiling overhead), after `warmupSteps` unprofiled steps that bring it to
 // the state the timed samples saw (the pairwise scheme's rounds cost what
 // the collisions of the moment ask for; the scene starts on a lattice, with
-// none); for the CPU backend its serial part, the grid build
-// (one per substep: `substepsPerStep` of them), timed alone; nothing for the
-// CPU all-pairs and events methods.
+// none); for the CPU backend its serial part, timed alone: the grid build
+// (one per substep: `substepsPerStep` of them), or with the pairwise scheme
+// the neighbour lists' builds, as many as a run of `steps` steps made;
+// nothing for the CPU all-pairs and events methods.
 std::map<std::string, double> profileMethod(const Method& method, const WorldDef& world, const std::vector<Disk>& disks,
                                             std::uint64_t steps, double substepsPerStep, std::uint64_t warmupSteps);
 
