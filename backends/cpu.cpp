@@ -387,14 +387,7 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
         }
         // Every thread reads the same after the lists' last pass.
         const bool listed = plan.hold || (plan.build && lists_.built());
-        // The grid, or with the lists the cell each disk starts in (the
-        // grid's cellOf, without the grid).
-        if (listed)
-            passes.run(kGridPass, count, chunk, [&](std::size_t i) {
-                startCells_[i] = static_cast<unsigned int>(carom_cell_index(state[i].position, grid_.geometry));
-            });
-        else
-            buildGridInRegion(passes, kGridPass, gridBuilder_, grid_, state, count);
+        if (!listed) buildGridInRegion(passes, kGridPass, gridBuilder_, grid_, state, count);
         // State by id, so a disk's slot is its id: the disks in the grid's
         // order (sortedIndices) or, with the lists, by id serve as both.
         const unsigned int* sorted = listed ? identity_.data() : grid_.sortedIndices.data();
@@ -408,6 +401,10 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
         const CaromList firstDirty = listOf(dirty_, dirtyCount[0], dirtyMark_);
         const CaromList firstPending = listOf(pending_, pendingCount[0], pendingMark_);
         passes.run(kForwardPass, count, chunk, [&](std::size_t k) {
+            // With the lists, the cell disk k starts in (the grid's cellOf,
+            // without the grid), for the walls it can reach: only its own
+            // searches read it.
+            if (listed) startCells_[k] = static_cast<unsigned int>(carom_cell_index(state[k].position, grid_.geometry));
             carom_find_event(static_cast<unsigned int>(k), state, sorted, sorted, neighbours, step, events,
                              CAROM_SEARCH_FORWARD, firstChanged, firstDirty, firstPending, firstEpoch);
         });
