@@ -219,7 +219,7 @@ public:
         checkpoint(world);
         commitStreams();
         attempt(kState, [&] {
-            io::writeState(def_.state, world.disks());
+            io::writeState(def_.state, world);
             stateStep_ = world.stepCount();
         });
     }

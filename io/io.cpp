@@ -33,7 +33,8 @@ SceneFile loadScene(const SceneFileDef& scene) {
 
 std::vector<Disk> readState(const std::string& path) { return readStateCsv(path, availableMemoryBytes()); }
 
-void writeState(const std::string& path, const std::vector<Disk>& disks) { writeStateCsv(path, disks); }
+void writeState(const std::string& path, const std::vector<Disk>& disks) { writeStateCsv(path, DiskBlocks(disks)); }
+void writeState(const std::string& path, const World& world) { writeStateCsv(path, DiskBlocks(world)); }
 
 void saveCheckpoint(const std::string& path, const World& world) {
     if (world.diskCount() == 0) throw Error("saveCheckpoint '" + path + "': the world has no disks yet");
@@ -81,7 +82,6 @@ struct Owned {
 
 struct TrajectoryWriter::Impl : Owned<carom::TrajectoryWriter> {
     using Owned::Owned;
-    std::vector<Disk> disks;  // the frame's disks, kept from frame to frame
 };
 
 TrajectoryWriter::TrajectoryWriter(const std::string& path) : impl_(std::make_unique<Impl>(path)) {}
@@ -114,9 +114,7 @@ TrajectoryWriter& TrajectoryWriter::operator=(TrajectoryWriter&&) noexcept = def
 void TrajectoryWriter::write(const World& world) {
     // A frame of no disks has no cell depth, and no run continues from it.
     if (world.diskCount() == 0) throw Error("TrajectoryWriter::write: the world has no disks yet");
-    impl_->disks.resize(world.diskCount());
-    world.getDisks(impl_->disks.data(), impl_->disks.size());
-    impl_->file.write(impl_->disks, world.def(), world.stepCount(), world.time(), world.images());
+    impl_->file.write(DiskBlocks(world), world.def(), world.stepCount(), world.time(), world.images());
 }
 std::size_t TrajectoryWriter::frames() const { return impl_->file.frames(); }
 void TrajectoryWriter::close() { impl_->file.commit(); }

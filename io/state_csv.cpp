@@ -116,12 +116,11 @@ std::vector<Disk> parseStateCsv(std::istream& in, const std::string& path, std::
     return disks;
 }
 
-void writeStateCsv(const std::string& path, const std::vector<Disk>& disks) {
+void writeStateCsv(const std::string& path, const DiskBlocks& disks) {
     // Checked before the file is opened: nothing is written of a state that would not read back.
     if (disks.empty())
         throw Error("state file '" + path + "': 0 disks; allowed: at least 1 (a state file holds a world's disks)");
-    for (std::size_t i = 0; i < disks.size(); ++i) {
-        const Disk& d = disks[i];
+    disks.forEach([&](std::size_t i, const Disk& d) {
         const float values[] = {d.position.x, d.position.y, d.velocity.x, d.velocity.y, d.mass, d.radius};
         for (int column = 0; column < 6; ++column)
             if (!std::isfinite(values[column])) {
@@ -130,12 +129,11 @@ void writeStateCsv(const std::string& path, const std::vector<Disk>& disks) {
                 throw Error("state file '" + path + "': disk " + std::to_string(i) + "'s " + kColumns[column + 1] +
                             " is " + value + "; allowed: finite numbers");
             }
-    }
+    });
     io::AtomicFile file(path);
     file.append(std::string(kHeader) + '\n');
     std::string row;
-    for (std::size_t i = 0; i < disks.size(); ++i) {
-        const Disk& d = disks[i];
+    disks.forEach([&](std::size_t i, const Disk& d) {
         row.clear();
         appendNumber(row, i);
         for (float value : {d.position.x, d.position.y, d.velocity.x, d.velocity.y, d.mass, d.radius}) {
@@ -144,7 +142,7 @@ void writeStateCsv(const std::string& path, const std::vector<Disk>& disks) {
         }
         row += '\n';
         file.append(row);
-    }
+    });
     file.commit();
 }
 

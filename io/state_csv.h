@@ -9,6 +9,8 @@
 
 #include <carom/types.h>
 
+#include "io/disk_blocks.h"
+
 namespace carom {
 
 // Reads a state file. Rows may come in any order; the ids must be exactly
@@ -26,6 +28,6 @@ std::vector<Disk> parseStateCsv(std::istream& in, const std::string& path, std::
 // Writes the state through a temporary file renamed into place, so `path`
 // holds either its old content or the complete new file. Throws Error, and
 // writes nothing, for no disks or a value that is not finite (neither reads back).
-void writeStateCsv(const std::string& path, const std::vector<Disk>& disks);
+void writeStateCsv(const std::string& path, const DiskBlocks& disks);
 
 }  // namespace carom

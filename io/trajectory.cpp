@@ -13,9 +13,9 @@ namespace {
 
 // A frame's first two lines up to its step: the disk count, then the cell
 // and the columns. The same for every frame of one simulation.
-void appendFrameCell(std::string& out, const std::vector<Disk>& disks, const WorldDef& world) {
+void appendFrameCell(std::string& out, const DiskBlocks& disks, const WorldDef& world) {
     float maxRadius = 0.0f;
-    for (const Disk& d : disks) maxRadius = std::max(maxRadius, d.radius);
+    disks.forEach([&](std::size_t, const Disk& d) { maxRadius = std::max(maxRadius, d.radius); });
     appendNumber(out, disks.size());
     out += "\nLattice=\"";
     appendNumber(out, world.width);
@@ -41,7 +41,7 @@ void appendFrameCell(std::string& out, const std::vector<Disk>& disks, const Wor
 // step) the same time.
 void requireSameSimulation(const std::string& path, std::streamoff offset, std::uint64_t step, const Resumed& resumed) {
     std::string expected;
-    appendFrameCell(expected, resumed.disks, resumed.world);
+    appendFrameCell(expected, DiskBlocks(resumed.disks), resumed.world);
     expected.erase(0, expected.find('\n') + 1);
     std::ifstream in(path, std::ios::binary);
     in.seekg(offset);
@@ -110,7 +110,7 @@ io::Existing continuation(const std::string& path, const Resumed* resumed) {
 TrajectoryWriter::TrajectoryWriter(const std::string& path, const Resumed* resumed)
     : file_(path, continuation(path, resumed)) {}
 
-void TrajectoryWriter::write(const std::vector<Disk>& disks, const WorldDef& world, std::uint64_t step, double time,
+void TrajectoryWriter::write(const DiskBlocks& disks, const WorldDef& world, std::uint64_t step, double time,
                              const std::vector<Image>& images) {
     const bool periodic = world.boundary == Boundary::Periodic;
     std::string& out = frame_;
@@ -121,8 +121,7 @@ void TrajectoryWriter::write(const std::vector<Disk>& disks, const WorldDef& wor
     out += " time=";
     appendNumber(out, time);
     out += '\n';
-    for (std::size_t i = 0; i < disks.size(); ++i) {
-        const Disk& d = disks[i];
+    disks.forEach([&](std::size_t i, const Disk& d) {
         out += "X ";
         appendNumber(out, d.position.x);
         out += ' ';
@@ -149,7 +148,7 @@ void TrajectoryWriter::write(const std::vector<Disk>& disks, const WorldDef& wor
             file_.append(out);
             out.clear();
         }
-    }
+    });
     file_.append(out);
     ++frames_;
 }

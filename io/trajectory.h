@@ -23,6 +23,8 @@
 #include <carom/files.h>
 #include <carom/types.h>
 
+#include "io/disk_blocks.h"
+
 namespace carom {
 
 struct Resumed;  // io/output_paths.h
@@ -39,7 +41,7 @@ public:
 
     // Appends one frame of `disks` (in id order) with their `images` (empty:
     // all {0, 0}; written in a periodic box only); throws Error if the write fails (disk full).
-    void write(const std::vector<Disk>& disks, const WorldDef& world, std::uint64_t step, double time,
+    void write(const DiskBlocks& disks, const WorldDef& world, std::uint64_t step, double time,
                const std::vector<Image>& images = {});
     std::size_t frames() const { return frames_; }
 

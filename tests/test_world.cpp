@@ -128,6 +128,13 @@ TEST_CASE("world: disks go in and come out in id order") {
     world.getDisks(out.data(), out.size());
     CHECK_THROWS_AS(world.getDisks(out.data(), out.size() - 1), Error);
     CHECK(std::memcmp(out.data(), scene.disks.data(), out.size() * sizeof(Disk)) == 0);
+    // A range, as the writers read a large state a piece at a time.
+    std::vector<Disk> piece(7);
+    world.getDisks(100, piece.size(), piece.data());
+    CHECK(std::memcmp(piece.data(), scene.disks.data() + 100, piece.size() * sizeof(Disk)) == 0);
+    world.getDisks(out.size() - 7, 7, piece.data());
+    CHECK(std::memcmp(piece.data(), scene.disks.data() + out.size() - 7, piece.size() * sizeof(Disk)) == 0);
+    world.getDisks(out.size(), 0, nullptr);  // nothing to copy
     CHECK(std::memcmp(world.disks().data(), scene.disks.data(), out.size() * sizeof(Disk)) == 0);
     CHECK(world.warnings().empty());
 

@@ -63,6 +63,11 @@ TEST_CASE("world: a null array with a count is refused, naming the argument, and
     CHECK(refusalOf([&] { world.editDisks(nullptr, 2); }).find("editDisks: disks is null") == 0);
     CHECK(refusalOf([&] { world.getDisks(nullptr, 2); }) ==
           "getDisks: out is null, for 2 disks; allowed: a pointer to 2 disks");
+    Disk one;
+    CHECK(refusalOf([&] { world.getDisks(1, 2, &one); }) ==
+          "getDisks: first 1, count 2; allowed: first + count <= 2 (diskCount())");
+    CHECK(refusalOf([&] { world.getDisks(std::size_t(-1), 2, &one); }) ==
+          "getDisks: first 18446744073709551615, count 2; allowed: first + count <= 2 (diskCount())");
     CHECK(refusalOf([&] { world.readView(ViewValue::Speed, nullptr, 2); }) ==
           "readView: out is null, for 2 views; allowed: a pointer to 2 views");
     CHECK(world.diskCount() == 2);

@@ -419,6 +419,15 @@ void World::getDisks(Disk* out, std::size_t capacity) const {
     for (std::size_t i = 0; i < state.size(); ++i) out[i] = diskOf(state[i]);
 }
 
+void World::getDisks(std::size_t first, std::size_t count, Disk* out) const {
+    requireArray("getDisks", "out", out, count, "disks");
+    const std::vector<Particle>& state = impl_->current();
+    if (first > state.size() || count > state.size() - first)
+        throw Error("getDisks: first " + std::to_string(first) + ", count " + std::to_string(count) +
+                    "; allowed: first + count <= " + std::to_string(state.size()) + " (diskCount())");
+    for (std::size_t i = 0; i < count; ++i) out[i] = diskOf(state[first + i]);
+}
+
 std::vector<Disk> World::disks() const { return disksOf(impl_->current()); }
 
 ViewSums World::readView(ViewValue value, DiskView* out, std::size_t capacity) const {

@@ -767,7 +767,7 @@ int Viewer::run() {
         drawingMs.push_back(secondsSince(drawStart) * 1e3);
         if (signal != 0) break;
     }
-    if (!options_.outputState.empty()) io::writeState(options_.outputState, world_->disks());
+    if (!options_.outputState.empty()) io::writeState(options_.outputState, *world_);
     const std::string groups = sceneFileEdit_ ? " (the scene's groups: " + groupsText(*sceneFileEdit_) + ")" : "";
     if (headless_)
         std::printf(

@@ -55,6 +55,8 @@ SceneFile loadScene(const SceneFileDef& scene);
 /// not finite: it writes only what readState reads back.
 std::vector<Disk> readState(const std::string& path);
 void writeState(const std::string& path, const std::vector<Disk>& disks);
+/// The world's disks, read a piece at a time (no copy of them all).
+void writeState(const std::string& path, const World& world);
 
 /// Checkpoints: everything a world needs to continue bit for bit, its
 /// snapshot (World::snapshot: the box, dt, gravity, boundary, scheme, step,

@@ -202,6 +202,11 @@ public:
     /// `capacity`; throws Error when that is less than diskCount(), or `out`
     /// is null with a capacity.
     void getDisks(Disk* out, std::size_t capacity) const;
+    /// Copies the disks with ids [first, first + count) into `out`: a large
+    /// state a piece at a time (the writers in carom/io.h stream it so).
+    /// Throws Error when the range passes diskCount(), or `out` is null with
+    /// a count.
+    void getDisks(std::size_t first, std::size_t count, Disk* out) const;
     std::vector<Disk> disks() const;
     std::size_t diskCount() const;
     /// What a renderer needs of every disk, in the order the engine keeps them

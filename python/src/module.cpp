@@ -281,9 +281,8 @@ NB_MODULE(_carom, m) {
     m.def(
         "read_state", [](const Path& path) { return arraysOf(carom::io::readState(path.native())); }, "path"_a);
     m.def(
-        "write_state",
-        [](const Path& path, const World& world) { carom::io::writeState(path.native(), world.disks()); }, "path"_a,
-        "world"_a);
+        "write_state", [](const Path& path, const World& world) { carom::io::writeState(path.native(), world); },
+        "path"_a, "world"_a);
     m.def(
         "write_xyz",
         [](const Path& path, const World& world, bool append) {
