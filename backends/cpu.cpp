@@ -251,6 +251,7 @@ void CpuBackend::load(const std::vector<Particle>& particles) {
     }
     events_.resize(n);
     lists_.clear();
+    listsTooLong_ = false;
     identity_.resize(n);
     parallelFor(n, [&](std::size_t i) { identity_[i] = static_cast<unsigned int>(i); });
     startCells_.resize(n);
@@ -344,7 +345,7 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
     const int threads = teamSize();
     const std::size_t chunk = chunkFor(count, threads);
     const ListPlan plan = planLists(dt, threads, chunk);
-    if (!plan.hold) gridBuilder_.prepare(count, grid_, threads);
+    if (!plan.hold && !plan.build) gridBuilder_.prepare(count, grid_, threads);  // only the grid's searches allocate it
     // The step's epochs, epoch_ + 1 .. epoch_ + 1 + kMaxPairwiseRounds, must
     // not wrap; when they would, the marks are cleared once.
     if (epoch_ > std::numeric_limits<unsigned int>::max() - (kMaxPairwiseRounds + 1)) {
@@ -385,95 +386,107 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
             passes.run(kSumPass, 1, 1, [&](std::size_t) { lists_.sum(); });
             passes.run(kPlacePass, lists_.chunks(), 1, [&](std::size_t c) { lists_.place(c); });
         }
-        // Every thread reads the same after the lists' last pass.
+        // Every thread reads the same after the lists' last pass. Lists too
+        // long for their offsets leave the substep undone: it starts over on
+        // the grid (below).
         const bool listed = plan.hold || (plan.build && lists_.built());
-        if (!listed) buildGridInRegion(passes, kGridPass, gridBuilder_, grid_, state, count);
-        // State by id, so a disk's slot is its id: the disks in the grid's
-        // order (sortedIndices) or, with the lists, by id serve as both.
-        const unsigned int* sorted = listed ? identity_.data() : grid_.sortedIndices.data();
-        const CaromNeighbours neighbours =
-            listed ? CaromNeighbours{startCells_.data(), grid_.cells.data(), lists_.starts(), lists_.list()}
-                   : carom_grid_neighbours(grid_.cellOf.data(), grid_.cells.data());
-
-        // Every disk's earliest event: forward over each pair once, then the
-        // disks met from behind look at all their neighbours.
-        const CaromList firstChanged = listOf(changed_, changedCount[0], changedMark_);
-        const CaromList firstDirty = listOf(dirty_, dirtyCount[0], dirtyMark_);
-        const CaromList firstPending = listOf(pending_, pendingCount[0], pendingMark_);
-        passes.run(kForwardPass, count, chunk, [&](std::size_t k) {
-            // With the lists, the cell disk k starts in (the grid's cellOf,
-            // without the grid), for the walls it can reach: only its own
-            // searches read it.
-            if (listed) startCells_[k] = static_cast<unsigned int>(carom_cell_index(state[k].position, grid_.geometry));
-            carom_find_event(static_cast<unsigned int>(k), state, sorted, sorted, neighbours, step, events,
-                             CAROM_SEARCH_FORWARD, firstChanged, firstDirty, firstPending, firstEpoch);
-        });
-        auto dirtySearch = [&](std::size_t e) {
-            carom_find_event(dirty_[e], state, sorted, sorted, neighbours, step, events, CAROM_SEARCH_ALL, firstChanged,
-                             firstDirty, firstPending, firstEpoch);
-        };
-
-        // Round r: resolve, the changed disks search, the dirty ones search;
-        // each pass shared among the team, or run by the calling thread alone.
-        auto runRound = [&](unsigned int round, bool shared) {
-            const unsigned int epoch = firstEpoch + round;
-            const CaromList changed = listOf(changed_, changedCount[round], changedMark_);
-            const CaromList dirty = listOf(dirty_, dirtyCount[round], dirtyMark_);
-            const CaromList next = listOf(*pendingLists[round % 2], pendingCount[round], pendingMark_);
-            const unsigned int* pending = pendingLists[(round - 1) % 2]->data();
-            const std::size_t pass = kDirtyPass + 1 + 3 * std::size_t(round - 1);
-            auto run = [&](std::size_t p, std::size_t length, auto&& item) {
-                if (shared)
-                    passes.run(p, length, kRoundChunk, item);
-                else
-                    for (std::size_t e = 0; e < length; ++e) item(e);
-            };
-            run(pass, pendingCount[round - 1], [&](std::size_t e) {
-                carom_resolve_event(pending[e], state, sorted, sorted, events, step, tallies, changed, next, epoch);
-            });
-            run(pass + 1, changedCount[round], [&](std::size_t e) {
-                carom_find_event(changed_[e], state, sorted, sorted, neighbours, step, events, CAROM_SEARCH_CHANGED,
-                                 changed, dirty, next, epoch);
-            });
-            run(pass + 2, dirtyCount[round], [&](std::size_t e) {
-                carom_find_event(dirty_[e], state, sorted, sorted, neighbours, step, events, CAROM_SEARCH_ALL, changed,
-                                 dirty, next, epoch);
-            });
-        };
-        // The rest of the rounds, on the thread that claims them: while few
-        // disks are pending (a dozen events at N = 10^4), a round costs less
-        // than the waits of a shared one.
-        auto tail = [&](unsigned int round, bool firstDirtySearch) {
-            if (firstDirtySearch)
-                for (std::size_t e = 0; e < dirtyCount[0]; ++e) dirtySearch(e);
-            for (; round <= kMaxPairwiseRounds && pendingCount[round - 1] > 0; ++round) runRound(round, false);
-            roundsUsed = round - 1;
-        };
-        // Every thread reads the same lengths once a pass is over, so all take the same path.
-        if (threads == 1 || dirtyCount[0] < kParallelRoundLength) {
-            passes.run(kTailPass, 1, 1, [&](std::size_t) { tail(1, true); });
+        if (plan.build && !listed) {
+            arriveAll(passes, kEnd);
         } else {
-            passes.run(kDirtyPass, dirtyCount[0], kRoundChunk, dirtySearch);
-            unsigned int round = 1;
-            for (; round <= kMaxPairwiseRounds && pendingCount[round - 1] >= kParallelRoundLength; ++round) {
-                runRound(round, true);
-            }
-            passes.run(kTailPass, 1, 1, [&](std::size_t) { tail(round, false); });
-        }
+            if (!listed) buildGridInRegion(passes, kGridPass, gridBuilder_, grid_, state, count);
+            // State by id, so a disk's slot is its id: the disks in the grid's
+            // order (sortedIndices) or, with the lists, by id serve as both.
+            const unsigned int* sorted = listed ? identity_.data() : grid_.sortedIndices.data();
+            const CaromNeighbours neighbours =
+                listed ? CaromNeighbours{startCells_.data(), grid_.cells.data(), lists_.starts(), lists_.list()}
+                       : carom_grid_neighbours(grid_.cellOf.data(), grid_.cells.data());
 
-        // Every disk flies to the end of the step; its largest speed is the
-        // next step's (maxSpeedSquared).
-        ThreadResult mine;
-        passes.share(kFinishPass, count, chunk, [&](std::size_t i) {
-            state[i] = carom_finish_step(state[i], step, &tallies[i]);
-            if (!carom_is_finite(state[i])) mine.nonFinite = std::min(mine.nonFinite, static_cast<std::uint32_t>(i));
-            mine.maxSpeedSquared = std::max(mine.maxSpeedSquared, carom_speed_squared(state[i]));
-            if (listed)
-                mine.maxDisplacementSquared =
-                    std::max(mine.maxDisplacementSquared, lists_.displacementSquared(i, state[i].position));
-        });
-        results[static_cast<std::size_t>(threadNumber())] = mine;
-        arriveAll(passes, kEnd);
+            // Every disk's earliest event: forward over each pair once, then the
+            // disks met from behind look at all their neighbours.
+            const CaromList firstChanged = listOf(changed_, changedCount[0], changedMark_);
+            const CaromList firstDirty = listOf(dirty_, dirtyCount[0], dirtyMark_);
+            const CaromList firstPending = listOf(pending_, pendingCount[0], pendingMark_);
+            passes.run(kForwardPass, count, chunk, [&](std::size_t k) {
+                // With the lists, the cell disk k starts in (the grid's cellOf,
+                // without the grid), for the walls it can reach: only its own
+                // searches read it.
+                if (listed)
+                    startCells_[k] = static_cast<unsigned int>(carom_cell_index(state[k].position, grid_.geometry));
+                carom_find_event(static_cast<unsigned int>(k), state, sorted, sorted, neighbours, step, events,
+                                 CAROM_SEARCH_FORWARD, firstChanged, firstDirty, firstPending, firstEpoch);
+            });
+            auto dirtySearch = [&](std::size_t e) {
+                carom_find_event(dirty_[e], state, sorted, sorted, neighbours, step, events, CAROM_SEARCH_ALL,
+                                 firstChanged, firstDirty, firstPending, firstEpoch);
+            };
+
+            // Round r: resolve, the changed disks search, the dirty ones search;
+            // each pass shared among the team, or run by the calling thread alone.
+            auto runRound = [&](unsigned int round, bool shared) {
+                const unsigned int epoch = firstEpoch + round;
+                const CaromList changed = listOf(changed_, changedCount[round], changedMark_);
+                const CaromList dirty = listOf(dirty_, dirtyCount[round], dirtyMark_);
+                const CaromList next = listOf(*pendingLists[round % 2], pendingCount[round], pendingMark_);
+                const unsigned int* pending = pendingLists[(round - 1) % 2]->data();
+                const std::size_t pass = kDirtyPass + 1 + 3 * std::size_t(round - 1);
+                auto run = [&](std::size_t p, std::size_t length, auto&& item) {
+                    if (shared)
+                        passes.run(p, length, kRoundChunk, item);
+                    else
+                        for (std::size_t e = 0; e < length; ++e) item(e);
+                };
+                run(pass, pendingCount[round - 1], [&](std::size_t e) {
+                    carom_resolve_event(pending[e], state, sorted, sorted, events, step, tallies, changed, next, epoch);
+                });
+                run(pass + 1, changedCount[round], [&](std::size_t e) {
+                    carom_find_event(changed_[e], state, sorted, sorted, neighbours, step, events, CAROM_SEARCH_CHANGED,
+                                     changed, dirty, next, epoch);
+                });
+                run(pass + 2, dirtyCount[round], [&](std::size_t e) {
+                    carom_find_event(dirty_[e], state, sorted, sorted, neighbours, step, events, CAROM_SEARCH_ALL,
+                                     changed, dirty, next, epoch);
+                });
+            };
+            // The rest of the rounds, on the thread that claims them: while few
+            // disks are pending (a dozen events at N = 10^4), a round costs less
+            // than the waits of a shared one.
+            auto tail = [&](unsigned int round, bool firstDirtySearch) {
+                if (firstDirtySearch)
+                    for (std::size_t e = 0; e < dirtyCount[0]; ++e) dirtySearch(e);
+                for (; round <= kMaxPairwiseRounds && pendingCount[round - 1] > 0; ++round) runRound(round, false);
+                roundsUsed = round - 1;
+            };
+            // Every thread reads the same lengths once a pass is over, so all take the same path.
+            if (threads == 1 || dirtyCount[0] < kParallelRoundLength) {
+                passes.run(kTailPass, 1, 1, [&](std::size_t) { tail(1, true); });
+            } else {
+                passes.run(kDirtyPass, dirtyCount[0], kRoundChunk, dirtySearch);
+                unsigned int round = 1;
+                for (; round <= kMaxPairwiseRounds && pendingCount[round - 1] >= kParallelRoundLength; ++round) {
+                    runRound(round, true);
+                }
+                passes.run(kTailPass, 1, 1, [&](std::size_t) { tail(round, false); });
+            }
+
+            // Every disk flies to the end of the step; its largest speed is the
+            // next step's (maxSpeedSquared).
+            ThreadResult mine;
+            passes.share(kFinishPass, count, chunk, [&](std::size_t i) {
+                state[i] = carom_finish_step(state[i], step, &tallies[i]);
+                if (!carom_is_finite(state[i]))
+                    mine.nonFinite = std::min(mine.nonFinite, static_cast<std::uint32_t>(i));
+                mine.maxSpeedSquared = std::max(mine.maxSpeedSquared, carom_speed_squared(state[i]));
+                if (listed)
+                    mine.maxDisplacementSquared =
+                        std::max(mine.maxDisplacementSquared, lists_.displacementSquared(i, state[i].position));
+            });
+            results[static_cast<std::size_t>(threadNumber())] = mine;
+            arriveAll(passes, kEnd);
+        }
+    }
+    if (plan.build && !lists_.built()) {
+        listsTooLong_ = true;
+        return stepPairwise(dt);
     }
     epoch_ = firstEpoch + roundsUsed;
     unsigned int roundsChanged = 0;  // the last round that changed a disk
@@ -483,13 +496,13 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
     const ThreadResult all = combined(results);
     maxSpeedSquared_ = all.maxSpeedSquared;
     maxDisplacementSquared_ = all.maxDisplacementSquared;
-    listBuilds_ += plan.build && lists_.built();
+    listBuilds_ += plan.build;
     speedKnown_ = true;
     return all.nonFinite;
 }
 
 CpuBackend::ListPlan CpuBackend::planLists(float dt, int threads, std::size_t chunk) {
-    if (!useLists_) return {};
+    if (!useLists_ || listsTooLong_) return {};
     // The farthest a disk travels in the substep, on the margin the grid's
     // allowance assumes for the speeds its collisions may reach (at most
     // gridTravel(): the substeps are sized so).

@@ -123,6 +123,7 @@ private:
     // substep in (the grid's geometry, for the walls it can reach), and the
     // farthest any disk has moved since the lists were built, squared.
     bool useLists_ = true;
+    bool listsTooLong_ = false;  // more entries than 32-bit offsets reach: the grid until the next load
     NeighbourLists lists_;
     std::vector<unsigned int> identity_, startCells_;
     float maxDisplacementSquared_ = 0.0f;

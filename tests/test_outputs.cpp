@@ -230,7 +230,7 @@ TEST_CASE("resources: requests that cannot fit are refused before allocating") {
     const std::uint64_t oneGiB = std::uint64_t{1} << 30;
     CHECK_NOTHROW(requireRoomFor(1000000, "--particles", oneGiB));
     CHECK_THROWS_WITH_AS(requireRoomFor(100000000, "--particles", oneGiB),
-                         doctest::Contains("100000000 particles need about 24414 MiB of memory, more than the "
+                         doctest::Contains("100000000 particles need about 30517 MiB of memory, more than the "
                                            "1024 MiB available"),
                          Error);
 }

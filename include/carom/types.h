@@ -95,8 +95,9 @@ constexpr std::uint64_t kMaxParticles = 500'000'000;
 // Memory: a request that cannot fit is refused before anything is allocated.
 
 /// Host memory a world needs per disk, about [bytes]: the disks given, the
-/// engine's two state buffers, the read-back copy and the grids.
-constexpr std::uint64_t kHostBytesPerDisk = 256;
+/// engine's two state buffers, the read-back copy, the grids and the CPU
+/// engine's neighbour lists (10^7 pairwise disks on it peak at 271).
+constexpr std::uint64_t kHostBytesPerDisk = 320;
 
 /// The memory available to a new allocation now [bytes]: Linux's MemAvailable
 /// (free memory plus the caches it can drop), else the free physical pages,
