@@ -96,7 +96,7 @@ constexpr std::uint64_t kMaxParticles = 500'000'000;
 
 /// Host memory a world needs per disk, about [bytes]: the disks given, the
 /// engine's two state buffers, the read-back copy, the grids and the CPU
-/// engine's neighbour lists (10^7 pairwise disks on it peak at 271).
+/// engine's neighbour lists (10^7 pairwise disks on it peak at 278).
 constexpr std::uint64_t kHostBytesPerDisk = 320;
 
 /// The memory available to a new allocation now [bytes]: Linux's MemAvailable
