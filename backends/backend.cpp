@@ -44,6 +44,7 @@ void Backend::setParticles(const std::vector<Particle>& particles, std::uint64_t
     grid_.geometry = gridGeometryFor(world_, maxRadius, particles.size());
     gridTravel_ = gridTravelAllowance(grid_.geometry, world_.width, world_.height, maxRadius, world_.boundary);
     minRadius_ = minRadius;
+    maxRadius_ = maxRadius;
     particleCount_ = particles.size();
     stepNumber_ = step;
     substepsTaken_ = 0;

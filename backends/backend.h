@@ -206,7 +206,7 @@ protected:
     // the implementation's to keep (drainTallyArray adds the tallies' wraps).
     std::vector<Image> images_;
     std::size_t particleCount_ = 0;
-    float minRadius_ = 0.0f;
+    float minRadius_ = 0.0f, maxRadius_ = 0.0f;  // of the particles setParticles took
 
 private:
     // Substeps of one advance() call: the first is substep `firstSubstep`

@@ -509,12 +509,10 @@ CpuBackend::ListPlan CpuBackend::planLists(float dt, int threads, std::size_t ch
     const float gravity = std::hypot(world_.gravity.x, world_.gravity.y);
     const float travel = kPairwiseSpeedMargin * (std::sqrt(maxSpeedSquared()) + gravity * dt) * dt;
     if (lists_.hold(maxDisplacementSquared_, travel)) return {true, false};
-    const std::vector<Particle>& state = *state_;
-    const float maxRadius = largestRadius(state.data(), state.size());
     maxDisplacementSquared_ = 0.0f;
     return {false,
-            lists_.begin(state.data(), state.size(), maxRadius, NeighbourLists::automaticSkin(maxRadius, gridTravel()),
-                         caromBoxOf(world_), threads, chunk)};
+            lists_.begin(state_->data(), state_->size(), maxRadius_,
+                         NeighbourLists::automaticSkin(maxRadius_, gridTravel()), caromBoxOf(world_), threads, chunk)};
 }
 
 }  // namespace carom

@@ -416,7 +416,7 @@ void World::getDisks(Disk* out, std::size_t capacity) const {
     if (capacity < state.size())
         throw Error("getDisks: room for " + std::to_string(capacity) + " disks; the world has " +
                     std::to_string(state.size()) + " (diskCount())");
-    for (std::size_t i = 0; i < state.size(); ++i) out[i] = diskOf(state[i]);
+    getDisks(0, state.size(), out);
 }
 
 void World::getDisks(std::size_t first, std::size_t count, Disk* out) const {
