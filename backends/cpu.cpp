@@ -360,7 +360,8 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
     // that no thread has to reset one while another may still read it; the
     // pending lists alternate: round r reads pendingLists[(r - 1) % 2] and
     // fills pendingLists[r % 2].
-    std::array<unsigned int, kMaxPairwiseRounds + 1> pendingCount{}, changedCount{}, dirtyCount{};
+    std::array<unsigned int, kMaxPairwiseRounds + 1> pendingCount{}, changedCount{};
+    unsigned int dirtyCount = 0;  // the first search's dirty list
     std::vector<unsigned int>* pendingLists[2] = {&pending_, &nextPending_};
     auto listOf = [](std::vector<unsigned int>& items, unsigned int& length, std::vector<unsigned int>& marks) {
         return CaromList{items.data(), &length, marks.data()};
@@ -368,11 +369,11 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
     // The substep's passes, each with its own counters: a build of the
     // lists (their grid's phases, collect, sum, place), the grid's phases (or
     // with the lists the start cells), the forward search, the first dirty
-    // search, three per round, the rest of the rounds on one thread, the
+    // search, two per round, the rest of the rounds on one thread, the
     // finish.
     constexpr std::size_t kCollectPass = GridBuilder::kPhases, kSumPass = kCollectPass + 1, kPlacePass = kSumPass + 1,
                           kGridPass = kPlacePass + 1, kForwardPass = kGridPass + GridBuilder::kPhases,
-                          kDirtyPass = kForwardPass + 1, kTailPass = kDirtyPass + 1 + 3 * kMaxPairwiseRounds,
+                          kDirtyPass = kForwardPass + 1, kTailPass = kDirtyPass + 1 + 2 * kMaxPairwiseRounds,
                           kFinishPass = kTailPass + 1, kEnd = kFinishPass + 1;
     PassProgress<kEnd + 1> passes;
     std::vector<ThreadResult> results(static_cast<std::size_t>(threads));
@@ -404,7 +405,7 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
             // Every disk's earliest event: forward over each pair once, then the
             // disks met from behind look at all their neighbours.
             const CaromList firstChanged = listOf(changed_, changedCount[0], changedMark_);
-            const CaromList firstDirty = listOf(dirty_, dirtyCount[0], dirtyMark_);
+            const CaromList firstDirty = listOf(dirty_, dirtyCount, dirtyMark_);
             const CaromList firstPending = listOf(pending_, pendingCount[0], pendingMark_);
             passes.run(kForwardPass, count, chunk, [&](std::size_t k) {
                 // With the lists, the cell disk k starts in (the grid's cellOf,
@@ -420,15 +421,16 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
                                  firstChanged, firstDirty, firstPending, firstEpoch);
             };
 
-            // Round r: resolve, the changed disks search, the dirty ones search;
-            // each pass shared among the team, or run by the calling thread alone.
+            // Round r: resolve, then the changed disks search (and search the
+            // dirty ones they find); each pass shared among the team, or run by
+            // the calling thread alone.
             auto runRound = [&](unsigned int round, bool shared) {
                 const unsigned int epoch = firstEpoch + round;
                 const CaromList changed = listOf(changed_, changedCount[round], changedMark_);
-                const CaromList dirty = listOf(dirty_, dirtyCount[round], dirtyMark_);
+                const CaromList dirty = {nullptr, nullptr, dirtyMark_.data()};  // its marks only
                 const CaromList next = listOf(*pendingLists[round % 2], pendingCount[round], pendingMark_);
                 const unsigned int* pending = pendingLists[(round - 1) % 2]->data();
-                const std::size_t pass = kDirtyPass + 1 + 3 * std::size_t(round - 1);
+                const std::size_t pass = kDirtyPass + 1 + 2 * std::size_t(round - 1);
                 auto run = [&](std::size_t p, std::size_t length, auto&& item) {
                     if (shared)
                         passes.run(p, length, kRoundChunk, item);
@@ -442,25 +444,21 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
                     carom_find_event(changed_[e], state, sorted, sorted, neighbours, step, events, CAROM_SEARCH_CHANGED,
                                      changed, dirty, next, epoch);
                 });
-                run(pass + 2, dirtyCount[round], [&](std::size_t e) {
-                    carom_find_event(dirty_[e], state, sorted, sorted, neighbours, step, events, CAROM_SEARCH_ALL,
-                                     changed, dirty, next, epoch);
-                });
             };
             // The rest of the rounds, on the thread that claims them: while few
             // disks are pending (a dozen events at N = 10^4), a round costs less
             // than the waits of a shared one.
             auto tail = [&](unsigned int round, bool firstDirtySearch) {
                 if (firstDirtySearch)
-                    for (std::size_t e = 0; e < dirtyCount[0]; ++e) dirtySearch(e);
+                    for (std::size_t e = 0; e < dirtyCount; ++e) dirtySearch(e);
                 for (; round <= kMaxPairwiseRounds && pendingCount[round - 1] > 0; ++round) runRound(round, false);
                 roundsUsed = round - 1;
             };
             // Every thread reads the same lengths once a pass is over, so all take the same path.
-            if (threads == 1 || dirtyCount[0] < kParallelRoundLength) {
+            if (threads == 1 || dirtyCount < kParallelRoundLength) {
                 passes.run(kTailPass, 1, 1, [&](std::size_t) { tail(1, true); });
             } else {
-                passes.run(kDirtyPass, dirtyCount[0], kRoundChunk, dirtySearch);
+                passes.run(kDirtyPass, dirtyCount, kRoundChunk, dirtySearch);
                 unsigned int round = 1;
                 for (; round <= kMaxPairwiseRounds && pendingCount[round - 1] >= kParallelRoundLength; ++round) {
                     runRound(round, true);

@@ -6,17 +6,16 @@
  * particles by id (slots = ids), the resident one in the cell order of the
  * step before (slots = cellOrder).
  *
- * The lists' lengths live in `counts`, three per round r (0 = the first
- * search): counts[3r] the pending list built in round r, counts[3r + 1] the
- * disks changed in it, counts[3r + 2] the dirty ones. startPairwiseStep
- * zeroes them once per step; the host reads them after it, or after a
+ * The lists' lengths live in `counts`, two per round (CAROM_PENDING_LENGTH,
+ * CAROM_CHANGED_LENGTH), and the first search's dirty list's
+ * (CAROM_FIRST_DIRTY_LENGTH). startPairwiseStep zeroes them once per step; the host reads them after it, or after a
  * chunk of steps. Every kernel of a step is given `halt` and does nothing
  * once a chunk has stopped (startPairwiseStep). A list kernel runs a fixed number
  * of work-items that stride over its list, whose length only the device
  * knows when the kernel is enqueued. The first rounds, whose lists are long,
  * run as launches of these kernels; the rest, whose lists are short, run in
  * one launch of resolveRoundsInGroup, which does the same passes in one
- * work-group with barriers between them (three launches a round cost more
+ * work-group with barriers between them (two launches a round cost more
  * than a round of a few hundred disks). */
 #include "pairwise.h"
 
@@ -77,13 +76,14 @@ __kernel void findEventsForward(__global const uint* halt,
     if (k >= step.count) return;
     const CaromList none = carom_list(0, counts, 0, 0);
     carom_find_event(k, state, slots, ids, carom_grid_neighbours(cellOf, cells), step, events, CAROM_SEARCH_FORWARD,
-                     none, carom_list(dirty, counts, 2, dirtyMarks), carom_list(pending, counts, 0, pendingMarks),
-                     epoch);
+                     none, carom_list(dirty, counts, CAROM_FIRST_DIRTY_LENGTH, dirtyMarks),
+                     carom_list(pending, counts, CAROM_PENDING_LENGTH(0), pendingMarks), epoch);
 }
 
 /* Round r's search of the disks on `listed` (counts[listIndex] of them) in
- * `mode`: CAROM_SEARCH_ALL for the dirty list, CAROM_SEARCH_CHANGED for the
- * changed one (which adds to the dirty list). */
+ * `mode`: CAROM_SEARCH_ALL for the first search's dirty list,
+ * CAROM_SEARCH_CHANGED for a round's changed one (which also searches the
+ * dirty disks it finds). */
 __kernel void searchListed(__global const uint* halt,
                            __global const Particle* state,
                            __global const uint* slots,
@@ -107,9 +107,9 @@ __kernel void searchListed(__global const uint* halt,
 {
     if (CAROM_HALTED(halt)) return;
     const uint length = counts[listIndex];
-    const CaromList changedList = carom_list(changed, counts, 3 * round + 1, changedMarks);
-    const CaromList dirtyList = carom_list(dirty, counts, 3 * round + 2, dirtyMarks);
-    const CaromList pendingList = carom_list(pending, counts, 3 * round, pendingMarks);
+    const CaromList changedList = carom_list(changed, counts, CAROM_CHANGED_LENGTH(round), changedMarks);
+    const CaromList dirtyList = carom_list(dirty, counts, CAROM_FIRST_DIRTY_LENGTH, dirtyMarks);
+    const CaromList pendingList = carom_list(pending, counts, CAROM_PENDING_LENGTH(round), pendingMarks);
     for (uint e = get_global_id(0); e < length; e += get_global_size(0))
         carom_find_event(listed[e], state, slots, ids, carom_grid_neighbours(cellOf, cells), step, events, mode,
                          changedList, dirtyList, pendingList, epoch);
@@ -133,9 +133,9 @@ __kernel void resolveEvents(__global const uint* halt,
                             uint epoch)
 {
     if (CAROM_HALTED(halt)) return;
-    const uint length = counts[3 * (round - 1)];
-    const CaromList changedList = carom_list(changed, counts, 3 * round + 1, changedMarks);
-    const CaromList nextList = carom_list(nextPending, counts, 3 * round, pendingMarks);
+    const uint length = counts[CAROM_PENDING_LENGTH(round - 1)];
+    const CaromList changedList = carom_list(changed, counts, CAROM_CHANGED_LENGTH(round), changedMarks);
+    const CaromList nextList = carom_list(nextPending, counts, CAROM_PENDING_LENGTH(round), pendingMarks);
     for (uint e = get_global_id(0); e < length; e += get_global_size(0))
         carom_resolve_event(pending[e], state, slots, ids, events, step, tallies, changedList, nextList, epoch);
 }
@@ -179,21 +179,19 @@ static inline void carom_rounds_in_group(uint firstRound,
                                          __global uint* lengths)
 {
     uint epoch = firstEpoch;
-    for (uint round = firstRound; round <= maxRounds && lengths[3 * (round - 1)] != 0u; ++round, ++epoch) {
+    for (uint round = firstRound; round <= maxRounds && lengths[CAROM_PENDING_LENGTH(round - 1)] != 0u;
+         ++round, ++epoch) {
         __global const uint* resolving = round % 2 == 1 ? pending0 : pending1;
-        const CaromList changedList = carom_list(changed, lengths, 3 * round + 1, changedMarks);
-        const CaromList dirtyList = carom_list(dirty, lengths, 3 * round + 2, dirtyMarks);
+        const CaromList changedList = carom_list(changed, lengths, CAROM_CHANGED_LENGTH(round), changedMarks);
+        const CaromList dirtyList = carom_list(dirty, lengths, CAROM_FIRST_DIRTY_LENGTH, dirtyMarks);
         const CaromList pendingList =
-            carom_list(round % 2 == 1 ? pending1 : pending0, lengths, 3 * round, pendingMarks);
+            carom_list(round % 2 == 1 ? pending1 : pending0, lengths, CAROM_PENDING_LENGTH(round), pendingMarks);
         CAROM_FOR_LISTED(
-            resolving, lengths, 3 * (round - 1), k,
+            resolving, lengths, CAROM_PENDING_LENGTH(round - 1), k,
             carom_resolve_event(k, state, slots, ids, events, step, tallies, changedList, pendingList, epoch));
-        CAROM_FOR_LISTED(changed, lengths, 3 * round + 1, k,
+        CAROM_FOR_LISTED(changed, lengths, CAROM_CHANGED_LENGTH(round), k,
                          carom_find_event(k, state, slots, ids, carom_grid_neighbours(cellOf, cells), step, events,
                                           CAROM_SEARCH_CHANGED, changedList, dirtyList, pendingList, epoch));
-        CAROM_FOR_LISTED(dirty, lengths, 3 * round + 2, k,
-                         carom_find_event(k, state, slots, ids, carom_grid_neighbours(cellOf, cells), step, events,
-                                          CAROM_SEARCH_ALL, changedList, dirtyList, pendingList, epoch));
     }
 }
 

@@ -21,7 +21,7 @@
  *             round;
  *   search    the disks that changed look again, and mark the unchanged
  *             neighbours whose earliest event they invalidate or beat
- *             (CAROM_SEARCH_CHANGED); those look again too;
+ *             (CAROM_SEARCH_CHANGED); those look again too, at once;
  *
  * until no event is left before the end of the step; then every disk flies to
  * the end (carom_finish_step). Events are ordered by (time, lower id, higher id), so
@@ -69,11 +69,36 @@ static inline int carom_claim(unsigned int* mark, unsigned int epoch)
 #define CAROM_NO_PARTNER 0xFFFFFFFFu
 #define CAROM_WALL 0xFFFFFFF0u /* + 0 left, 1 right, 2 bottom, 3 top */
 
-/* The earliest event of a disk in the rest of the step. */
-typedef struct CaromEvent {
+/* The earliest event of a disk in the rest of the step. Aligned to its
+ * size, so that the host reads and writes it whole (carom_load_event). */
+typedef struct __attribute__((aligned(8))) CaromEvent {
     float time;           /* within the step, in [0, duration]; CAROM_NEVER for none */
     unsigned int partner; /* sorted position of the other disk, CAROM_WALL + wall, or CAROM_NO_PARTNER */
 } CaromEvent;
+
+/* A disk's event, which one search may write while another reads it
+ * (carom_search_candidate): on the host, whole and without a data race. */
+#ifdef __OPENCL_VERSION__
+static inline CaromEvent carom_load_event(__global const CaromEvent* e)
+{
+    return *e;
+}
+static inline void carom_store_event(__global CaromEvent* e, CaromEvent value)
+{
+    *e = value;
+}
+#else
+static inline CaromEvent carom_load_event(const CaromEvent* e)
+{
+    CaromEvent value;
+    __atomic_load(e, &value, __ATOMIC_RELAXED);
+    return value;
+}
+static inline void carom_store_event(CaromEvent* e, CaromEvent value)
+{
+    __atomic_store(e, &value, __ATOMIC_RELAXED);
+}
+#endif
 
 /* Rounding of positions: about 8 units in the last place of the largest
  * coordinate. A pair resolved deeper in overlap than this, or a disk found
@@ -239,6 +264,15 @@ static inline void carom_list_add(CaromList list, unsigned int k, unsigned int e
     if (carom_claim(&list.marks[k], epoch)) list.items[carom_append(list.count)] = k;
 }
 
+/* Where a step's list lengths are kept (the OpenCL pipelines' `lengths`):
+ * two words a round r, 0 being the first search: the length of the pending
+ * list built in round r, and of the list of disks changed in it. Round 0
+ * changes none; its second word is the length of the first search's dirty
+ * list. */
+#define CAROM_PENDING_LENGTH(r) (2u * (r))
+#define CAROM_CHANGED_LENGTH(r) (2u * (r) + 1u)
+#define CAROM_FIRST_DIRTY_LENGTH 1u
+
 /* What a search visits, and whom it adds to the dirty list to search again. */
 #define CAROM_SEARCH_ALL 0 /* every neighbour */
 #define CAROM_SEARCH_FORWARD \
@@ -246,7 +280,8 @@ static inline void carom_list_add(CaromList list, unsigned int k, unsigned int e
                                 * dirty, to collect the pairs before them */
 #define CAROM_SEARCH_CHANGED \
     2 /* every neighbour, for a disk that changed this round: unchanged neighbours
-                                * whose earliest event it beats, or whose earliest event was with it, are dirty */
+                                * whose earliest event it beats, or whose earliest event was with it, are dirty
+                                * and searched at once by the search that marked them */
 
 /* Where a search finds a disk's candidates: the grid's 3x3 cells around the
  * cell the disk started the step in (cellOf, by slot: the grid's cells are
@@ -273,93 +308,175 @@ static inline CaromNeighbours carom_grid_neighbours(CAROM_GLOBAL const unsigned 
     return neighbours;
 }
 
+/* The first entry from `begin` of an ascending list that is at least `first`. */
+static inline unsigned int carom_skip_below(CAROM_GLOBAL const unsigned int* list,
+                                            unsigned int begin,
+                                            unsigned int end,
+                                            unsigned int first)
+{
+    while (begin < end && list[begin] < first) ++begin;
+    return begin;
+}
+
+/* Runs `visit` for each candidate q >= first of the disk at sorted position
+ * k, which started the step in cell (cellX, cellY) (CaromNeighbours). */
+#define CAROM_FOR_EACH_CANDIDATE(k, cellX, cellY, first, neighbours, step, q, visit)                           \
+    do {                                                                                                       \
+        if ((neighbours).listStarts) {                                                                         \
+            const unsigned int carom_end = (neighbours).listStarts[(k) + 1u];                                  \
+            for (unsigned int carom_e =                                                                        \
+                     carom_skip_below((neighbours).list, (neighbours).listStarts[k], carom_end, first);        \
+                 carom_e < carom_end; ++carom_e) {                                                             \
+                const unsigned int q = (neighbours).list[carom_e];                                             \
+                visit;                                                                                         \
+            }                                                                                                  \
+        } else {                                                                                               \
+            for (int carom_run = 0; carom_run < 6; ++carom_run) {                                              \
+                unsigned int carom_begin, carom_stop;                                                          \
+                if (!carom_neighbour_run(carom_run, cellX, cellY, (neighbours).cells, (step).grid, (step).box, \
+                                         &carom_begin, &carom_stop))                                           \
+                    continue;                                                                                  \
+                for (unsigned int q = carom_begin > (first) ? carom_begin : (first); q < carom_stop; ++q)      \
+                    if (q != (k)) visit;                                                                       \
+            }                                                                                                  \
+        }                                                                                                      \
+    } while (0)
+
 /* What a search's best event so far is, with its pair's ids for ties. */
 typedef struct CaromBest {
     CaromEvent event;
     unsigned int lo, hi;
 } CaromBest;
 
-/* Candidate q of the search of disk k (`self`, id selfId), as `mode` says
- * (carom_search). */
+/* The disk at sorted position k, what a search of it starts from: its
+ * particle, id and start cell, and its earliest wall event as the best. */
+typedef struct CaromSearcher {
+    Particle self;
+    unsigned int selfId;
+    int cellX, cellY;
+    CaromBest best;
+} CaromSearcher;
+
+static inline CaromSearcher carom_searcher(unsigned int k,
+                                           CAROM_GLOBAL const Particle* state,
+                                           CAROM_GLOBAL const unsigned int* slots,
+                                           CAROM_GLOBAL const unsigned int* ids,
+                                           CaromNeighbours neighbours,
+                                           CaromStepParams step)
+{
+    CaromSearcher s;
+    s.self = state[slots[k]];
+    s.selfId = ids[k];
+    const unsigned int cell = neighbours.cellOf[slots[k]];
+    s.cellX = (int)(cell % (unsigned int)step.grid.cols);
+    s.cellY = (int)(cell / (unsigned int)step.grid.cols);
+    s.best.event = carom_wall_event(s.self, s.cellX, s.cellY, step);
+    s.best.lo = s.selfId;
+    s.best.hi = s.best.event.partner;
+    return s;
+}
+
+/* Whether the pair event at time t (CAROM_NEVER for none) with the disk at
+ * position q (id otherId) beats the best so far; if so it becomes the best. */
+static inline int carom_consider(CaromBest* best, float t, unsigned int q, unsigned int selfId, unsigned int otherId)
+{
+    if (t == CAROM_NEVER) return 0;
+    const unsigned int lo = selfId < otherId ? selfId : otherId;
+    const unsigned int hi = selfId < otherId ? otherId : selfId;
+    if (best->event.time == CAROM_NEVER || carom_event_before(t, lo, hi, best->event.time, best->lo, best->hi)) {
+        best->event.time = t;
+        best->event.partner = q;
+        best->lo = lo;
+        best->hi = hi;
+    }
+    return 1;
+}
+
+/* The earliest event of the disk at sorted position k over all its
+ * candidates (CaromNeighbours). */
+static inline CaromEvent carom_earliest_event(unsigned int k,
+                                              CAROM_GLOBAL const Particle* state,
+                                              CAROM_GLOBAL const unsigned int* slots,
+                                              CAROM_GLOBAL const unsigned int* ids,
+                                              CaromNeighbours neighbours,
+                                              CaromStepParams step)
+{
+    CaromSearcher s = carom_searcher(k, state, slots, ids, neighbours, step);
+    CAROM_FOR_EACH_CANDIDATE(
+        k, s.cellX, s.cellY, 0u, neighbours, step, q,
+        carom_consider(&s.best, carom_pair_event_time(s.self, s.selfId, state[slots[q]], ids[q], step), q, s.selfId,
+                       ids[q]));
+    return s.best.event;
+}
+
+/* Disk k's earliest event recorded, and k on the pending list if it has one. */
+static inline void carom_record_event(
+    unsigned int k, CaromEvent event, CAROM_GLOBAL CaromEvent* events, CaromList pending, unsigned int epoch)
+{
+    carom_store_event(&events[k], event);
+    if (event.time != CAROM_NEVER) carom_list_add(pending, k, epoch);
+}
+
+/* Candidate q of the search of disk k (searcher s) in `mode`, FORWARD or
+ * CHANGED (carom_find_event). A dirty neighbour found in CHANGED mode is searched
+ * at once, by the search that claims it: its old event, which the other
+ * changed disks' searches read, is then replaced only once it is claimed,
+ * and a search that reads the new event finds it claimed already. */
 static inline void carom_search_candidate(unsigned int k,
-                                          Particle self,
-                                          unsigned int selfId,
+                                          CaromSearcher* s,
                                           unsigned int q,
                                           CAROM_GLOBAL const Particle* state,
                                           CAROM_GLOBAL const unsigned int* slots,
                                           CAROM_GLOBAL const unsigned int* ids,
+                                          CaromNeighbours neighbours,
                                           CaromStepParams step,
-                                          CAROM_GLOBAL const CaromEvent* events,
+                                          CAROM_GLOBAL CaromEvent* events,
                                           int mode,
                                           CaromList changed,
                                           CaromList dirty,
-                                          unsigned int epoch,
-                                          CaromBest* best)
+                                          CaromList pending,
+                                          unsigned int epoch)
 {
     const unsigned int otherId = ids[q];
-    const float t = carom_pair_event_time(self, selfId, state[slots[q]], otherId, step);
-    if (t != CAROM_NEVER) {
-        const unsigned int lo = selfId < otherId ? selfId : otherId;
-        const unsigned int hi = selfId < otherId ? otherId : selfId;
-        if (best->event.time == CAROM_NEVER || carom_event_before(t, lo, hi, best->event.time, best->lo, best->hi)) {
-            best->event.time = t;
-            best->event.partner = q;
-            best->lo = lo;
-            best->hi = hi;
-        }
-        if (mode == CAROM_SEARCH_FORWARD) carom_list_add(dirty, q, epoch);
-    }
-    if (mode == CAROM_SEARCH_CHANGED && changed.marks[q] != epoch) {
-        const CaromEvent theirs = events[q];
-        if (theirs.partner == k ||
-            (t != CAROM_NEVER && carom_pair_event_before(t, selfId, otherId, theirs, otherId, ids)))
-            carom_list_add(dirty, q, epoch);
+    const float t = carom_pair_event_time(s->self, s->selfId, state[slots[q]], otherId, step);
+    const int meets = carom_consider(&s->best, t, q, s->selfId, otherId);
+    if (mode == CAROM_SEARCH_FORWARD) {
+        if (meets) carom_list_add(dirty, q, epoch);
+    } else if (changed.marks[q] != epoch) {
+        const CaromEvent theirs = carom_load_event(&events[q]);
+        if ((theirs.partner == k || (meets && carom_pair_event_before(t, s->selfId, otherId, theirs, otherId, ids))) &&
+            carom_claim(&dirty.marks[q], epoch))
+            carom_record_event(q, carom_earliest_event(q, state, slots, ids, neighbours, step), events, pending, epoch);
     }
 }
 
-/* The earliest event of the disk at sorted position k, over its candidates
- * (CaromNeighbours), as `mode` says. */
-static inline CaromEvent carom_search(unsigned int k,
-                                      CAROM_GLOBAL const Particle* state,
-                                      CAROM_GLOBAL const unsigned int* slots,
-                                      CAROM_GLOBAL const unsigned int* ids,
-                                      CaromNeighbours neighbours,
-                                      CaromStepParams step,
-                                      CAROM_GLOBAL const CaromEvent* events,
-                                      int mode,
-                                      CaromList changed,
-                                      CaromList dirty,
-                                      unsigned int epoch)
+/* A search pass: disk k's earliest event in `mode`, and k on the pending
+ * list if it has one. The first search of a step runs forward for every
+ * disk, then all for the disks it made dirty; a round's runs changed for
+ * the disks it changed, which also searches the dirty ones. */
+static inline void carom_find_event(unsigned int k,
+                                    CAROM_GLOBAL const Particle* state,
+                                    CAROM_GLOBAL const unsigned int* slots,
+                                    CAROM_GLOBAL const unsigned int* ids,
+                                    CaromNeighbours neighbours,
+                                    CaromStepParams step,
+                                    CAROM_GLOBAL CaromEvent* events,
+                                    int mode,
+                                    CaromList changed,
+                                    CaromList dirty,
+                                    CaromList pending,
+                                    unsigned int epoch)
 {
-    const Particle self = state[slots[k]];
-    const unsigned int selfId = ids[k];
-    const unsigned int cell = neighbours.cellOf[slots[k]];
-    const int cellX = (int)(cell % (unsigned int)step.grid.cols);
-    const int cellY = (int)(cell / (unsigned int)step.grid.cols);
-    CaromBest best;
-    best.event = carom_wall_event(self, cellX, cellY, step);
-    best.lo = selfId;
-    best.hi = best.event.partner;
+    if (mode == CAROM_SEARCH_ALL) {
+        carom_record_event(k, carom_earliest_event(k, state, slots, ids, neighbours, step), events, pending, epoch);
+        return;
+    }
+    CaromSearcher s = carom_searcher(k, state, slots, ids, neighbours, step);
     const unsigned int first = mode == CAROM_SEARCH_FORWARD ? k + 1u : 0u;
-    if (neighbours.listStarts) {
-        const unsigned int end = neighbours.listStarts[k + 1];
-        for (unsigned int e = neighbours.listStarts[k]; e < end; ++e) {
-            const unsigned int q = neighbours.list[e];
-            if (q >= first)
-                carom_search_candidate(k, self, selfId, q, state, slots, ids, step, events, mode, changed, dirty, epoch,
-                                       &best);
-        }
-        return best.event;
-    }
-    for (int run = 0; run < 6; ++run) {
-        unsigned int begin, end;
-        if (!carom_neighbour_run(run, cellX, cellY, neighbours.cells, step.grid, step.box, &begin, &end)) continue;
-        for (unsigned int q = begin > first ? begin : first; q < end; ++q)
-            if (q != k)
-                carom_search_candidate(k, self, selfId, q, state, slots, ids, step, events, mode, changed, dirty, epoch,
-                                       &best);
-    }
-    return best.event;
+    CAROM_FOR_EACH_CANDIDATE(k, s.cellX, s.cellY, first, neighbours, step, q,
+                             carom_search_candidate(k, &s, q, state, slots, ids, neighbours, step, events, mode,
+                                                    changed, dirty, pending, epoch));
+    carom_record_event(k, s.best.event, events, pending, epoch);
 }
 
 /* Disks a and b (ids idA < idB) collide at time t: both fly there and
@@ -458,28 +575,6 @@ static inline Particle carom_bounce(Particle p, int w, float t, CaromStepParams 
     tally->wallImpulse[w] += p.mass * (change > 0.0f ? change : -change);
     p.lastPartner = 0u;
     return p;
-}
-
-/* A search pass: disk k's earliest event (carom_search in `mode`), and k on
- * the pending list if it has one. The first search of a step runs forward
- * for every disk, then all for the disks it made dirty; a round's runs
- * changed for the disks it changed, then all for the dirty ones. */
-static inline void carom_find_event(unsigned int k,
-                                    CAROM_GLOBAL const Particle* state,
-                                    CAROM_GLOBAL const unsigned int* slots,
-                                    CAROM_GLOBAL const unsigned int* ids,
-                                    CaromNeighbours neighbours,
-                                    CaromStepParams step,
-                                    CAROM_GLOBAL CaromEvent* events,
-                                    int mode,
-                                    CaromList changed,
-                                    CaromList dirty,
-                                    CaromList pending,
-                                    unsigned int epoch)
-{
-    const CaromEvent event = carom_search(k, state, slots, ids, neighbours, step, events, mode, changed, dirty, epoch);
-    events[k] = event;
-    if (event.time != CAROM_NEVER) carom_list_add(pending, k, epoch);
 }
 
 /* A round's resolve pass, for pending disk k: a wall event is resolved; a

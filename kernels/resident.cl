@@ -140,8 +140,8 @@ __kernel void finishPairwiseAndCount(__global const uint* halt,
     __global uint* speedWords = lengths + speedIndex;
     if (get_global_id(0) == 0) {
         uint rounds = 0; /* the last round that changed a disk; the lengths end where the record starts */
-        for (uint r = 1; 3 * r + 1 < nonFiniteIndex; ++r)
-            if (lengths[3 * r + 1] > 0u) rounds = r;
+        for (uint r = 1; CAROM_CHANGED_LENGTH(r) < nonFiniteIndex; ++r)
+            if (lengths[CAROM_CHANGED_LENGTH(r)] > 0u) rounds = r;
         atomic_max(&lengths[roundsIndex], rounds);
     }
     float largest = 0.0f;

@@ -171,22 +171,21 @@ __kernel void stepSmallPairwise(__global Particle* state,
         /* Round 0: every disk forward, then the dirty ones over all neighbours. */
         const uint epoch = firstEpoch + s * (maxRounds + 1);
         const CaromList none = carom_list(0, lengths, 0, 0);
-        const CaromList changedList = carom_list(changed, lengths, 1, changedMarks);
-        const CaromList dirtyList = carom_list(dirty, lengths, 2, dirtyMarks);
-        const CaromList pendingList = carom_list(pending0, lengths, 0, pendingMarks);
+        const CaromList dirtyList = carom_list(dirty, lengths, CAROM_FIRST_DIRTY_LENGTH, dirtyMarks);
+        const CaromList pendingList = carom_list(pending0, lengths, CAROM_PENDING_LENGTH(0), pendingMarks);
         for (uint k = lid; k < step.count; k += size)
             carom_find_event(k, state, cellOrder, sortedIds, carom_grid_neighbours(cellOf, cells), step, events,
                              CAROM_SEARCH_FORWARD, none, dirtyList, pendingList, epoch);
         barrier(CLK_GLOBAL_MEM_FENCE);
-        CAROM_FOR_LISTED(dirty, lengths, 2, k,
+        CAROM_FOR_LISTED(dirty, lengths, CAROM_FIRST_DIRTY_LENGTH, k,
                          carom_find_event(k, state, cellOrder, sortedIds, carom_grid_neighbours(cellOf, cells), step,
-                                          events, CAROM_SEARCH_ALL, changedList, dirtyList, pendingList, epoch));
+                                          events, CAROM_SEARCH_ALL, none, dirtyList, pendingList, epoch));
 
         carom_rounds_in_group(1, maxRounds, epoch + 1, state, cellOrder, sortedIds, cellOf, cells, step, tallies,
                               events, pending0, pending1, changed, dirty, pendingMarks, changedMarks, dirtyMarks,
                               lengths);
         for (uint r = 1; r <= maxRounds; ++r)
-            if (lengths[3 * r + 1] > 0u) mostRounds = max(mostRounds, r);
+            if (lengths[CAROM_CHANGED_LENGTH(r)] > 0u) mostRounds = max(mostRounds, r);
 
         float own = 0.0f;
         for (uint k = lid; k < step.count; k += size)

@@ -26,10 +26,10 @@ constexpr cl_uint kLaunchedRoundLength = 256;
 // resolveRoundsInGroup's work-group, at most.
 constexpr std::size_t kRoundsGroupSize = 1024;
 
-// counts_: three lengths per round, rounds 0 .. kMaxPairwiseRounds, then
+// counts_: two lengths per round, rounds 0 .. kMaxPairwiseRounds, then
 // the finish kernel's record (kRecordWords), which is not cleared with the
 // lengths and is read back with them.
-constexpr std::size_t kCounts = 3 * (kMaxPairwiseRounds + 1);
+constexpr std::size_t kCounts = CAROM_PENDING_LENGTH(kMaxPairwiseRounds + 1);
 constexpr std::size_t kCountsWithRecord = kCounts + DevicePairwise::kRecordWords;
 
 }  // namespace
@@ -96,8 +96,7 @@ void DevicePairwise::enqueueRound(cl_command_queue queue, unsigned int round) {
                   pending_[(round - 1) % 2].get(), pending_[round % 2].get(), pendingMarks_.get(), changed_.get(),
                   changedMarks_.get(), counts_.get(), cl_uint{round}, cl_uint{epoch});
     enqueue1d(queue, resolveKernel_.get(), listItems_, groupSize_, "resolveEvents", profiler_);
-    searchListed(queue, CAROM_SEARCH_CHANGED, changed_.get(), round, 3 * round + 1, epoch);
-    searchListed(queue, CAROM_SEARCH_ALL, dirty_.get(), round, 3 * round + 2, epoch);
+    searchListed(queue, CAROM_SEARCH_CHANGED, changed_.get(), round, CAROM_CHANGED_LENGTH(round), epoch);
 }
 
 void DevicePairwise::enqueueRoundsInGroup(cl_command_queue queue, unsigned int firstRound) {
@@ -131,7 +130,7 @@ void DevicePairwise::enqueueStep(cl_command_queue queue, const StepBuffers& buff
                   buffers.cells, step, events_.get(), pending_[0].get(), pendingMarks_.get(), dirty_.get(),
                   dirtyMarks_.get(), counts_.get(), cl_uint{epoch});
     enqueue1d(queue, forwardKernel_.get(), particleCount_, groupSize_, "findEventsForward", profiler_);
-    searchListed(queue, CAROM_SEARCH_ALL, dirty_.get(), 0, 2, epoch);
+    searchListed(queue, CAROM_SEARCH_ALL, dirty_.get(), 0, CAROM_FIRST_DIRTY_LENGTH, epoch);
     for (unsigned int round = 1; round <= launchedRounds_; ++round) enqueueRound(queue, round);
     if (launchedRounds_ < kMaxPairwiseRounds) enqueueRoundsInGroup(queue, launchedRounds_ + 1);
 }
@@ -176,10 +175,11 @@ unsigned int DevicePairwise::complete(cl_command_queue queue) {
     readLengths(queue);
     unsigned int rounds = 0;
     for (unsigned int r = 1; r <= kMaxPairwiseRounds; ++r)
-        if (hostCounts_[3 * r + 1] > 0) rounds = r;
+        if (hostCounts_[CAROM_CHANGED_LENGTH(r)] > 0) rounds = r;
     // The next step's lists are likely about as long as this one's.
     launchedRounds_ = 0;
-    while (launchedRounds_ < kMaxPairwiseRounds && hostCounts_[3 * launchedRounds_] >= kLaunchedRoundLength)
+    while (launchedRounds_ < kMaxPairwiseRounds &&
+           hostCounts_[CAROM_PENDING_LENGTH(launchedRounds_)] >= kLaunchedRoundLength)
         ++launchedRounds_;
     return rounds;
 }

@@ -3,12 +3,12 @@
 // events in the same rounds, bit for bit.
 //
 // A step enqueues its start (startPairwiseStep: a check, the lengths
-// zeroed), the first search, the first rounds as launches of their three
+// zeroed), the first search, the first rounds as launches of their two
 // passes, and the rest in one launch of resolveRoundsInGroup, without
 // waiting: one work-group runs them with barriers until no event is left, so
 // every step's rounds are done when its last kernel is. Long lists need the
-// whole device, short ones not the three launches a round (about 17 us on
-// an H200): a round runs as launches when its pending list was long in the
+// whole device, short ones not the two launches a round (each about 5.5 us
+// on an H200): a round runs as launches when its pending list was long in the
 // step before (kLaunchedRoundLength). Which kernel runs a round changes no
 // result. complete() later reads the lists' lengths, once a step or once a
 // chunk of steps.
