@@ -6,10 +6,11 @@
  * particles by id (slots = ids), the resident one in the cell order of the
  * step before (slots = cellOrder).
  *
- * The lists' lengths live in `counts`, two per round (CAROM_PENDING_LENGTH,
- * CAROM_CHANGED_LENGTH), and the first search's dirty list's
- * (CAROM_FIRST_DIRTY_LENGTH). startPairwiseStep zeroes them once per step; the host reads them after it, or after a
- * chunk of steps. Every kernel of a step is given `halt` and does nothing
+ * A step's lists live in one buffer (CaromDeviceLists), whose first words
+ * hold their lengths, two per round (CAROM_PENDING_LENGTH,
+ * CAROM_CHANGED_LENGTH). startPairwiseStep zeroes them once per step; the
+ * host reads them after it, or after a chunk of steps. Every kernel of a
+ * step is given `halt` and does nothing
  * once a chunk has stopped (startPairwiseStep). A list kernel runs a fixed number
  * of work-items that stride over its list, whose length only the device
  * knows when the kernel is enqueued. The first rounds, whose lists are long,
@@ -26,6 +27,43 @@ static inline CaromList carom_list(__global uint* items, __global uint* counts, 
     list.count = counts + countIndex;
     list.marks = marks;
     return list;
+}
+
+/* A step's lists, in the one buffer `words` (each buffer argument adds about
+ * a quarter of a microsecond of the host's time to a launch on NVIDIA's
+ * OpenCL): the lengths and the record (CAROM_LIST_HEADER_WORDS), then for n
+ * disks the events, two words each, and n words each for the two pending
+ * lists, the changed list, and the pending, changed and dirty marks. */
+typedef struct CaromDeviceLists {
+    __global uint* lengths;
+    __global CaromEvent* events;
+    __global uint* pending0;
+    __global uint* pending1;
+    __global uint* changed;
+    __global uint* pendingMarks;
+    __global uint* changedMarks;
+    __global uint* dirtyMarks;
+} CaromDeviceLists;
+
+static inline CaromDeviceLists carom_device_lists(__global uint* words, uint n)
+{
+    CaromDeviceLists l;
+    l.lengths = words;
+    __global uint* const lists = words + CAROM_LIST_HEADER_WORDS;
+    l.events = (__global CaromEvent*)lists;
+    l.pending0 = lists + 2ul * n;
+    l.pending1 = lists + 3ul * n;
+    l.changed = lists + 4ul * n;
+    l.pendingMarks = lists + 5ul * n;
+    l.changedMarks = lists + 6ul * n;
+    l.dirtyMarks = lists + 7ul * n;
+    return l;
+}
+
+/* The pending list that round r fills (round r + 1 resolves it). */
+static inline __global uint* carom_pending_of(CaromDeviceLists l, uint round)
+{
+    return round % 2 == 0 ? l.pending0 : l.pending1;
 }
 
 /* The start of a pairwise substep: zeroes the list lengths. In a chunk the
@@ -55,64 +93,83 @@ __kernel void startPairwiseStep(__global uint* halt,
     for (uint i = get_global_id(0); i < lengthCount; i += get_global_size(0)) lengths[i] = 0u;
 }
 
-/* Round 0, every disk: its earliest event over the pairs after it. */
-__kernel void findEventsForward(__global const uint* halt,
-                                __global const Particle* state,
-                                __global const uint* slots,
-                                __global const uint* ids,
-                                __global const uint* cellOf,
-                                __global const GridCell* cells,
-                                CaromStepParams step,
-                                __global CaromEvent* events,
-                                __global uint* pending,
-                                __global uint* pendingMarks,
-                                __global uint* dirty,
-                                __global uint* dirtyMarks,
-                                __global uint* counts,
-                                uint epoch)
+/* Round 0, every disk: its earliest event over all its neighbours. (The
+ * CPU backend searches forward over each pair once, then all for the disks
+ * met from behind: the same events, in a pass fewer here, where a pass is a
+ * launch.) */
+__kernel void findEvents(__global const uint* halt,
+                         __global const Particle* state,
+                         __global const uint* slots,
+                         __global const uint* ids,
+                         __global const uint* cellOf,
+                         __global const GridCell* cells,
+                         CaromStepParams step,
+                         __global uint* words,
+                         uint epoch)
 {
     if (CAROM_HALTED(halt)) return;
     const uint k = get_global_id(0);
     if (k >= step.count) return;
-    const CaromList none = carom_list(0, counts, 0, 0);
-    carom_find_event(k, state, slots, ids, carom_grid_neighbours(cellOf, cells), step, events, CAROM_SEARCH_FORWARD,
-                     none, carom_list(dirty, counts, CAROM_FIRST_DIRTY_LENGTH, dirtyMarks),
-                     carom_list(pending, counts, CAROM_PENDING_LENGTH(0), pendingMarks), epoch);
+    const CaromDeviceLists l = carom_device_lists(words, step.count);
+    const CaromList none = carom_list(0, l.lengths, 0, 0);
+    carom_find_event(k, state, slots, ids, carom_grid_neighbours(cellOf, cells), step, l.events, CAROM_SEARCH_ALL, none,
+                     none, carom_list(l.pending0, l.lengths, CAROM_PENDING_LENGTH(0), l.pendingMarks), epoch);
 }
 
-/* Round r's search of the disks on `listed` (counts[listIndex] of them) in
- * `mode`: CAROM_SEARCH_ALL for the first search's dirty list,
- * CAROM_SEARCH_CHANGED for a round's changed one (which also searches the
- * dirty disks it finds). */
-__kernel void searchListed(__global const uint* halt,
-                           __global const Particle* state,
-                           __global const uint* slots,
-                           __global const uint* ids,
-                           __global const uint* cellOf,
-                           __global const GridCell* cells,
-                           CaromStepParams step,
-                           __global CaromEvent* events,
-                           int mode,
-                           __global const uint* listed,
-                           __global uint* changed,
-                           __global uint* changedMarks,
-                           __global uint* dirty,
-                           __global uint* dirtyMarks,
-                           __global uint* pending,
-                           __global uint* pendingMarks,
-                           __global uint* counts,
-                           uint round,
-                           uint listIndex,
-                           uint epoch)
+/* Round r's search of the disks it changed, which also searches the dirty
+ * disks they find. */
+static inline void carom_search_changed(uint e,
+                                        __global const Particle* state,
+                                        __global const uint* slots,
+                                        __global const uint* ids,
+                                        __global const uint* cellOf,
+                                        __global const GridCell* cells,
+                                        CaromStepParams step,
+                                        CaromDeviceLists l,
+                                        uint round,
+                                        uint epoch)
+{
+    carom_find_event(
+        l.changed[e], state, slots, ids, carom_grid_neighbours(cellOf, cells), step, l.events, CAROM_SEARCH_CHANGED,
+        carom_list(l.changed, l.lengths, CAROM_CHANGED_LENGTH(round), l.changedMarks),
+        carom_list(0, 0, 0, l.dirtyMarks),
+        carom_list(carom_pending_of(l, round), l.lengths, CAROM_PENDING_LENGTH(round), l.pendingMarks), epoch);
+}
+
+/* Round r's resolve of entry e of round r - 1's pending list. */
+static inline void carom_resolve_pending(uint e,
+                                         __global Particle* state,
+                                         __global const uint* slots,
+                                         __global const uint* ids,
+                                         CaromStepParams step,
+                                         __global ContactTally* tallies,
+                                         CaromDeviceLists l,
+                                         uint round,
+                                         uint epoch)
+{
+    carom_resolve_event(carom_pending_of(l, round - 1)[e], state, slots, ids, l.events, step, tallies,
+                        carom_list(l.changed, l.lengths, CAROM_CHANGED_LENGTH(round), l.changedMarks),
+                        carom_list(carom_pending_of(l, round), l.lengths, CAROM_PENDING_LENGTH(round), l.pendingMarks),
+                        epoch);
+}
+
+/* Round r's search of the disks it changed (carom_search_changed). */
+__kernel void searchChanged(__global const uint* halt,
+                            __global const Particle* state,
+                            __global const uint* slots,
+                            __global const uint* ids,
+                            __global const uint* cellOf,
+                            __global const GridCell* cells,
+                            CaromStepParams step,
+                            __global uint* words,
+                            uint round,
+                            uint epoch)
 {
     if (CAROM_HALTED(halt)) return;
-    const uint length = counts[listIndex];
-    const CaromList changedList = carom_list(changed, counts, CAROM_CHANGED_LENGTH(round), changedMarks);
-    const CaromList dirtyList = carom_list(dirty, counts, CAROM_FIRST_DIRTY_LENGTH, dirtyMarks);
-    const CaromList pendingList = carom_list(pending, counts, CAROM_PENDING_LENGTH(round), pendingMarks);
+    const CaromDeviceLists l = carom_device_lists(words, step.count);
+    const uint length = l.lengths[CAROM_CHANGED_LENGTH(round)];
     for (uint e = get_global_id(0); e < length; e += get_global_size(0))
-        carom_find_event(listed[e], state, slots, ids, carom_grid_neighbours(cellOf, cells), step, events, mode,
-                         changedList, dirtyList, pendingList, epoch);
+        carom_search_changed(e, state, slots, ids, cellOf, cells, step, l, round, epoch);
 }
 
 /* Round r >= 1: resolves the events on round r - 1's pending list. */
@@ -120,44 +177,32 @@ __kernel void resolveEvents(__global const uint* halt,
                             __global Particle* state,
                             __global const uint* slots,
                             __global const uint* ids,
-                            __global const CaromEvent* events,
                             CaromStepParams step,
                             __global ContactTally* tallies,
-                            __global const uint* pending,
-                            __global uint* nextPending,
-                            __global uint* pendingMarks,
-                            __global uint* changed,
-                            __global uint* changedMarks,
-                            __global uint* counts,
+                            __global uint* words,
                             uint round,
                             uint epoch)
 {
     if (CAROM_HALTED(halt)) return;
-    const uint length = counts[CAROM_PENDING_LENGTH(round - 1)];
-    const CaromList changedList = carom_list(changed, counts, CAROM_CHANGED_LENGTH(round), changedMarks);
-    const CaromList nextList = carom_list(nextPending, counts, CAROM_PENDING_LENGTH(round), pendingMarks);
+    const CaromDeviceLists l = carom_device_lists(words, step.count);
+    const uint length = l.lengths[CAROM_PENDING_LENGTH(round - 1)];
     for (uint e = get_global_id(0); e < length; e += get_global_size(0))
-        carom_resolve_event(pending[e], state, slots, ids, events, step, tallies, changedList, nextList, epoch);
+        carom_resolve_pending(e, state, slots, ids, step, tallies, l, round, epoch);
 }
 
-/* Runs pass(k) for the entries of a list whose length is lengths[index], by
- * the work-group, then waits for all of it. */
-#define CAROM_FOR_LISTED(items, lengths, index, k, pass)                                             \
-    do {                                                                                             \
-        const uint carom_length = (lengths)[index];                                                  \
-        for (uint carom_e = get_local_id(0); carom_e < carom_length; carom_e += get_local_size(0)) { \
-            const uint k = (items)[carom_e];                                                         \
-            pass;                                                                                    \
-        }                                                                                            \
-        barrier(CLK_GLOBAL_MEM_FENCE);                                                               \
+/* Runs pass(e) for the entries e of a list whose length is lengths[index],
+ * by the work-group, then waits for all of it. */
+#define CAROM_FOR_LISTED(lengths, index, e, pass)                                      \
+    do {                                                                               \
+        const uint carom_length = (lengths)[index];                                    \
+        for (uint e = get_local_id(0); e < carom_length; e += get_local_size(0)) pass; \
+        barrier(CLK_GLOBAL_MEM_FENCE);                                                 \
     } while (0)
 
 /* Rounds firstRound, firstRound + 1, ... of a step, by one work-group: those
- * of resolveEvents and searchListed, with barriers instead of launches, round
- * after round until none is pending or round maxRounds ran. Round r uses
- * epoch firstEpoch + (r - firstRound) and reads the pending list of round
- * r - 1 from pending0 for odd r and pending1 for even r, as the launches do;
- * the lengths of the rounds before are in `lengths`. */
+ * of resolveEvents and searchChanged, with barriers instead of launches,
+ * round after round until none is pending or round maxRounds ran. Round r
+ * uses epoch firstEpoch + (r - firstRound), as the launches do. */
 static inline void carom_rounds_in_group(uint firstRound,
                                          uint maxRounds,
                                          uint firstEpoch,
@@ -168,30 +213,15 @@ static inline void carom_rounds_in_group(uint firstRound,
                                          __global const GridCell* cells,
                                          CaromStepParams step,
                                          __global ContactTally* tallies,
-                                         __global CaromEvent* events,
-                                         __global uint* pending0,
-                                         __global uint* pending1,
-                                         __global uint* changed,
-                                         __global uint* dirty,
-                                         __global uint* pendingMarks,
-                                         __global uint* changedMarks,
-                                         __global uint* dirtyMarks,
-                                         __global uint* lengths)
+                                         CaromDeviceLists l)
 {
     uint epoch = firstEpoch;
-    for (uint round = firstRound; round <= maxRounds && lengths[CAROM_PENDING_LENGTH(round - 1)] != 0u;
+    for (uint round = firstRound; round <= maxRounds && l.lengths[CAROM_PENDING_LENGTH(round - 1)] != 0u;
          ++round, ++epoch) {
-        __global const uint* resolving = round % 2 == 1 ? pending0 : pending1;
-        const CaromList changedList = carom_list(changed, lengths, CAROM_CHANGED_LENGTH(round), changedMarks);
-        const CaromList dirtyList = carom_list(dirty, lengths, CAROM_FIRST_DIRTY_LENGTH, dirtyMarks);
-        const CaromList pendingList =
-            carom_list(round % 2 == 1 ? pending1 : pending0, lengths, CAROM_PENDING_LENGTH(round), pendingMarks);
-        CAROM_FOR_LISTED(
-            resolving, lengths, CAROM_PENDING_LENGTH(round - 1), k,
-            carom_resolve_event(k, state, slots, ids, events, step, tallies, changedList, pendingList, epoch));
-        CAROM_FOR_LISTED(changed, lengths, CAROM_CHANGED_LENGTH(round), k,
-                         carom_find_event(k, state, slots, ids, carom_grid_neighbours(cellOf, cells), step, events,
-                                          CAROM_SEARCH_CHANGED, changedList, dirtyList, pendingList, epoch));
+        CAROM_FOR_LISTED(l.lengths, CAROM_PENDING_LENGTH(round - 1), e,
+                         carom_resolve_pending(e, state, slots, ids, step, tallies, l, round, epoch));
+        CAROM_FOR_LISTED(l.lengths, CAROM_CHANGED_LENGTH(round), e,
+                         carom_search_changed(e, state, slots, ids, cellOf, cells, step, l, round, epoch));
     }
 }
 
@@ -205,20 +235,12 @@ __kernel void resolveRoundsInGroup(__global const uint* halt,
                                    __global const GridCell* cells,
                                    CaromStepParams step,
                                    __global ContactTally* tallies,
-                                   __global CaromEvent* events,
-                                   __global uint* pending0,
-                                   __global uint* pending1,
-                                   __global uint* changed,
-                                   __global uint* dirty,
-                                   __global uint* pendingMarks,
-                                   __global uint* changedMarks,
-                                   __global uint* dirtyMarks,
-                                   __global uint* lengths,
+                                   __global uint* words,
                                    uint firstRound,
                                    uint maxRounds,
                                    uint firstEpoch)
 {
     if (CAROM_HALTED(halt)) return;
-    carom_rounds_in_group(firstRound, maxRounds, firstEpoch, state, slots, ids, cellOf, cells, step, tallies, events,
-                          pending0, pending1, changed, dirty, pendingMarks, changedMarks, dirtyMarks, lengths);
+    carom_rounds_in_group(firstRound, maxRounds, firstEpoch, state, slots, ids, cellOf, cells, step, tallies,
+                          carom_device_lists(words, step.count));
 }

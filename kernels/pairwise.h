@@ -266,12 +266,13 @@ static inline void carom_list_add(CaromList list, unsigned int k, unsigned int e
 
 /* Where a step's list lengths are kept (the OpenCL pipelines' `lengths`):
  * two words a round r, 0 being the first search: the length of the pending
- * list built in round r, and of the list of disks changed in it. Round 0
- * changes none; its second word is the length of the first search's dirty
- * list. */
+ * list built in round r, and of the list of disks changed in it (none in
+ * round 0). */
 #define CAROM_PENDING_LENGTH(r) (2u * (r))
 #define CAROM_CHANGED_LENGTH(r) (2u * (r) + 1u)
-#define CAROM_FIRST_DIRTY_LENGTH 1u
+/* The words before the OpenCL pipelines' lists in their buffer: the
+ * lengths, then the words the host reads back with them (its record). */
+#define CAROM_LIST_HEADER_WORDS 256u
 
 /* What a search visits, and whom it adds to the dirty list to search again. */
 #define CAROM_SEARCH_ALL 0 /* every neighbour */

@@ -99,21 +99,21 @@ __kernel void stepSmallSystem(__global Particle* state,
 }
 
 /* Pairwise substeps, up to `substeps` of them, `substepsPerStep` to a step:
- * each the grid build, the passes findEventsForward and searchListed enqueue
- * for round 0 (backends/opencl/pairwise.cpp), the rounds until none is
+ * each the grid build, findEvents's pass (backends/opencl/pairwise.cpp),
+ * the rounds until none is
  * pending or `maxRounds` ran (carom_rounds_in_group), then
  * finishPairwiseAndCount's. A step after the first starts only if its state
  * needs substepsPerStep substeps too (carom_substeps_needed under `rule`,
  * from the largest speed of the substep before) and no disk is non-finite:
  * the host planned the count from the first step's state, and a run that
  * stops early equals stepping one step at a time. The list lengths are
- * zeroed each substep (the first lengthCount words of `lengths`); substep s
- * uses epochs firstEpoch + s (maxRounds + 1) on, and round r's pending list
- * is pending0 for even r and pending1 for odd r, as on the host. Each
+ * zeroed each substep (the first lengthCount words of the lists' buffer,
+ * `words`: CaromDeviceLists); substep s uses epochs firstEpoch + s
+ * (maxRounds + 1) on, as the host's launches would. Each
  * substep leaves its state in `next` (slot k: particle sortedIds[k]),
  * counted into `nextCounts`, and the three pairs of buffers swap roles for
  * the next: after an odd number of substeps the result is in `next`,
- * `sortedIds` and `nextCounts`. The record words of `lengths`: a disk left
+ * `sortedIds` and `nextCounts`. The record words after the lengths: a disk left
  * non-finite, under firstStepIndex + s, at nonFiniteIndex..+1; the last
  * state's largest v.x^2 + v.y^2 at speedIndex + parity (the other word
  * zeroed); the substeps taken and the most rounds one of them used at
@@ -130,15 +130,7 @@ __kernel void stepSmallPairwise(__global Particle* state,
                                 __global uint* rankInCell,
                                 CaromStepParams step,
                                 __global ContactTally* tallies,
-                                __global CaromEvent* events,
-                                __global uint* pending0,
-                                __global uint* pending1,
-                                __global uint* changed,
-                                __global uint* dirty,
-                                __global uint* pendingMarks,
-                                __global uint* changedMarks,
-                                __global uint* dirtyMarks,
-                                __global uint* lengths,
+                                __global uint* words,
                                 uint lengthCount,
                                 uint firstEpoch,
                                 uint maxRounds,
@@ -157,6 +149,8 @@ __kernel void stepSmallPairwise(__global Particle* state,
     const uint lid = get_local_id(0);
     const uint size = get_local_size(0);
     const uint cellCount = (uint)(step.grid.cols * step.grid.rows);
+    const CaromDeviceLists l = carom_device_lists(words, step.count);
+    __global uint* const lengths = l.lengths;
     float largest = 0.0f;
     uint mostRounds = 0;
     uint s = 0;
@@ -168,22 +162,16 @@ __kernel void stepSmallPairwise(__global Particle* state,
         for (uint i = lid; i < lengthCount; i += size) lengths[i] = 0u;
         barrier(CLK_GLOBAL_MEM_FENCE);
 
-        /* Round 0: every disk forward, then the dirty ones over all neighbours. */
+        /* Round 0: every disk over all its neighbours (findEvents). */
         const uint epoch = firstEpoch + s * (maxRounds + 1);
         const CaromList none = carom_list(0, lengths, 0, 0);
-        const CaromList dirtyList = carom_list(dirty, lengths, CAROM_FIRST_DIRTY_LENGTH, dirtyMarks);
-        const CaromList pendingList = carom_list(pending0, lengths, CAROM_PENDING_LENGTH(0), pendingMarks);
+        const CaromList pendingList = carom_list(l.pending0, lengths, CAROM_PENDING_LENGTH(0), l.pendingMarks);
         for (uint k = lid; k < step.count; k += size)
-            carom_find_event(k, state, cellOrder, sortedIds, carom_grid_neighbours(cellOf, cells), step, events,
-                             CAROM_SEARCH_FORWARD, none, dirtyList, pendingList, epoch);
+            carom_find_event(k, state, cellOrder, sortedIds, carom_grid_neighbours(cellOf, cells), step, l.events,
+                             CAROM_SEARCH_ALL, none, none, pendingList, epoch);
         barrier(CLK_GLOBAL_MEM_FENCE);
-        CAROM_FOR_LISTED(dirty, lengths, CAROM_FIRST_DIRTY_LENGTH, k,
-                         carom_find_event(k, state, cellOrder, sortedIds, carom_grid_neighbours(cellOf, cells), step,
-                                          events, CAROM_SEARCH_ALL, none, dirtyList, pendingList, epoch));
 
-        carom_rounds_in_group(1, maxRounds, epoch + 1, state, cellOrder, sortedIds, cellOf, cells, step, tallies,
-                              events, pending0, pending1, changed, dirty, pendingMarks, changedMarks, dirtyMarks,
-                              lengths);
+        carom_rounds_in_group(1, maxRounds, epoch + 1, state, cellOrder, sortedIds, cellOf, cells, step, tallies, l);
         for (uint r = 1; r <= maxRounds; ++r)
             if (lengths[CAROM_CHANGED_LENGTH(r)] > 0u) mostRounds = max(mostRounds, r);
 

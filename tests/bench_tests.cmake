@@ -61,9 +61,9 @@ if(OpenCL_FOUND)
                    "opencl-host-grid +simultaneous +100 .*carom: --methods opencl-seed is now called opencl-host-grid; the old name still works"
                    "bench|--methods|opencl-seed|--collisions|simultaneous|--sizes|100|--samples|1")
     carom_bench_profile_test(host_grid_pairwise opencl-host-grid 500
-        "buildGrid (host)|upload grid|findEventsForward|resolveRoundsInGroup|finishStepById|read list lengths|download state")
+        "buildGrid (host)|upload grid|findEvents|resolveRoundsInGroup|finishStepById|read list lengths|download state")
     # Above and below the resident pipeline's small-system limit (2 048 disks).
     carom_bench_profile_test(resident_pairwise opencl-resident 3000
-        "scanCountsIntoCells|scatterToCells|sortCellSegments|findEventsForward|resolveRoundsInGroup|finishPairwiseAndCount|read list lengths")
+        "scanCountsIntoCells|scatterToCells|sortCellSegments|findEvents|resolveRoundsInGroup|finishPairwiseAndCount|read list lengths")
     carom_bench_profile_test(resident_small_pairwise opencl-resident 500 "stepSmallPairwise|read list lengths")
 endif()

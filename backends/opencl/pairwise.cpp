@@ -26,11 +26,16 @@ constexpr cl_uint kLaunchedRoundLength = 256;
 // resolveRoundsInGroup's work-group, at most.
 constexpr std::size_t kRoundsGroupSize = 1024;
 
-// counts_: two lengths per round, rounds 0 .. kMaxPairwiseRounds, then
-// the finish kernel's record (kRecordWords), which is not cleared with the
-// lengths and is read back with them.
+// The lengths: two per round, rounds 0 .. kMaxPairwiseRounds, then the
+// finish kernel's record (kRecordWords), which is not cleared with the
+// lengths and is read back with them; all within the lists' header.
 constexpr std::size_t kCounts = CAROM_PENDING_LENGTH(kMaxPairwiseRounds + 1);
 constexpr std::size_t kCountsWithRecord = kCounts + DevicePairwise::kRecordWords;
+static_assert(kCountsWithRecord <= CAROM_LIST_HEADER_WORDS, "the lengths and the record must fit the lists' header");
+// The lists' buffer after its header, in words per disk (CaromDeviceLists):
+// the events (two), two pending lists, the changed list, then the marks.
+constexpr std::size_t kListWordsPerDisk = 8;
+constexpr std::size_t kMarksWord = 5;  // the first marks' words start at kMarksWord * count
 
 }  // namespace
 
@@ -40,32 +45,26 @@ DevicePairwise::DevicePairwise(cl_context context, const DeviceInfo& device, cl_
                                std::size_t particleCount, cl_command_queue queue, Profiler* profiler)
     : particleCount_(particleCount), profiler_(profiler), hostCounts_(kCountsWithRecord) {
     startKernel_ = createKernel(program, "startPairwiseStep");
-    forwardKernel_ = createKernel(program, "findEventsForward");
-    listedKernel_ = createKernel(program, "searchListed");
+    findKernel_ = createKernel(program, "findEvents");
+    searchChangedKernel_ = createKernel(program, "searchChanged");
     resolveKernel_ = createKernel(program, "resolveEvents");
     roundsInGroupKernel_ = createKernel(program, "resolveRoundsInGroup");
-    for (cl_kernel k : {startKernel_.get(), forwardKernel_.get(), listedKernel_.get(), resolveKernel_.get()})
+    for (cl_kernel k : {startKernel_.get(), findKernel_.get(), searchChangedKernel_.get(), resolveKernel_.get()})
         groupSize_ = std::min(groupSize_, kernelWorkGroupLimit(k, device.id));
     roundsGroupSize_ = std::min(kRoundsGroupSize, kernelWorkGroupLimit(roundsInGroupKernel_.get(), device.id));
     listItems_ = std::min((particleCount + groupSize_ - 1) / groupSize_ * groupSize_,
                           std::max<std::size_t>(1, device.computeUnits) * kListItemsPerComputeUnit);
-
-    const std::size_t n = particleCount;
-    events_ = createBuffer(context, n * sizeof(CaromEvent), "pairwise events");
-    pending_[0] = createBuffer(context, n * sizeof(cl_uint), "pending list");
-    pending_[1] = createBuffer(context, n * sizeof(cl_uint), "next pending list");
-    changed_ = createBuffer(context, n * sizeof(cl_uint), "changed list");
-    dirty_ = createBuffer(context, n * sizeof(cl_uint), "dirty list");
-    pendingMarks_ = createBuffer(context, n * sizeof(cl_uint), "pending marks");
-    changedMarks_ = createBuffer(context, n * sizeof(cl_uint), "changed marks");
-    dirtyMarks_ = createBuffer(context, n * sizeof(cl_uint), "dirty marks");
-    counts_ = createBuffer(context, kCountsWithRecord * sizeof(cl_uint), "list lengths");
+    lists_ = createBuffer(context, (CAROM_LIST_HEADER_WORDS + kListWordsPerDisk * particleCount) * sizeof(cl_uint),
+                          "pairwise lists");
     clearMarks(queue);
 }
 
 void DevicePairwise::clearMarks(cl_command_queue queue) {
-    for (cl_mem marks : {pendingMarks_.get(), changedMarks_.get(), dirtyMarks_.get()})
-        enqueueZero(queue, marks, particleCount_ * sizeof(cl_uint), "pairwise marks");
+    const cl_uint zero = 0;
+    check(clEnqueueFillBuffer(queue, lists_.get(), &zero, sizeof zero,
+                              (CAROM_LIST_HEADER_WORDS + kMarksWord * particleCount_) * sizeof(cl_uint),
+                              (kListWordsPerDisk - kMarksWord) * particleCount_ * sizeof(cl_uint), 0, nullptr, nullptr),
+          "clEnqueueFillBuffer(pairwise marks)");
 }
 
 // Each round's marks carry a new epoch, so no list needs clearing; when the
@@ -78,46 +77,34 @@ unsigned int DevicePairwise::nextEpoch(cl_command_queue queue) {
     return epoch_;
 }
 
-void DevicePairwise::searchListed(cl_command_queue queue, int mode, cl_mem listed, unsigned int round,
-                                  unsigned int listIndex, unsigned int epoch) {
-    const StepBuffers& b = buffers_;
-    setKernelArgs(listedKernel_.get(), b.halt, b.state, b.slots, b.ids, b.cellOf, b.cells, step_, events_.get(),
-                  cl_int{mode}, listed, changed_.get(), changedMarks_.get(), dirty_.get(), dirtyMarks_.get(),
-                  pending_[round % 2].get(), pendingMarks_.get(), counts_.get(), cl_uint{round}, cl_uint{listIndex},
-                  cl_uint{epoch});
-    enqueue1d(queue, listedKernel_.get(), listItems_, groupSize_,
-              mode == CAROM_SEARCH_CHANGED ? "searchListed (changed)" : "searchListed (dirty)", profiler_);
-}
-
 void DevicePairwise::enqueueRound(cl_command_queue queue, unsigned int round) {
     const StepBuffers& b = buffers_;
     const unsigned int epoch = nextEpoch(queue);
-    setKernelArgs(resolveKernel_.get(), b.halt, b.state, b.slots, b.ids, events_.get(), step_, b.tallies,
-                  pending_[(round - 1) % 2].get(), pending_[round % 2].get(), pendingMarks_.get(), changed_.get(),
-                  changedMarks_.get(), counts_.get(), cl_uint{round}, cl_uint{epoch});
+    setKernelArgs(resolveKernel_.get(), b.halt, b.state, b.slots, b.ids, step_, b.tallies, lists_.get(), cl_uint{round},
+                  cl_uint{epoch});
     enqueue1d(queue, resolveKernel_.get(), listItems_, groupSize_, "resolveEvents", profiler_);
-    searchListed(queue, CAROM_SEARCH_CHANGED, changed_.get(), round, CAROM_CHANGED_LENGTH(round), epoch);
+    setKernelArgs(searchChangedKernel_.get(), b.halt, b.state, b.slots, b.ids, b.cellOf, b.cells, step_, lists_.get(),
+                  cl_uint{round}, cl_uint{epoch});
+    enqueue1d(queue, searchChangedKernel_.get(), listItems_, groupSize_, "searchChanged", profiler_);
 }
 
 void DevicePairwise::enqueueRoundsInGroup(cl_command_queue queue, unsigned int firstRound) {
     const StepBuffers& b = buffers_;
     const cl_uint firstEpoch = reserveEpochs(queue, kMaxPairwiseRounds - firstRound + 1);
     setKernelArgs(roundsInGroupKernel_.get(), b.halt, b.state, b.slots, b.ids, b.cellOf, b.cells, step_, b.tallies,
-                  events_.get(), pending_[0].get(), pending_[1].get(), changed_.get(), dirty_.get(),
-                  pendingMarks_.get(), changedMarks_.get(), dirtyMarks_.get(), counts_.get(), cl_uint{firstRound},
-                  cl_uint{kMaxPairwiseRounds}, firstEpoch);
+                  lists_.get(), cl_uint{firstRound}, cl_uint{kMaxPairwiseRounds}, firstEpoch);
     enqueue1d(queue, roundsInGroupKernel_.get(), roundsGroupSize_, roundsGroupSize_, "resolveRoundsInGroup", profiler_);
 }
 
 void DevicePairwise::enqueueStart(cl_command_queue queue, cl_mem halt, const StartCheck& check) {
-    setKernelArgs(startKernel_.get(), halt, counts_.get(), cl_uint(kCounts), check.check, check.rule, check.substeps,
+    setKernelArgs(startKernel_.get(), halt, lists_.get(), cl_uint(kCounts), check.check, check.rule, check.substeps,
                   check.speedWord, nonFiniteIndex(), check.stepIndex);
     enqueue1d(queue, startKernel_.get(), kCounts, groupSize_, "startPairwiseStep", profiler_);
 }
 
 void DevicePairwise::clearRoundsRecord(cl_command_queue queue) {
     const cl_uint zero = 0;  // the fill copies its pattern when enqueued
-    check(clEnqueueFillBuffer(queue, counts_.get(), &zero, sizeof zero, roundsIndex() * sizeof(cl_uint), sizeof zero, 0,
+    check(clEnqueueFillBuffer(queue, lists_.get(), &zero, sizeof zero, roundsIndex() * sizeof(cl_uint), sizeof zero, 0,
                               nullptr, nullptr),
           "clEnqueueFillBuffer(rounds record)");
 }
@@ -126,11 +113,9 @@ void DevicePairwise::enqueueStep(cl_command_queue queue, const StepBuffers& buff
     buffers_ = buffers;
     step_ = step;
     const unsigned int epoch = nextEpoch(queue);
-    setKernelArgs(forwardKernel_.get(), buffers.halt, buffers.state, buffers.slots, buffers.ids, buffers.cellOf,
-                  buffers.cells, step, events_.get(), pending_[0].get(), pendingMarks_.get(), dirty_.get(),
-                  dirtyMarks_.get(), counts_.get(), cl_uint{epoch});
-    enqueue1d(queue, forwardKernel_.get(), particleCount_, groupSize_, "findEventsForward", profiler_);
-    searchListed(queue, CAROM_SEARCH_ALL, dirty_.get(), 0, CAROM_FIRST_DIRTY_LENGTH, epoch);
+    setKernelArgs(findKernel_.get(), buffers.halt, buffers.state, buffers.slots, buffers.ids, buffers.cellOf,
+                  buffers.cells, step, lists_.get(), cl_uint{epoch});
+    enqueue1d(queue, findKernel_.get(), particleCount_, groupSize_, "findEvents", profiler_);
     for (unsigned int round = 1; round <= launchedRounds_; ++round) enqueueRound(queue, round);
     if (launchedRounds_ < kMaxPairwiseRounds) enqueueRoundsInGroup(queue, launchedRounds_ + 1);
 }
@@ -141,11 +126,6 @@ cl_uint DevicePairwise::speedIndex() { return kCounts + kNonFiniteWords; }
 cl_uint DevicePairwise::takenIndex() { return kCounts + kNonFiniteWords + kSpeedWords; }
 
 cl_uint DevicePairwise::lengthCount() { return kCounts; }
-
-DevicePairwise::Lists DevicePairwise::lists() const {
-    return {events_.get(),       pending_[0].get(),   pending_[1].get(), changed_.get(), dirty_.get(),
-            pendingMarks_.get(), changedMarks_.get(), dirtyMarks_.get(), counts_.get()};
-}
 
 cl_uint DevicePairwise::reserveEpochs(cl_command_queue queue, unsigned int count) {
     if (epoch_ > std::numeric_limits<unsigned int>::max() - count) {
@@ -166,7 +146,7 @@ float DevicePairwise::speedSquaredRecord(unsigned int parity) const {
 }
 
 void DevicePairwise::readLengths(cl_command_queue queue) {
-    check(clEnqueueReadBuffer(queue, counts_.get(), CL_TRUE, 0, kCountsWithRecord * sizeof(cl_uint), hostCounts_.data(),
+    check(clEnqueueReadBuffer(queue, lists_.get(), CL_TRUE, 0, kCountsWithRecord * sizeof(cl_uint), hostCounts_.data(),
                               0, nullptr, eventSlot(profiler_, "read list lengths")),
           "clEnqueueReadBuffer(list lengths)");
 }

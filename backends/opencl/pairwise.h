@@ -3,7 +3,7 @@
 // events in the same rounds, bit for bit.
 //
 // A step enqueues its start (startPairwiseStep: a check, the lengths
-// zeroed), the first search, the first rounds as launches of their two
+// zeroed), the first search (findEvents), the first rounds as launches of their two
 // passes, and the rest in one launch of resolveRoundsInGroup, without
 // waiting: one work-group runs them with barriers until no event is left, so
 // every step's rounds are done when its last kernel is. Long lists need the
@@ -41,7 +41,7 @@ public:
     // What startPairwiseStep checks of the state a substep starts from, in
     // a chunk of substeps enqueued without a wait: nothing (the chunk's
     // first), that no disk is non-finite, or that too and that its largest
-    // speed (the word speedWord of lengths()) needs `substeps` under `rule`
+    // speed (the word speedWord of lists()) needs `substeps` under `rule`
     // (a step's first substep). A failed check writes stepIndex to halt.
     static constexpr cl_uint kNoCheck = 0, kCheckFinite = 1, kCheckSubsteps = 2;
     struct StartCheck {
@@ -53,11 +53,13 @@ public:
     void enqueueStart(cl_command_queue queue, cl_mem halt, const StartCheck& check);
     // Enqueues the rounds of one (sub)step after its start: afterwards a finish kernel may follow.
     void enqueueStep(cl_command_queue queue, const StepBuffers& buffers, const CaromStepParams& step);
-    // The list lengths, where a finish kernel also records (nonFiniteIndex, speedIndex).
-    cl_mem lengths() const { return counts_.get(); }
+    // The lists' buffer (kernels/pairwise.cl CaromDeviceLists), whose first
+    // words are the list lengths, where a finish kernel also records
+    // (nonFiniteIndex, speedIndex).
+    cl_mem lists() const { return lists_.get(); }
 
     // Where a finish kernel records a disk it left non-finite: the two words
-    // of lengths() from nonFiniteIndex() (carom_record_non_finite); and the
+    // of lists() from nonFiniteIndex() (carom_record_non_finite); and the
     // largest v.x^2 + v.y^2 of the state it leaves, as a float's bits: word
     // speedIndex() + parity, the other word zeroed for the step after. The
     // caller sets them once; complete() reads them back with the lengths,
@@ -83,14 +85,10 @@ public:
     unsigned int complete(cl_command_queue queue);
 
     // For a kernel that runs whole steps in one work-group instead of
-    // enqueueStep (stepSmallPairwise, kernels/small_system.cl): the lists,
-    // the number of lengths it zeroes, and `count` epochs for its rounds,
-    // from the one returned (the marks are cleared when they would wrap).
+    // enqueueStep (stepSmallPairwise, kernels/small_system.cl): lists(), the
+    // number of lengths it zeroes, and `count` epochs for its rounds, from
+    // the one returned (the marks are cleared when they would wrap).
     // complete() then reads its record.
-    struct Lists {
-        cl_mem events, pending0, pending1, changed, dirty, pendingMarks, changedMarks, dirtyMarks, lengths;
-    };
-    Lists lists() const;
     static cl_uint lengthCount();
     cl_uint reserveEpochs(cl_command_queue queue, unsigned int count);
 
@@ -100,16 +98,14 @@ private:
     void clearMarks(cl_command_queue queue);   // zeroes the three lists' marks
     void enqueueRound(cl_command_queue queue, unsigned int round);
     void enqueueRoundsInGroup(cl_command_queue queue, unsigned int firstRound);
-    void searchListed(cl_command_queue queue, int mode, cl_mem listed, unsigned int round, unsigned int listIndex,
-                      unsigned int epoch);
 
     std::size_t particleCount_ = 0;
     Profiler* profiler_ = nullptr;
     std::size_t groupSize_ = 64;
     std::size_t listItems_ = 64;        // work-items of a list kernel, which stride over its list
     std::size_t roundsGroupSize_ = 64;  // resolveRoundsInGroup's one work-group
-    Kernel startKernel_, forwardKernel_, listedKernel_, resolveKernel_, roundsInGroupKernel_;
-    Buffer events_, pending_[2], changed_, dirty_, pendingMarks_, changedMarks_, dirtyMarks_, counts_;
+    Kernel startKernel_, findKernel_, searchChangedKernel_, resolveKernel_, roundsInGroupKernel_;
+    Buffer lists_;
     std::vector<cl_uint> hostCounts_;
     unsigned int epoch_ = 0;
     // Rounds 1 .. this run as launches: set from the step before's lengths;

@@ -60,7 +60,7 @@ void OpenClResidentBackend::loadState(const std::vector<Particle>& particles) {
     // The finish's record: no disk non-finite, no speed yet (zero).
     cl_uint record[DevicePairwise::kRecordWords] = {};
     std::copy_n(kNoneNonFinite, DevicePairwise::kNonFiniteWords, record);
-    check(clEnqueueWriteBuffer(queue_.get(), pairwise_.lengths(), CL_TRUE,
+    check(clEnqueueWriteBuffer(queue_.get(), pairwise_.lists(), CL_TRUE,
                                DevicePairwise::nonFiniteIndex() * sizeof(cl_uint), sizeof(record), record, 0, nullptr,
                                nullptr),
           "clEnqueueWriteBuffer(the finish's record)");
@@ -190,7 +190,7 @@ void OpenClResidentBackend::enqueuePairwiseSubstep(const CaromStepParams& step,
     speedParity_ = 1 - speedParity_;
     setKernelArgs(finishAndCountKernel_.get(), halt_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(),
                   step, next_.get(), tallies_.get(), deviceGrid_.nextCounts(), deviceGrid_.cellOf(),
-                  deviceGrid_.rankInCell(), pairwise_.lengths(), DevicePairwise::speedIndex(), cl_uint{speedParity_},
+                  deviceGrid_.rankInCell(), pairwise_.lists(), DevicePairwise::speedIndex(), cl_uint{speedParity_},
                   check.stepIndex, DevicePairwise::nonFiniteIndex(), DevicePairwise::roundsIndex());
     setLocalArg(finishAndCountKernel_.get(), 16, reductionGroupSize_ * sizeof(cl_float));
     enqueue1d(queue_.get(), finishAndCountKernel_.get(), finishItems_, reductionGroupSize_, "finishPairwiseAndCount",

@@ -40,18 +40,17 @@ void DeviceSmallSystem::enqueuePairwiseSteps(cl_command_queue queue, const StepB
                                              DevicePairwise& pairwise, const CaromStepParams& step,
                                              const CaromSubstepRule& rule, cl_uint substeps, cl_uint substepsPerStep,
                                              cl_uint speedParity, cl_uint firstStepIndex) {
-    const DevicePairwise::Lists l = pairwise.lists();
     const cl_uint firstEpoch = pairwise.reserveEpochs(queue, (kMaxPairwiseRounds + 1) * substeps);
     setKernelArgs(pairwiseKernel_.get(), buffers.state, buffers.next, buffers.ids, buffers.sortedIds, grid.cells(),
                   grid.counts(), grid.nextCounts(), grid.cellOrder(), grid.cellOf(), grid.rankInCell(), step,
-                  buffers.tallies, l.events, l.pending0, l.pending1, l.changed, l.dirty, l.pendingMarks, l.changedMarks,
-                  l.dirtyMarks, l.lengths, DevicePairwise::lengthCount(), firstEpoch, cl_uint{kMaxPairwiseRounds},
-                  substeps, substepsPerStep, rule, firstStepIndex, DevicePairwise::nonFiniteIndex(),
-                  DevicePairwise::speedIndex(), speedParity, DevicePairwise::takenIndex());
+                  buffers.tallies, pairwise.lists(), DevicePairwise::lengthCount(), firstEpoch,
+                  cl_uint{kMaxPairwiseRounds}, substeps, substepsPerStep, rule, firstStepIndex,
+                  DevicePairwise::nonFiniteIndex(), DevicePairwise::speedIndex(), speedParity,
+                  DevicePairwise::takenIndex());
     const std::size_t group = pairwiseGroupSize_;
-    setLocalArg(pairwiseKernel_.get(), 32, DeviceGrid::scanTileBytes(group, kSmallSystemScanItems));
-    setLocalArg(pairwiseKernel_.get(), 33, DeviceGrid::scanRunBytes(group));
-    setLocalArg(pairwiseKernel_.get(), 34, group * sizeof(cl_float));
+    setLocalArg(pairwiseKernel_.get(), 24, DeviceGrid::scanTileBytes(group, kSmallSystemScanItems));
+    setLocalArg(pairwiseKernel_.get(), 25, DeviceGrid::scanRunBytes(group));
+    setLocalArg(pairwiseKernel_.get(), 26, group * sizeof(cl_float));
     enqueue1d(queue, pairwiseKernel_.get(), group, group, "stepSmallPairwise", profiler_);
 }
 

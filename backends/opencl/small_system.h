@@ -59,7 +59,7 @@ public:
     // non-finite. Substep s records a disk it leaves non-finite under
     // firstStepIndex + s, as finishPairwiseAndCount does; the last state's
     // largest speed goes to word speedIndex() + `speedParity` of
-    // pairwise.lengths(), the substeps taken and the most rounds to
+    // pairwise.lists(), the substeps taken and the most rounds to
     // takenIndex(); pairwise.complete() reads them. The buffers swap roles
     // each substep: after an odd number the result is in `next`,
     // `sortedIds` and `grid`'s next counts.
