@@ -12,8 +12,7 @@
 #include <string.h>
 #include <time.h>
 
-static double now(void)
-{
+static double now(void) {
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
     return t.tv_sec + 1e-9 * t.tv_nsec;
@@ -37,8 +36,7 @@ static const char* kSource =
     " + l[0] + m[0] + n[0] + o[0] + p[0] + q[0] + r[0] + s[0] + t[0]; }\n"
     "__kernel void block(__global uint* a, Block b) { if (get_global_id(0) == 100000u) a[0] = b.v[3]; }\n";
 
-int main(int argc, char** argv)
-{
+int main(int argc, char** argv) {
     const char* wanted = argc > 1 ? argv[1] : "NVIDIA";
     cl_platform_id platforms[8];
     cl_uint platformCount = 0;
