@@ -518,6 +518,15 @@ void printSummary(const World& world, const Result& r, const std::string& resume
         std::printf("  pressure     %.6g on the walls (left %.4g, right %.4g, bottom %.4g, top %.4g), Z = %.5g\n",
                     r.run.pressure, r.run.wallPressure[0], r.run.wallPressure[1], r.run.wallPressure[2],
                     r.run.wallPressure[3], r.run.compressibility);
+    const double n = double(world.diskCount());
+    const DeviceMemoryUse device = world.deviceMemory();
+    const std::uint64_t host = peakResidentBytes();
+    if (device.peakBytes > 0)
+        std::printf("  memory       device %.3g GB at peak (%.0f bytes a disk), host %.3g GB at peak (%.0f)\n",
+                    double(device.peakBytes) * 1e-9, double(device.peakBytes) / n, double(host) * 1e-9,
+                    double(host) / n);
+    else if (host > 0)
+        std::printf("  memory       host %.3g GB at peak (%.0f bytes a disk)\n", double(host) * 1e-9, double(host) / n);
     const std::string written = outputs.written();
     if (!written.empty()) std::printf("  wrote        %s\n", written.c_str());
 }
@@ -560,6 +569,7 @@ void printJson(const World& world, const Result& r) {
         {"escaped", r.escaped},
         {"temperature", r.finalTemperature},
         {"collision_rate", r.run.collisionRate},
+        {"memory", {{"device_bytes_peak", world.deviceMemory().peakBytes}, {"host_bytes_peak", peakResidentBytes()}}},
     };
     if (r.events) {
         const EventCounts& counts = r.events->counts;

@@ -69,6 +69,7 @@ public:
     // True when divide and sqrt are correctly rounded, so that this backend's
     // trajectories are bitwise identical to the CPU backend's.
     virtual bool exactArithmetic() const = 0;
+    virtual DeviceMemoryUse deviceMemory() const { return {}; }
 
     // Validates the particles against the world, sizes the grid for their
     // largest radius (and the scheme), loads them and resets the contact totals.

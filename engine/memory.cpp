@@ -100,6 +100,20 @@ std::uint64_t availableMemoryBytes() {
 #endif
 }
 
+std::uint64_t peakResidentBytes() {
+#if __has_include(<unistd.h>) && !defined(_WIN32)
+    rusage usage{};
+    if (getrusage(RUSAGE_SELF, &usage) != 0 || usage.ru_maxrss <= 0) return 0;
+#ifdef __APPLE__
+    return std::uint64_t(usage.ru_maxrss);  // bytes on macOS
+#else
+    return std::uint64_t(usage.ru_maxrss) * 1024;  // KiB on Linux and the BSDs
+#endif
+#else
+    return 0;
+#endif
+}
+
 void requireRoomFor(std::uint64_t disks, const std::string& what, std::uint64_t availableBytes) {
     if (disks > kMaxParticles)
         throw Error(what + ": " + std::to_string(disks) + " particles; allowed: 1 to " + std::to_string(kMaxParticles));

@@ -245,6 +245,42 @@ CAROM_BACKEND_TEST_CASE("world: disk memory follows the steps and outlives a new
     }
 }
 
+// The device's buffers, counted as they are made and freed: on OpenCL at
+// least the two states and the tallies of every disk, more for more disks,
+// less again once fewer replace them; nothing on the CPU.
+CAROM_BACKEND_TEST_CASE("world: device memory counts the engine's buffers on the device") {
+    const Scene scene = gas(4000, 0.3f);
+    const std::vector<Disk> few(scene.disks.begin(), scene.disks.begin() + 1000);
+    for (CollisionScheme scheme : {CollisionScheme::Pairwise, CollisionScheme::Simultaneous}) {
+        CAPTURE(collisionSchemeName(scheme));
+        WorldDef spec = worldFor(scene, def.engine, Boundary::Walls);
+        spec.collisions = scheme;
+        World world(spec);
+        world.setDisks(few);
+        world.step(2);
+        const DeviceMemoryUse small = world.deviceMemory();
+        if (def.engine == ComputeEngine::Cpu) {
+            CHECK(small.bytes == 0);
+            CHECK(small.peakBytes == 0);
+            continue;
+        }
+        const std::uint64_t perDisk = 2 * sizeof(Particle) + sizeof(ContactTally);
+        CHECK(small.bytes >= few.size() * perDisk);
+        CHECK(small.peakBytes >= small.bytes);
+        world.setDisks(scene.disks);
+        world.step(2);
+        const DeviceMemoryUse large = world.deviceMemory();
+        CHECK(large.bytes >= scene.disks.size() * perDisk);
+        CHECK(large.bytes > small.bytes + (scene.disks.size() - few.size()) * perDisk);
+        CHECK(large.peakBytes >= large.bytes);
+        world.setDisks(few);
+        world.step(2);
+        const DeviceMemoryUse again = world.deviceMemory();
+        CHECK(again.bytes == small.bytes);
+        CHECK(again.peakBytes == large.peakBytes);
+    }
+}
+
 namespace {
 
 // Every disk of `world` appears once in a view read first (before anything

@@ -565,4 +565,6 @@ bool World::bitwiseReproducible() const { return impl_->backend->exactArithmetic
 
 std::string World::deviceName() const { return impl_->backend->device(); }
 
+DeviceMemoryUse World::deviceMemory() const { return impl_->backend->deviceMemory(); }
+
 }  // namespace carom

@@ -23,6 +23,7 @@ OpenClBackend::OpenClBackend(const WorldDef& world, const std::string& device, c
     cl_int status = CL_SUCCESS;
     context_ = Context(clCreateContext(nullptr, 1, &device_.id, nullptr, nullptr, &status));
     check(status, "clCreateContext");
+    trackBuffers(context_.get());
     queue_ =
         Queue(clCreateCommandQueue(context_.get(), device_.id, profiling ? CL_QUEUE_PROFILING_ENABLE : 0, &status));
     check(status, "clCreateCommandQueue");
@@ -32,6 +33,13 @@ OpenClBackend::OpenClBackend(const WorldDef& world, const std::string& device, c
     halt_ = createBuffer(context_.get(), sizeof(kRunning), "halt");
     check(clEnqueueWriteBuffer(queue_.get(), halt_.get(), CL_TRUE, 0, sizeof(kRunning), &kRunning, 0, nullptr, nullptr),
           "clEnqueueWriteBuffer(halt)");
+}
+
+OpenClBackend::~OpenClBackend() { untrackBuffers(context_.get()); }
+
+DeviceMemoryUse OpenClBackend::deviceMemory() const {
+    const BufferBytes bytes = bufferBytes(context_.get());
+    return {bytes.live, bytes.peak};
 }
 
 std::string OpenClBackend::device() const {

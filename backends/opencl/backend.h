@@ -25,8 +25,10 @@ namespace carom {
 
 class OpenClBackend : public Backend {
 public:
+    ~OpenClBackend() override;
     std::string device() const override;
     bool exactArithmetic() const override { return device_.correctlyRoundedDivideSqrt; }
+    DeviceMemoryUse deviceMemory() const override;
     const opencl::DeviceInfo& deviceInfo() const { return device_; }
 
     // Reads state_, in id order (slotIds()).

@@ -1,7 +1,11 @@
 #include "backends/opencl/runtime.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
+#include <map>
+#include <memory>
+#include <mutex>
 
 namespace carom::opencl {
 namespace {
@@ -215,11 +219,63 @@ Kernel createKernel(cl_program program, const char* name) {
     return kernel;
 }
 
+namespace {
+
+// The counts of the tracked contexts. A buffer's share is taken back by its
+// destructor callback, which holds the count: the callback may come after
+// the context stopped being tracked, or on another thread.
+struct BufferCount {
+    std::atomic<unsigned long long> live{0}, peak{0};
+};
+struct BufferShare {
+    std::shared_ptr<BufferCount> count;
+    unsigned long long bytes;
+};
+std::mutex trackedMutex;
+std::map<cl_context, std::shared_ptr<BufferCount>> tracked;
+
+std::shared_ptr<BufferCount> countOf(cl_context context) {
+    const std::lock_guard<std::mutex> lock(trackedMutex);
+    const auto found = tracked.find(context);
+    return found == tracked.end() ? nullptr : found->second;
+}
+
+void CL_CALLBACK returnShare(cl_mem, void* data) {
+    const std::unique_ptr<BufferShare> share(static_cast<BufferShare*>(data));
+    share->count->live -= share->bytes;
+}
+
+}  // namespace
+
 Buffer createBuffer(cl_context context, std::size_t bytes, const char* what) {
     cl_int status = CL_SUCCESS;
     Buffer buffer(clCreateBuffer(context, CL_MEM_READ_WRITE, std::max<std::size_t>(bytes, 1), nullptr, &status));
     check(status, (std::string("clCreateBuffer(") + what + ", " + std::to_string(bytes) + " bytes)").c_str());
+    if (std::shared_ptr<BufferCount> count = countOf(context)) {
+        auto share = std::make_unique<BufferShare>(BufferShare{count, bytes});
+        check(clSetMemObjectDestructorCallback(buffer.get(), returnShare, share.get()),
+              "clSetMemObjectDestructorCallback");
+        share.release();
+        const unsigned long long live = count->live += bytes;
+        unsigned long long peak = count->peak;
+        while (live > peak && !count->peak.compare_exchange_weak(peak, live)) continue;
+    }
     return buffer;
+}
+
+void trackBuffers(cl_context context) {
+    const std::lock_guard<std::mutex> lock(trackedMutex);
+    tracked[context] = std::make_shared<BufferCount>();
+}
+
+void untrackBuffers(cl_context context) {
+    const std::lock_guard<std::mutex> lock(trackedMutex);
+    tracked.erase(context);
+}
+
+BufferBytes bufferBytes(cl_context context) {
+    const std::shared_ptr<BufferCount> count = countOf(context);
+    return count ? BufferBytes{count->live, count->peak} : BufferBytes{};
 }
 
 std::size_t kernelWorkGroupLimit(cl_kernel kernel, cl_device_id device) {

@@ -96,7 +96,19 @@ using Buffer = Handle<cl_mem, releaseMem>;
 Program buildProgram(cl_context context, const DeviceInfo& device, const char* source, bool exactArithmetic);
 
 Kernel createKernel(cl_program program, const char* name);
+// A buffer of `bytes` in `context`; counted in the context's BufferBytes
+// while it lives, where the context is tracked.
 Buffer createBuffer(cl_context context, std::size_t bytes, const char* what);
+
+// The bytes of a context's buffers alive now, and the most alive at once.
+struct BufferBytes {
+    unsigned long long live = 0, peak = 0;
+};
+// Counts the buffers createBuffer makes in `context` from now on, until
+// untrackBuffers; bufferBytes reads the count ({} for a context not tracked).
+void trackBuffers(cl_context context);
+void untrackBuffers(cl_context context);
+BufferBytes bufferBytes(cl_context context);
 
 // Device time per command name, read from the events of a queue created
 // with CL_QUEUE_PROFILING_ENABLE, plus host work timed by the caller. For

@@ -107,6 +107,17 @@ constexpr std::uint64_t kHostBytesPerDisk = 320;
 /// none of these is known.
 std::uint64_t availableMemoryBytes();
 
+/// What a world's engine holds on its device (World::deviceMemory) [bytes].
+struct DeviceMemoryUse {
+    std::uint64_t bytes = 0;      ///< the OpenCL engine's buffers alive now; 0 on the CPU engines
+    std::uint64_t peakBytes = 0;  ///< the most of them alive at once since the world was made
+};
+
+/// The most memory this process has held resident at once since it started
+/// [bytes], all its worlds and data together (getrusage); 0 where unknown
+/// (Windows).
+std::uint64_t peakResidentBytes();
+
 /// Throws Error naming `what` (a file, a field, an option) when `disks` is
 /// more than kMaxParticles or needs more than `availableBytes` of host memory
 /// (kHostBytesPerDisk each; 0 bytes: unknown, not checked).

@@ -300,6 +300,9 @@ public:
     bool bitwiseReproducible() const;
     /// The device the steps run on, in words.
     std::string deviceName() const;
+    /// The buffers the engine holds on its device (all zero on the CPU
+    /// engines, whose memory is the host's: carom/types.h peakResidentBytes).
+    DeviceMemoryUse deviceMemory() const;
 
 private:
     struct Impl;

@@ -522,6 +522,13 @@ class World:
         return self._core.device_name
 
     @property
+    def device_memory(self) -> dict:
+        """The engine's buffers on its device [bytes]: {"bytes": alive now,
+        "peak_bytes": the most alive at once}; zeros on the CPU, whose memory
+        is the host's."""
+        return dict(self._core.device_memory)
+
+    @property
     def bitwise_reproducible(self) -> bool:
         """Whether results are bitwise the CPU engine's (always on the CPU; on
         OpenCL devices that round divide and sqrt correctly)."""

@@ -417,5 +417,12 @@ NB_MODULE(_carom, m) {
         .def_prop_ro("escaped_count", &World::escapedCount)
         .def_prop_ro("warnings", &World::warnings)
         .def_prop_ro("bitwise_reproducible", &World::bitwiseReproducible)
-        .def_prop_ro("device_name", &World::deviceName);
+        .def_prop_ro("device_name", &World::deviceName)
+        .def_prop_ro("device_memory", [](const World& w) {
+            const carom::DeviceMemoryUse use = w.deviceMemory();
+            nb::dict d;
+            d["bytes"] = use.bytes;
+            d["peak_bytes"] = use.peakBytes;
+            return d;
+        });
 }

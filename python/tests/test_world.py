@@ -95,6 +95,20 @@ def gas(engine="cpu", collisions="pairwise", particles=400, **kwargs):
     return world
 
 
+def test_device_memory_counts_the_engines_buffers(engine, carom_exe, tmp_path):
+    world = gas(engine)
+    world.step(2)
+    memory = world.device_memory
+    if engine == "cpu":
+        assert memory == {"bytes": 0, "peak_bytes": 0}
+        return
+    assert memory["bytes"] >= 400 * 100  # two 32-byte states and the tallies a disk, at least
+    assert memory["peak_bytes"] >= memory["bytes"]
+    summary, _ = run_cli(carom_exe, ["--particles", "400", "--steps", "2", *cli_backend(engine)], tmp_path)
+    assert summary["memory"]["device_bytes_peak"] >= 400 * 100
+    assert summary["memory"]["host_bytes_peak"] > 0
+
+
 @pytest.mark.parametrize("collisions", ["pairwise", "simultaneous"])
 def test_cpu_arrays_are_views_of_the_engines_memory(collisions):
     world = gas(collisions=collisions)
