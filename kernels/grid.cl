@@ -72,8 +72,12 @@ static inline uint carom_scan_tile(
 {
     const uint lid = get_local_id(0);
     const uint size = get_local_size(0);
-    const uint tileLength = size * items;
-    for (uint k = lid; k < tileLength; k += size) tile[carom_padded(k)] = first + k < n ? values[first + k] : 0u;
+    /* `items` loads a work-item, counted so that the compiler can unroll
+     * them and have them in flight at once, rather than wait for each. */
+    for (uint j = 0; j < items; ++j) {
+        const uint k = lid + j * size;
+        tile[carom_padded(k)] = first + k < n ? values[first + k] : 0u;
+    }
     barrier(CLK_LOCAL_MEM_FENCE);
 
     /* Each work-item owns a run of `items` consecutive values. */
