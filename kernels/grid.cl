@@ -17,7 +17,9 @@
  *                        addTileStarts)
  *   scatterToCells       each slot, and its id, to start + rank of its cell
  *   sortCellSegments     each cell's slots and ids into ascending id: the ids
- *                        are then sortedIndices
+ *                        are then sortedIndices (sortAndGatherCells, for a
+ *                        pairwise step, also gathers the particles into
+ *                        that order)
  *
  * Arrival ranks depend on thread scheduling; sorting each cell's few slots by
  * id makes the result deterministic and equal to the host's ascending-id
@@ -292,4 +294,32 @@ __kernel void sortCellSegments(__global const uint* halt,
     if (c >= cellCount) return;
     nextCounts[c] = 0u;
     carom_sort_cell(cells[c], cellOrder, sortedIds);
+}
+
+/* sortCellSegments for a pairwise step: then each cell's particles gathered
+ * from their slots in `state` into `gathered` in sorted order, and their
+ * cell into cellOf[k], k being the sorted position: the step's searches then
+ * read a neighbour without looking up its slot (kernels/pairwise.h,
+ * carom_slot). cellOf was by slot until here; the scatter, its last reader
+ * so, ran before. */
+__kernel void sortAndGatherCells(__global const uint* halt,
+                                 __global const GridCell* cells,
+                                 uint cellCount,
+                                 __global uint* cellOrder,
+                                 __global uint* sortedIds,
+                                 __global uint* nextCounts,
+                                 __global const Particle* state,
+                                 __global Particle* gathered,
+                                 __global uint* cellOf)
+{
+    if (CAROM_HALTED(halt)) return;
+    const uint c = get_global_id(0);
+    if (c >= cellCount) return;
+    nextCounts[c] = 0u;
+    const GridCell cell = cells[c];
+    carom_sort_cell(cell, cellOrder, sortedIds);
+    for (uint k = cell.start; k < cell.start + cell.count; ++k) {
+        gathered[k] = state[cellOrder[k]];
+        cellOf[k] = c;
+    }
 }

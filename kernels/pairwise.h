@@ -33,8 +33,8 @@
  * The lists of pending, changed and dirty disks are filled with atomic
  * appends, in an order that depends on scheduling; nothing computed depends
  * on that order. A disk is identified by its position k in sortedIndices
- * (`ids[k]` is its id, `state[slots[k]]` its particle, `cellOf[slots[k]]`
- * the cell it started the step in). */
+ * (`ids[k]` is its id, `state[carom_slot(slots, k)]` its particle,
+ * `cellOf[carom_slot(slots, k)]` the cell it started the step in). */
 #ifndef CAROM_PAIRWISE_H
 #define CAROM_PAIRWISE_H
 
@@ -99,6 +99,15 @@ static inline void carom_store_event(CaromEvent* e, CaromEvent value)
     __atomic_store(e, &value, __ATOMIC_RELAXED);
 }
 #endif
+
+/* Where the disk at sorted position k is stored: slots[k]; or k itself
+ * where `slots` is null, the state being stored in sorted order (the
+ * resident pipeline gathers it so as it builds a step's grid: a search then
+ * reads its neighbours without looking up their slots). */
+static inline unsigned int carom_slot(CAROM_GLOBAL const unsigned int* slots, unsigned int k)
+{
+    return slots ? slots[k] : k;
+}
 
 /* Rounding of positions: about 8 units in the last place of the largest
  * coordinate. A pair resolved deeper in overlap than this, or a disk found
@@ -366,9 +375,9 @@ static inline CaromSearcher carom_searcher(unsigned int k,
                                            CaromStepParams step)
 {
     CaromSearcher s;
-    s.self = state[slots[k]];
+    s.self = state[carom_slot(slots, k)];
     s.selfId = ids[k];
-    const unsigned int cell = neighbours.cellOf[slots[k]];
+    const unsigned int cell = neighbours.cellOf[carom_slot(slots, k)];
     s.cellX = (int)(cell % (unsigned int)step.grid.cols);
     s.cellY = (int)(cell / (unsigned int)step.grid.cols);
     s.best.event = carom_wall_event(s.self, s.cellX, s.cellY, step);
@@ -405,8 +414,8 @@ static inline CaromEvent carom_earliest_event(unsigned int k,
     CaromSearcher s = carom_searcher(k, state, slots, ids, neighbours, step);
     CAROM_FOR_EACH_CANDIDATE(
         k, s.cellX, s.cellY, 0u, neighbours, step, q,
-        carom_consider(&s.best, carom_pair_event_time(s.self, s.selfId, state[slots[q]], ids[q], step), q, s.selfId,
-                       ids[q]));
+        carom_consider(&s.best, carom_pair_event_time(s.self, s.selfId, state[carom_slot(slots, q)], ids[q], step), q,
+                       s.selfId, ids[q]));
     return s.best.event;
 }
 
@@ -439,7 +448,7 @@ static inline void carom_search_candidate(unsigned int k,
                                           unsigned int epoch)
 {
     const unsigned int otherId = ids[q];
-    const float t = carom_pair_event_time(s->self, s->selfId, state[slots[q]], otherId, step);
+    const float t = carom_pair_event_time(s->self, s->selfId, state[carom_slot(slots, q)], otherId, step);
     const int meets = carom_consider(&s->best, t, q, s->selfId, otherId);
     if (mode == CAROM_SEARCH_FORWARD) {
         if (meets) carom_list_add(dirty, q, epoch);
@@ -597,7 +606,7 @@ static inline void carom_resolve_event(unsigned int k,
     const CaromEvent event = events[k];
     if (event.time == CAROM_NEVER) return;
     if (event.partner >= CAROM_WALL) {
-        const unsigned int slot = slots[k];
+        const unsigned int slot = carom_slot(slots, k);
         state[slot] = carom_bounce(state[slot], (int)(event.partner - CAROM_WALL), event.time, step, &tallies[ids[k]]);
         carom_list_add(changed, k, epoch);
         return;
@@ -609,10 +618,11 @@ static inline void carom_resolve_event(unsigned int k,
     }
     const unsigned int id = ids[k], otherId = ids[q];
     if (otherId < id) return; /* the partner resolves it */
-    Particle a = state[slots[k]], b = state[slots[q]];
+    const unsigned int slotA = carom_slot(slots, k), slotB = carom_slot(slots, q);
+    Particle a = state[slotA], b = state[slotB];
     carom_collide_pair(&a, id, &b, otherId, event.time, step, &tallies[id]);
-    state[slots[k]] = a;
-    state[slots[q]] = b;
+    state[slotA] = a;
+    state[slotB] = b;
     carom_list_add(changed, k, epoch);
     carom_list_add(changed, q, epoch);
 }

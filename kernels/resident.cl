@@ -67,8 +67,8 @@ __kernel void resolveIntegrateAndCount(__global const Particle* state,
 }
 
 /* One particle's end of a pairwise step: particle sortedIds[k] finished
- * from slot cellOrder[k] of `state` into slot k of `next` and counted into
- * the next grid's `counts`; returns its v.x^2 + v.y^2. */
+ * from slot carom_slot(cellOrder, k) of `state` into slot k of `next` and
+ * counted into the next grid's `counts`; returns its v.x^2 + v.y^2. */
 static inline float carom_finish_slot(uint k,
                                       __global const Particle* state,
                                       __global const uint* cellOrder,
@@ -82,7 +82,7 @@ static inline float carom_finish_slot(uint k,
                                       uint stepIndex,
                                       __global uint* firstNonFinite)
 {
-    const Particle moved = carom_finish_step(state[cellOrder[k]], step, &tallies[sortedIds[k]]);
+    const Particle moved = carom_finish_step(state[carom_slot(cellOrder, k)], step, &tallies[sortedIds[k]]);
     next[k] = moved;
     carom_count_into_cell(k, moved.position, step.grid, counts, cellOf, rankInCell);
     carom_record_non_finite(moved, sortedIds[k], stepIndex, firstNonFinite);
@@ -105,25 +105,24 @@ static inline float carom_group_max(float value, __local float* scratch)
     return largest;
 }
 
-/* The end of a pairwise step, after its rounds (kernels/pairwise.cl). For
- * each k, particle sortedIds[k] is finished from slot cellOrder[k] of `state`
- * into slot k of `next` and counted into the next step's grid. The kernel
- * also takes the largest v.x^2 + v.y^2 of the new state, which sizes the
- * next step's substeps, so that needs no pass of its own: each work-item
- * strides over the particles, the work-group (a power of two) reduces, and
- * atomic_max on the float's bits (non-negative floats order like their bits)
- * collects it in lengths[speedIndex + parity]; the first work-item zeroes the
- * other word for the step after. max is exact in any order: this equals the
- * maxSpeedSquared reduction bit for bit. A disk left non-finite is recorded
- * under `stepIndex` in lengths[nonFiniteIndex..+1] (carom_record_non_finite),
- * and the rounds this step used, at most, in lengths[roundsIndex]. The host
+/* The end of a pairwise step, after its rounds (kernels/pairwise.cl), in
+ * place: `state` holds the step's particles in sorted order
+ * (sortAndGatherCells), particle sortedIds[k] at k, each finished and
+ * counted into the next step's grid. The kernel also takes the largest
+ * v.x^2 + v.y^2 of the new state, which sizes the next step's substeps, so
+ * that needs no pass of its own: each work-item strides over the particles,
+ * the work-group (a power of two) reduces, and atomic_max on the float's bits
+ * (non-negative floats order like their bits) collects it in
+ * lengths[speedIndex + parity]; the first work-item zeroes the other word for
+ * the step after. max is exact in any order: this equals the maxSpeedSquared
+ * reduction bit for bit. A disk left non-finite is recorded under
+ * `stepIndex` in lengths[nonFiniteIndex..+1] (carom_record_non_finite), and
+ * the rounds this step used, at most, in lengths[roundsIndex]. The host
  * reads them back with the list lengths, in one read. */
 __kernel void finishPairwiseAndCount(__global const uint* halt,
-                                     __global const Particle* state,
-                                     __global const uint* cellOrder,
+                                     __global Particle* state,
                                      __global const uint* sortedIds,
                                      CaromStepParams step,
-                                     __global Particle* next,
                                      __global ContactTally* tallies,
                                      __global uint* nextCounts,
                                      __global uint* cellOf,
@@ -138,16 +137,15 @@ __kernel void finishPairwiseAndCount(__global const uint* halt,
 {
     if (CAROM_HALTED(halt)) return;
     __global uint* speedWords = lengths + speedIndex;
-    if (get_global_id(0) == 0) {
-        uint rounds = 0; /* the last round that changed a disk; the lengths end where the record starts */
-        for (uint r = 1; CAROM_CHANGED_LENGTH(r) < nonFiniteIndex; ++r)
-            if (lengths[CAROM_CHANGED_LENGTH(r)] > 0u) rounds = r;
-        atomic_max(&lengths[roundsIndex], rounds);
-    }
+    /* The last round that changed a disk, a round a work-item (a loop of
+     * global loads on one would set the kernel's pace at small N); the
+     * lengths end where the record starts. */
+    for (uint r = get_global_id(0) + 1u; CAROM_CHANGED_LENGTH(r) < nonFiniteIndex; r += get_global_size(0))
+        if (lengths[CAROM_CHANGED_LENGTH(r)] > 0u) atomic_max(&lengths[roundsIndex], r);
     float largest = 0.0f;
     for (uint k = get_global_id(0); k < step.count; k += get_global_size(0))
-        largest = fmax(largest, carom_finish_slot(k, state, cellOrder, sortedIds, step, next, tallies, nextCounts,
-                                                  cellOf, rankInCell, stepIndex, lengths + nonFiniteIndex));
+        largest = fmax(largest, carom_finish_slot(k, state, 0, sortedIds, step, state, tallies, nextCounts, cellOf,
+                                                  rankInCell, stepIndex, lengths + nonFiniteIndex));
     if (get_global_id(0) == 0) speedWords[1 - parity] = 0u;
     const float groupLargest = carom_group_max(largest, scratch);
     if (get_local_id(0) == 0) atomic_max(&speedWords[parity], as_uint(groupLargest));

@@ -110,7 +110,8 @@ __kernel void stepSmallSystem(__global Particle* state,
  * zeroed each substep (the first lengthCount words of the lists' buffer,
  * `words`: CaromDeviceLists); substep s uses epochs firstEpoch + s
  * (maxRounds + 1) on, as the host's launches would. Each
- * substep leaves its state in `next` (slot k: particle sortedIds[k]),
+ * substep gathers its state into `next` in sorted order, where its rounds
+ * and its finish run, and leaves it there (slot k: particle sortedIds[k]),
  * counted into `nextCounts`, and the three pairs of buffers swap roles for
  * the next: after an odd number of substeps the result is in `next`,
  * `sortedIds` and `nextCounts`. The record words after the lengths: a disk left
@@ -159,6 +160,16 @@ __kernel void stepSmallPairwise(__global Particle* state,
         if (s > 0 && s % substepsPerStep == 0 && carom_substeps_needed(largest, rule) != substepsPerStep) break;
         carom_build_grid_in_group(step.count, cellCount, counts, cells, cellOf, rankInCell, ids, cellOrder, sortedIds,
                                   nextCounts, tile, runSums);
+        /* The state gathered into sorted order in `next`, and each disk's
+         * cell by sorted position in cellAt (rankInCell, unused until the
+         * finish counts into it): the searches then look up no slots
+         * (carom_slot), as in the launches (sortAndGatherCells). */
+        __global uint* const cellAt = rankInCell;
+        for (uint k = lid; k < step.count; k += size) {
+            const uint slot = cellOrder[k];
+            next[k] = state[slot];
+            cellAt[k] = cellOf[slot];
+        }
         for (uint i = lid; i < lengthCount; i += size) lengths[i] = 0u;
         barrier(CLK_GLOBAL_MEM_FENCE);
 
@@ -167,17 +178,18 @@ __kernel void stepSmallPairwise(__global Particle* state,
         const CaromList none = carom_list(0, lengths, 0, 0);
         const CaromList pendingList = carom_list(l.pending0, lengths, CAROM_PENDING_LENGTH(0), l.pendingMarks);
         for (uint k = lid; k < step.count; k += size)
-            carom_find_event(k, state, cellOrder, sortedIds, carom_grid_neighbours(cellOf, cells), step, l.events,
+            carom_find_event(k, next, 0, sortedIds, carom_grid_neighbours(cellAt, cells), step, l.events,
                              CAROM_SEARCH_ALL, none, none, pendingList, epoch);
         barrier(CLK_GLOBAL_MEM_FENCE);
 
-        carom_rounds_in_group(1, maxRounds, epoch + 1, state, cellOrder, sortedIds, cellOf, cells, step, tallies, l);
+        carom_rounds_in_group(1, maxRounds, epoch + 1, next, 0, sortedIds, cellAt, cells, step, tallies, l);
         for (uint r = 1; r <= maxRounds; ++r)
             if (lengths[CAROM_CHANGED_LENGTH(r)] > 0u) mostRounds = max(mostRounds, r);
 
+        /* The finish, in place; then cellOf and rankInCell are by slot again. */
         float own = 0.0f;
         for (uint k = lid; k < step.count; k += size)
-            own = fmax(own, carom_finish_slot(k, state, cellOrder, sortedIds, step, next, tallies, nextCounts, cellOf,
+            own = fmax(own, carom_finish_slot(k, next, 0, sortedIds, step, next, tallies, nextCounts, cellOf,
                                               rankInCell, firstStepIndex + s, lengths + nonFiniteIndex));
         largest = carom_group_max(own, scratch);
         barrier(CLK_GLOBAL_MEM_FENCE);

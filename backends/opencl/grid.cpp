@@ -76,8 +76,9 @@ DeviceGrid::DeviceGrid(cl_context context, const DeviceInfo& device, cl_program 
     }
     scatterKernel_ = createKernel(program, "scatterToCells");
     sortKernel_ = createKernel(program, "sortCellSegments");
+    sortAndGatherKernel_ = createKernel(program, "sortAndGatherCells");
     groupSize_ = kGridGroupSize;
-    for (cl_kernel k : {countKernel_.get(), scatterKernel_.get(), sortKernel_.get()})
+    for (cl_kernel k : {countKernel_.get(), scatterKernel_.get(), sortKernel_.get(), sortAndGatherKernel_.get()})
         groupSize_ = std::min(groupSize_, kernelWorkGroupLimit(k, device.id));
     std::size_t scanLimit = kernelWorkGroupLimit(scanKernel_.get(), device.id);
     if (!onePassScan_) {
@@ -106,14 +107,26 @@ void DeviceGrid::count(cl_command_queue queue, cl_mem state) {
     enqueue1d(queue, countKernel_.get(), particleCount_, groupSize_, "countCells", profiler_);
 }
 
-void DeviceGrid::build(cl_command_queue queue, cl_mem ids, cl_mem sortedIds, cl_mem halt) {
-    const cl_uint cellCount = cl_uint(cellCount_);
+void DeviceGrid::scanAndScatter(cl_command_queue queue, cl_mem ids, cl_mem sortedIds, cl_mem halt) {
     onePassScan_ ? scanInOnePass(queue, halt) : scanInLaunches(queue, halt);
     setKernelArgs(scatterKernel_.get(), halt, cellOf_.get(), rankInCell_.get(), cells_.get(), cl_uint(particleCount_),
                   ids, cellOrder_.get(), sortedIds);
     enqueue1d(queue, scatterKernel_.get(), particleCount_, groupSize_, "scatterToCells", profiler_);
-    setKernelArgs(sortKernel_.get(), halt, cells_.get(), cellCount, cellOrder_.get(), sortedIds, nextCounts_.get());
+}
+
+void DeviceGrid::build(cl_command_queue queue, cl_mem ids, cl_mem sortedIds, cl_mem halt) {
+    scanAndScatter(queue, ids, sortedIds, halt);
+    setKernelArgs(sortKernel_.get(), halt, cells_.get(), cl_uint(cellCount_), cellOrder_.get(), sortedIds,
+                  nextCounts_.get());
     enqueue1d(queue, sortKernel_.get(), cellCount_, groupSize_, "sortCellSegments", profiler_);
+}
+
+void DeviceGrid::buildAndGather(cl_command_queue queue, cl_mem ids, cl_mem sortedIds, cl_mem halt, cl_mem state,
+                                cl_mem gathered) {
+    scanAndScatter(queue, ids, sortedIds, halt);
+    setKernelArgs(sortAndGatherKernel_.get(), halt, cells_.get(), cl_uint(cellCount_), cellOrder_.get(), sortedIds,
+                  nextCounts_.get(), state, gathered, cellOf_.get());
+    enqueue1d(queue, sortAndGatherKernel_.get(), cellCount_, groupSize_, "sortAndGatherCells", profiler_);
 }
 
 void DeviceGrid::resetScan(cl_command_queue queue) {

@@ -31,7 +31,9 @@ public:
                    cl_command_queue queue, Profiler* profiler = nullptr);
 
     // The grid and state of a step: `state[slots[k]]` is the disk at
-    // sorted position k, `ids[k]` its id, `cellOf[slots[k]]` its cell.
+    // sorted position k, `ids[k]` its id, `cellOf[slots[k]]` its cell; with
+    // `slots` null, the state is in sorted order (kernels/pairwise.h,
+    // carom_slot).
     // `halt`: one word, CAROM_RUNNING while a chunk of steps runs on; its
     // kernels do nothing once it says the chunk stopped (startPairwiseStep).
     struct StepBuffers {

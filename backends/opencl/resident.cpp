@@ -175,24 +175,25 @@ std::uint64_t OpenClResidentBackend::stepPairwiseChunk(std::uint64_t substeps, s
     return taken;
 }
 
-// The start (and its check), the grid, the rounds, and the finish into
-// next_ in this substep's cell order, counted into the next grid; the
-// buffers swap roles as if it ran (stepPairwiseChunk undoes that for the
-// substeps a halt skipped).
+// The start (and its check), the grid with the state gathered into its
+// order in next_ (so the searches look up no slots), the rounds, and the
+// finish in place there, counted into the next grid; the buffers swap roles
+// as if it ran (stepPairwiseChunk undoes that for the substeps a halt
+// skipped).
 void OpenClResidentBackend::enqueuePairwiseSubstep(const CaromStepParams& step,
                                                    const DevicePairwise::StartCheck& check) {
     pairwise_.enqueueStart(queue_.get(), halt_.get(), check);
-    deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get(), halt_.get());
+    deviceGrid_.buildAndGather(queue_.get(), ids_.get(), sortedIds_.get(), halt_.get(), state_.get(), next_.get());
     pairwise_.enqueueStep(queue_.get(),
-                          {state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(), deviceGrid_.cellOf(),
-                           deviceGrid_.cells(), tallies_.get(), halt_.get()},
+                          {next_.get(), nullptr, sortedIds_.get(), deviceGrid_.cellOf(), deviceGrid_.cells(),
+                           tallies_.get(), halt_.get()},
                           step);
     speedParity_ = 1 - speedParity_;
-    setKernelArgs(finishAndCountKernel_.get(), halt_.get(), state_.get(), deviceGrid_.cellOrder(), sortedIds_.get(),
-                  step, next_.get(), tallies_.get(), deviceGrid_.nextCounts(), deviceGrid_.cellOf(),
-                  deviceGrid_.rankInCell(), pairwise_.lists(), DevicePairwise::speedIndex(), cl_uint{speedParity_},
-                  check.stepIndex, DevicePairwise::nonFiniteIndex(), DevicePairwise::roundsIndex());
-    setLocalArg(finishAndCountKernel_.get(), 16, reductionGroupSize_ * sizeof(cl_float));
+    setKernelArgs(finishAndCountKernel_.get(), halt_.get(), next_.get(), sortedIds_.get(), step, tallies_.get(),
+                  deviceGrid_.nextCounts(), deviceGrid_.cellOf(), deviceGrid_.rankInCell(), pairwise_.lists(),
+                  DevicePairwise::speedIndex(), cl_uint{speedParity_}, check.stepIndex,
+                  DevicePairwise::nonFiniteIndex(), DevicePairwise::roundsIndex());
+    setLocalArg(finishAndCountKernel_.get(), 14, reductionGroupSize_ * sizeof(cl_float));
     enqueue1d(queue_.get(), finishAndCountKernel_.get(), finishItems_, reductionGroupSize_, "finishPairwiseAndCount",
               profiler_.get());
     swapStepBuffers();
