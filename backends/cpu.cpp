@@ -395,9 +395,12 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
             arriveAll(passes, kEnd);
         } else {
             if (!listed) buildGridInRegion(passes, kGridPass, gridBuilder_, grid_, state, count);
-            // State by id, so a disk's slot is its id: the disks in the grid's
-            // order (sortedIndices) or, with the lists, by id serve as both.
+            // The state is by id. Without the lists a disk's sorted position
+            // k gives sortedIndices[k], both its slot and its id; with them
+            // the positions are the ids (identity_), and no slots are looked
+            // up (carom_slot).
             const unsigned int* sorted = listed ? identity_.data() : grid_.sortedIndices.data();
+            const unsigned int* slots = listed ? nullptr : sorted;
             const CaromNeighbours neighbours =
                 listed ? CaromNeighbours{startCells_.data(), grid_.cells.data(), lists_.starts(), lists_.list()}
                        : carom_grid_neighbours(grid_.cellOf.data(), grid_.cells.data());
@@ -413,11 +416,11 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
                 // searches read it.
                 if (listed)
                     startCells_[k] = static_cast<unsigned int>(carom_cell_index(state[k].position, grid_.geometry));
-                carom_find_event(static_cast<unsigned int>(k), state, sorted, sorted, neighbours, step, events,
+                carom_find_event(static_cast<unsigned int>(k), state, slots, sorted, neighbours, step, events,
                                  CAROM_SEARCH_FORWARD, firstChanged, firstDirty, firstPending, firstEpoch);
             });
             auto dirtySearch = [&](std::size_t e) {
-                carom_find_event(dirty_[e], state, sorted, sorted, neighbours, step, events, CAROM_SEARCH_ALL,
+                carom_find_event(dirty_[e], state, slots, sorted, neighbours, step, events, CAROM_SEARCH_ALL,
                                  firstChanged, firstDirty, firstPending, firstEpoch);
             };
 
@@ -438,10 +441,10 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
                         for (std::size_t e = 0; e < length; ++e) item(e);
                 };
                 run(pass, pendingCount[round - 1], [&](std::size_t e) {
-                    carom_resolve_event(pending[e], state, sorted, sorted, events, step, tallies, changed, next, epoch);
+                    carom_resolve_event(pending[e], state, slots, sorted, events, step, tallies, changed, next, epoch);
                 });
                 run(pass + 1, changedCount[round], [&](std::size_t e) {
-                    carom_find_event(changed_[e], state, sorted, sorted, neighbours, step, events, CAROM_SEARCH_CHANGED,
+                    carom_find_event(changed_[e], state, slots, sorted, neighbours, step, events, CAROM_SEARCH_CHANGED,
                                      changed, dirty, next, epoch);
                 });
             };
