@@ -3,8 +3,9 @@
  *
  * A disk is its position k in sortedIndices (`ids`); `state[slots[k]]` is
  * its particle and `cellOf[slots[k]]` its cell: the host-grid pipeline stores the
- * particles by id (slots = ids), the resident one in the step's own sorted
- * order, gathered as its grid was built (slots null: carom_slot).
+ * particles by id (slots = ids), the resident one in the cell order of the
+ * step before (slots = cellOrder) or, up to 2^18 disks, in the step's own
+ * sorted order, gathered as its grid was built (slots null: carom_slot).
  *
  * A step's lists live in one buffer (CaromDeviceLists), whose first words
  * hold their lengths, two per round (CAROM_PENDING_LENGTH,

@@ -105,24 +105,27 @@ static inline float carom_group_max(float value, __local float* scratch)
     return largest;
 }
 
-/* The end of a pairwise step, after its rounds (kernels/pairwise.cl), in
- * place: `state` holds the step's particles in sorted order
- * (sortAndGatherCells), particle sortedIds[k] at k, each finished and
- * counted into the next step's grid. The kernel also takes the largest
- * v.x^2 + v.y^2 of the new state, which sizes the next step's substeps, so
- * that needs no pass of its own: each work-item strides over the particles,
- * the work-group (a power of two) reduces, and atomic_max on the float's bits
- * (non-negative floats order like their bits) collects it in
- * lengths[speedIndex + parity]; the first work-item zeroes the other word for
- * the step after. max is exact in any order: this equals the maxSpeedSquared
- * reduction bit for bit. A disk left non-finite is recorded under
- * `stepIndex` in lengths[nonFiniteIndex..+1] (carom_record_non_finite), and
- * the rounds this step used, at most, in lengths[roundsIndex]. The host
+/* The end of a pairwise step, after its rounds (kernels/pairwise.cl): for
+ * each k, particle sortedIds[k] is finished from slot
+ * carom_slot(cellOrder, k) of `state` into slot k of `next` (in place where
+ * the state was gathered into sorted order, sortAndGatherCells: `state` is
+ * `next` and cellOrder null) and counted into the next step's grid. The
+ * kernel also takes the largest v.x^2 + v.y^2 of the new state, which sizes
+ * the next step's substeps, so that needs no pass of its own: each work-item
+ * strides over the particles, the work-group (a power of two) reduces, and
+ * atomic_max on the float's bits (non-negative floats order like their bits)
+ * collects it in lengths[speedIndex + parity]; the first work-item zeroes the
+ * other word for the step after. max is exact in any order: this equals the
+ * maxSpeedSquared reduction bit for bit. A disk left non-finite is recorded
+ * under `stepIndex` in lengths[nonFiniteIndex..+1] (carom_record_non_finite),
+ * and the rounds this step used, at most, in lengths[roundsIndex]. The host
  * reads them back with the list lengths, in one read. */
 __kernel void finishPairwiseAndCount(__global const uint* halt,
-                                     __global Particle* state,
+                                     __global const Particle* state,
+                                     __global const uint* cellOrder,
                                      __global const uint* sortedIds,
                                      CaromStepParams step,
+                                     __global Particle* next,
                                      __global ContactTally* tallies,
                                      __global uint* nextCounts,
                                      __global uint* cellOf,
@@ -144,8 +147,8 @@ __kernel void finishPairwiseAndCount(__global const uint* halt,
         if (lengths[CAROM_CHANGED_LENGTH(r)] > 0u) atomic_max(&lengths[roundsIndex], r);
     float largest = 0.0f;
     for (uint k = get_global_id(0); k < step.count; k += get_global_size(0))
-        largest = fmax(largest, carom_finish_slot(k, state, 0, sortedIds, step, state, tallies, nextCounts, cellOf,
-                                                  rankInCell, stepIndex, lengths + nonFiniteIndex));
+        largest = fmax(largest, carom_finish_slot(k, state, cellOrder, sortedIds, step, next, tallies, nextCounts,
+                                                  cellOf, rankInCell, stepIndex, lengths + nonFiniteIndex));
     if (get_global_id(0) == 0) speedWords[1 - parity] = 0u;
     const float groupLargest = carom_group_max(largest, scratch);
     if (get_local_id(0) == 0) atomic_max(&speedWords[parity], as_uint(groupLargest));

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
+#include <string>
 #include <utility>
 
 #include "backends/opencl/program.h"
@@ -22,6 +24,24 @@ constexpr std::size_t kFinishGroupsPerComputeUnit = 16;
 // request between chunks is not kept waiting. The chunk's length follows
 // its last duration; it changes no result.
 constexpr auto kChunkSeconds = 0.01;
+// Pairwise steps of up to this many disks gather the state into the step's
+// sorted order: their searches then load no slots, which made a step 5-13 %
+// faster at 10^4-10^5 disks on an H100; from 10^6 the gather's copy (64
+// bytes a disk) costs more than that saves (4-6 % slower;
+// bench/results/nvidia-h100-gather.txt).
+constexpr std::size_t kGatherUpTo = std::size_t{1} << 18;
+
+// Whether pairwise steps of `count` disks gather the state (kGatherUpTo);
+// CAROM_PAIRWISE_GATHER=on or off overrides the choice (the tests run both).
+bool gathers(std::size_t count) {
+    if (const char* forced = std::getenv("CAROM_PAIRWISE_GATHER")) {
+        const std::string gather = forced;
+        if (gather == "on") return true;
+        if (gather == "off") return false;
+        throw Error("CAROM_PAIRWISE_GATHER is \"" + gather + "\"; it may be on or off (or unset)");
+    }
+    return count <= kGatherUpTo;
+}
 
 }  // namespace
 
@@ -55,6 +75,7 @@ void OpenClResidentBackend::loadState(const std::vector<Particle>& particles) {
     deviceGrid_.count(queue_.get(), state_.get());
     speedKnown_ = false;
     inOneGroup_ = n <= kSmallSystemParticles;
+    gathered_ = gathers(n);
     if (world_.collisions != CollisionScheme::Pairwise) return;
     pairwise_ = DevicePairwise(context_.get(), device_, program_.get(), n, queue_.get(), profiler_.get());
     // The finish's record: no disk non-finite, no speed yet (zero).
@@ -175,25 +196,31 @@ std::uint64_t OpenClResidentBackend::stepPairwiseChunk(std::uint64_t substeps, s
     return taken;
 }
 
-// The start (and its check), the grid with the state gathered into its
-// order in next_ (so the searches look up no slots), the rounds, and the
-// finish in place there, counted into the next grid; the buffers swap roles
-// as if it ran (stepPairwiseChunk undoes that for the substeps a halt
-// skipped).
+// The start (and its check), the grid, the rounds, and the finish into
+// next_ in this substep's cell order, counted into the next grid; the
+// buffers swap roles as if it ran (stepPairwiseChunk undoes that for the
+// substeps a halt skipped). Gathered, the grid's sort copies the state into
+// next_ in its order, where the searches find disk k at k (no slots) and the
+// finish runs in place.
 void OpenClResidentBackend::enqueuePairwiseSubstep(const CaromStepParams& step,
                                                    const DevicePairwise::StartCheck& check) {
     pairwise_.enqueueStart(queue_.get(), halt_.get(), check);
-    deviceGrid_.buildAndGather(queue_.get(), ids_.get(), sortedIds_.get(), halt_.get(), state_.get(), next_.get());
-    pairwise_.enqueueStep(queue_.get(),
-                          {next_.get(), nullptr, sortedIds_.get(), deviceGrid_.cellOf(), deviceGrid_.cells(),
-                           tallies_.get(), halt_.get()},
-                          step);
+    if (gathered_)
+        deviceGrid_.buildAndGather(queue_.get(), ids_.get(), sortedIds_.get(), halt_.get(), state_.get(), next_.get());
+    else
+        deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get(), halt_.get());
+    const cl_mem stepState = gathered_ ? next_.get() : state_.get();
+    const cl_mem slots = gathered_ ? nullptr : deviceGrid_.cellOrder();
+    pairwise_.enqueueStep(
+        queue_.get(),
+        {stepState, slots, sortedIds_.get(), deviceGrid_.cellOf(), deviceGrid_.cells(), tallies_.get(), halt_.get()},
+        step);
     speedParity_ = 1 - speedParity_;
-    setKernelArgs(finishAndCountKernel_.get(), halt_.get(), next_.get(), sortedIds_.get(), step, tallies_.get(),
-                  deviceGrid_.nextCounts(), deviceGrid_.cellOf(), deviceGrid_.rankInCell(), pairwise_.lists(),
-                  DevicePairwise::speedIndex(), cl_uint{speedParity_}, check.stepIndex,
+    setKernelArgs(finishAndCountKernel_.get(), halt_.get(), stepState, slots, sortedIds_.get(), step, next_.get(),
+                  tallies_.get(), deviceGrid_.nextCounts(), deviceGrid_.cellOf(), deviceGrid_.rankInCell(),
+                  pairwise_.lists(), DevicePairwise::speedIndex(), cl_uint{speedParity_}, check.stepIndex,
                   DevicePairwise::nonFiniteIndex(), DevicePairwise::roundsIndex());
-    setLocalArg(finishAndCountKernel_.get(), 14, reductionGroupSize_ * sizeof(cl_float));
+    setLocalArg(finishAndCountKernel_.get(), 16, reductionGroupSize_ * sizeof(cl_float));
     enqueue1d(queue_.get(), finishAndCountKernel_.get(), finishItems_, reductionGroupSize_, "finishPairwiseAndCount",
               profiler_.get());
     swapStepBuffers();

@@ -63,6 +63,7 @@ private:
     opencl::Kernel finishAndCountKernel_;  // pairwise: finishPairwiseAndCount
     opencl::DeviceSmallSystem smallSystem_;
     bool inOneGroup_ = false;  // steps run whole in one work-group (smallSystem_)
+    bool gathered_ = false;    // pairwise steps gather the state into sorted order (kGatherUpTo)
     opencl::DeviceGrid deviceGrid_;
     opencl::Buffer ids_;               // the particle id in each slot of state_
     opencl::Buffer sortedIds_;         // sortedIndices, then the ids of next_'s slots
