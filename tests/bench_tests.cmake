@@ -48,7 +48,7 @@ function(carom_bench_profile_test name methods particles parts)
 endfunction()
 carom_bench_profile_test(cpu_pairwise cpu 500 "neighbour lists (host, 1 thread)")
 if(OpenCL_FOUND)
-    carom_cli_test(run_resident pass "\"backend\": \"opencl\""
+    carom_cli_test(run_resident pass "\"backend\": \"opencl\".*\"device_bytes_peak\": [1-9]"
                    "run|--backend|opencl|--pipeline|resident|--particles|100|--steps|10|--json")
     carom_cli_test(pipeline_unknown fail "--pipeline: fast not in \\{auto,host-grid,resident\\}" "${run}|--pipeline|fast")
     carom_cli_test(pipeline_resident_on_cpu fail "--pipeline: 'resident' needs --backend opencl"

@@ -33,6 +33,11 @@ endforeach()
 if(NOT seen MATCHES "^naive-cpu/simultaneous/;cpu/simultaneous/;cpu/pairwise/[0-9]")
     message(FATAL_ERROR "unexpected rows (method/scheme/pairwise_over_simultaneous): ${seen}\n${text}")
 endif()
+# The CPU engines hold nothing on a device.
+string(JSON deviceBytes GET "${results}" 1 device_bytes_per_particle)
+if(NOT deviceBytes EQUAL 0)
+    message(FATAL_ERROR "the cpu method's device_bytes_per_particle is ${deviceBytes}, not 0:\n${text}")
+endif()
 # The events row: its rates (events of every kind include the collisions), the
 # warm-up off the lattice (TimingPlan::warmupCollisionsPerDisk) and the counts
 # behind them; no step time.

@@ -82,6 +82,7 @@ Timing timeSteps(Stepper& stepper, const TimingPlan& plan) {
     }
     timing.secondsPerStep = median(timing.sampleSecondsPerStep);
     timing.substepsPerStep = stepper.substepsPerStep();
+    timing.devicePeakBytes = stepper.devicePeakBytes();
     if (warm) {
         const EventCounts end = stepper.events()->counts;
         const EventCounts& start = warm->counts;

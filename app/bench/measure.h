@@ -44,8 +44,9 @@ struct Timing {
     std::vector<double> sampleSecondsPerStep;  // each sample's mean step time
     std::uint64_t stepsPerSample = 1;
     std::uint64_t warmupSteps = 0;
-    double substepsPerStep = 1;        // the mean over every step taken (Stepper::substepsPerStep)
-    std::optional<EventRates> events;  // for the events method
+    double substepsPerStep = 1;         // the mean over every step taken (Stepper::substepsPerStep)
+    std::uint64_t devicePeakBytes = 0;  // Stepper::devicePeakBytes, after the samples
+    std::optional<EventRates> events;   // for the events method
 };
 
 // Warms the stepper up, then times plan.samples samples of whole steps; the

@@ -53,6 +53,7 @@ public:
         if (world_.def().collisions != CollisionScheme::Events) return std::nullopt;
         return EventProgress{world_.eventCounts(), world_.time()};
     }
+    std::uint64_t devicePeakBytes() const override { return world_.deviceMemory().peakBytes; }
 
 private:
     World world_;
@@ -72,6 +73,7 @@ public:
         return double(totals.substeps) / double(totals.steps);
     }
     std::optional<EventProgress> events() const override { return std::nullopt; }
+    std::uint64_t devicePeakBytes() const override { return backend_->deviceMemory().peakBytes; }
 
 private:
     std::unique_ptr<Backend> backend_;

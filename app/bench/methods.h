@@ -63,6 +63,8 @@ public:
     // The events method's progress (World::eventCounts, World::time);
     // nothing for the stepped methods.
     virtual std::optional<EventProgress> events() const = 0;
+    // The most the engine's buffers held on its device at once (World::deviceMemory); 0 on the CPU.
+    virtual std::uint64_t devicePeakBytes() const = 0;
 };
 
 // `method` under world.collisions, on world.device for the OpenCL methods,

@@ -218,6 +218,7 @@ void writeJson(std::ostream& out, const Report& report) {
              {{"device", t.device}, {"host", t.host}, {"upload", t.upload}, {"download", t.download}}},
             {"floor_ms_per_step", floorSecondsPerStep(report, row) * 1e3},
             {"fraction_of_floor", fractionOfFloor(report, row)},
+            {"device_bytes_per_particle", double(row.timing.devicePeakBytes) / double(row.particles)},
         });
         if (!row.profile.empty()) {
             json profile = json::object();
