@@ -522,9 +522,9 @@ void printSummary(const World& world, const Result& r, const std::string& resume
     const DeviceMemoryUse device = world.deviceMemory();
     const std::uint64_t host = peakResidentBytes();
     if (device.peakBytes > 0)
-        std::printf("  memory       device %.3g GB at peak (%.0f bytes a disk), host %.3g GB at peak (%.0f)\n",
-                    double(device.peakBytes) * 1e-9, double(device.peakBytes) / n, double(host) * 1e-9,
-                    double(host) / n);
+        std::printf(
+            "  memory       device %.3g GB at peak (%.0f bytes a disk), host %.3g GB at peak (%.0f bytes a disk)\n",
+            double(device.peakBytes) * 1e-9, double(device.peakBytes) / n, double(host) * 1e-9, double(host) / n);
     else if (host > 0)
         std::printf("  memory       host %.3g GB at peak (%.0f bytes a disk)\n", double(host) * 1e-9, double(host) / n);
     const std::string written = outputs.written();
