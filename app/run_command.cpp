@@ -97,7 +97,8 @@ Start planRun(const RunOptions& o) {
         start.resumed = true;
         start.world = start.checkpoint->world();
         start.step = start.checkpoint->step();
-        start.world.maxTravel = o.scene.world.maxTravel;  // a run option, not part of the checkpoint
+        start.world.maxTravel = o.scene.world.maxTravel;  // run options, not part of the checkpoint
+        start.world.skin = o.scene.world.skin;
         refuseSubstepsWithEvents(start.world, maxTravelOption(start.world.maxTravel));
     } else {
         start.setup = makeSetup(o.scene);

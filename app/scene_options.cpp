@@ -29,6 +29,7 @@ void applyOverrides(const SceneOptions& o, SceneFileDef& scene) {
     }
     if (given("--dt") && !o.dtAuto) scene.world.dt = o.world.dt;
     if (given("--max-travel")) scene.world.maxTravel = o.world.maxTravel;
+    if (given("--skin")) scene.world.skin = o.world.skin;
     if (o.dtAuto && scene.world.maxTravel == 0.0f) scene.world.maxTravel = kDefaultMaxTravel;
     if (given("--boundary")) scene.world.boundary = o.world.boundary;
     if (given("--collisions")) scene.world.collisions = o.world.collisions;
@@ -113,7 +114,7 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
                 .add_option("--backend", o.backend.kind,
                             "Compute backend, or auto: OpenCL on a GPU, else cpu (which outruns OpenCL on CPU "
                             "devices such as PoCL); --device or --pipeline asks for OpenCL, --collisions events "
-                            "for the CPU")
+                            "and --skin for the CPU")
                 ->check(CLI::IsMember(backends))
                 ->capture_default_str(),
             o.given);
@@ -179,6 +180,12 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
                 "Split each step into substeps so that no disk moves more than this fraction of the smallest radius in "
                 "one (0 = off; --dt auto uses 0.2)")
             ->transform(realNumber());
+    auto* skin = command
+                     .add_option("--skin", o.world.skin,
+                                 "The CPU engine's neighbour lists (pairwise scheme): each disk lists the disks "
+                                 "within contact plus this distance, again once the disks have moved about half of "
+                                 "it (0 = automatic, about the largest radius); changes the speed, never a result")
+                     ->transform(realNumber());
     auto* boundary = command
                          .add_option_function<std::string>(
                              "--boundary", [&o](const std::string& name) { o.world.boundary = parseBoundary(name); },
@@ -213,7 +220,7 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
                                   "values"))
         ->excludes(input);
     for (CLI::Option* overriding : {particles, packing, box, radius, radiusMin, radiusMax, mass, massMin, massMax,
-                                    speed, seed, dt, gravity, maxTravel, boundary, collisions})
+                                    speed, seed, dt, gravity, maxTravel, skin, boundary, collisions})
         tracked(overriding, o.given);
 }
 
@@ -231,6 +238,7 @@ EngineChoice engineChoiceOf(const WorldDef& world, const SceneOptions& o) {
     }
     if (world.collisions == CollisionScheme::Events)
         return {EngineDef{}, "--backend auto: the events scheme runs on the CPU"};
+    if (world.skin > 0.0f) return {EngineDef{}, "--backend auto: --skin sizes the CPU engine's neighbour lists"};
     EngineChoice choice = chooseEngine();
     choice.reason = "--backend auto: " + choice.reason;
     return choice;

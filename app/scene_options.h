@@ -42,7 +42,7 @@ struct SceneOptions {
 std::vector<std::string> backendKinds();
 
 // Adds --backend, --device, --pipeline, --particles, --packing, --box, --radius...,
-// --mass..., --speed, --seed, --dt, --max-travel, --gravity, --boundary,
+// --mass..., --speed, --seed, --dt, --max-travel, --skin, --gravity, --boundary,
 // --input-state and --scene.
 void addSceneOptions(CLI::App& command, SceneOptions& options);
 

@@ -8,6 +8,7 @@
 #include <string>
 #include <utility>
 
+#include "engine/error_message.h"
 #include "engine/parallel.h"
 #include "kernels/physics.h"
 
@@ -41,6 +42,10 @@ void Backend::setParticles(const std::vector<Particle>& particles, std::uint64_t
         minRadius = std::min(minRadius, p.radius);
         midStep += p.time != 0.0f || p.lastPartner != 0u;
     }
+    if (world_.skin > kMaxSkinRadii * maxRadius)
+        fail("skin ", world_.skin, " is more than ", kMaxSkinRadii, " times the largest radius ", maxRadius,
+             " (neighbour lists that long would hold most of the box); allowed: up to ", kMaxSkinRadii * maxRadius,
+             ", or 0 (automatic)");
     grid_.geometry = gridGeometryFor(world_, maxRadius, particles.size());
     gridTravel_ = gridTravelAllowance(grid_.geometry, world_.width, world_.height, maxRadius, world_.boundary);
     minRadius_ = minRadius;

@@ -510,10 +510,14 @@ CpuBackend::ListPlan CpuBackend::planLists(float dt, int threads, std::size_t ch
     const float gravity = std::hypot(world_.gravity.x, world_.gravity.y);
     const float travel = kPairwiseSpeedMargin * (std::sqrt(maxSpeedSquared()) + gravity * dt) * dt;
     if (lists_.hold(maxDisplacementSquared_, travel)) return {true, false};
+    // Lists built now with a skin this substep can cross (a small WorldDef::skin) would not hold: the grid then.
+    const float skin = NeighbourLists::skinFor(world_.skin, maxRadius_, gridTravel());
+    if (!NeighbourLists::covers(skin, 0.0f, travel)) {
+        lists_.clear();
+        return {};
+    }
     maxDisplacementSquared_ = 0.0f;
-    return {false,
-            lists_.begin(state_->data(), state_->size(), maxRadius_,
-                         NeighbourLists::automaticSkin(maxRadius_, gridTravel()), caromBoxOf(world_), threads, chunk)};
+    return {false, lists_.begin(state_->data(), state_->size(), maxRadius_, skin, caromBoxOf(world_), threads, chunk)};
 }
 
 }  // namespace carom

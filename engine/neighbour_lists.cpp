@@ -40,7 +40,8 @@ void forEachWithin(std::size_t i, const Particle* particles, const Grid& grid, C
 
 }  // namespace
 
-float NeighbourLists::automaticSkin(float maxRadius, float travel) {
+float NeighbourLists::skinFor(float asked, float maxRadius, float travel) {
+    if (asked > 0.0f) return asked;
     // Half a diameter leaves the disks 0.3 radii to move between builds at
     // the pairwise scheme's usual allowance (0.15 radii a substep); a larger
     // one (cells widened in a dilute box) widens it.
@@ -119,11 +120,11 @@ void NeighbourLists::place(std::size_t c) {
     if (c + 1 == chunkLists_.size()) built_ = true;
 }
 
-bool NeighbourLists::hold(float maxDisplacementSquared, float travel) const {
+bool NeighbourLists::covers(float skin, float maxDisplacementSquared, float travel) {
     // A pair left out was more than contact plus the skin apart at the
     // build: it can meet only once both disks' moves since then and in the
     // substep close the skin. A tenth of the skin is left to rounding.
-    return built_ && 2.0 * (std::sqrt(double(maxDisplacementSquared)) + double(travel)) < 0.9 * double(skin_);
+    return 2.0 * (std::sqrt(double(maxDisplacementSquared)) + double(travel)) < 0.9 * double(skin);
 }
 
 }  // namespace carom

@@ -19,10 +19,11 @@ namespace carom {
 
 class NeighbourLists {
 public:
-    // The skin for disks of largest radius `maxRadius` that travel less than
-    // `travel` a substep (Backend's grid allowance): half a diameter, and
-    // room for the substep's travel besides.
-    static float automaticSkin(float maxRadius, float travel);
+    // The skin: `asked` (WorldDef::skin) where it is > 0; else, for disks of
+    // largest radius `maxRadius` that travel less than `travel` a substep
+    // (Backend's grid allowance), half a diameter, and room for the
+    // substep's travel besides.
+    static float skinFor(float asked, float maxRadius, float travel);
 
     // A build runs in phases, each shared by a team of threads (the same
     // lists, bit for bit, whoever runs what): begin (one thread), the
@@ -50,7 +51,11 @@ public:
     // Whether the lists built last still hold every pair that can meet in a
     // substep in which no disk travels `travel` or more, after the disks
     // moved at most sqrt(maxDisplacementSquared) since the build.
-    bool hold(float maxDisplacementSquared, float travel) const;
+    bool hold(float maxDisplacementSquared, float travel) const {
+        return built_ && covers(skin_, maxDisplacementSquared, travel);
+    }
+    // Whether lists of this skin hold every pair that can meet in such a substep.
+    static bool covers(float skin, float maxDisplacementSquared, float travel);
     void clear() { built_ = false; }
     bool built() const { return built_; }
 

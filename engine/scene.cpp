@@ -186,6 +186,8 @@ void validate(const WorldDef& world) {
         fail("boundary code ", static_cast<int>(world.boundary), " is unknown; allowed: walls, periodic");
     if (!(std::isfinite(world.maxTravel) && world.maxTravel >= 0.0f))
         fail("max-travel must be a finite number >= 0 (0 = fixed dt), got ", world.maxTravel);
+    if (!(std::isfinite(world.skin) && world.skin >= 0.0f))
+        fail("skin must be a finite number >= 0 (0 = automatic), got ", world.skin);
     if (world.collisions != CollisionScheme::Simultaneous && world.collisions != CollisionScheme::Pairwise &&
         world.collisions != CollisionScheme::Events)
         fail("collision scheme code ", static_cast<int>(world.collisions),

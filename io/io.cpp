@@ -67,6 +67,7 @@ World loadCheckpoint(CheckpointFile checkpoint, const WorldDef& def) {
     const Snapshot& c = checkpoint.impl_->contents;
     WorldDef resumed = onEngine(c.world, EngineDef{def.engine, def.device});
     resumed.maxTravel = def.maxTravel;  // not in a checkpoint
+    resumed.skin = def.skin;            // nor this
     World world(resumed);
     world.restore(c, "checkpoint '" + checkpoint.impl_->path + "'");
     return world;

@@ -38,6 +38,15 @@ endif()
 carom_input_test(dt_auto_max_travel_zero
                  "--dt auto splits each step so that no disk moves more than --max-travel radii; --max-travel 0"
                  "${base}|--steps|1|--dt|auto|--max-travel|0")
+# --skin sizes the CPU engine's pairwise neighbour lists: refused out of range and where no lists take it; given
+# alone, it asks --backend auto for the CPU.
+carom_input_test(skin_negative "skin must be a finite number >= 0 \\(0 = automatic\\), got -1" "${base}|--steps|1|--skin|-1")
+carom_input_test(skin_too_wide "skin 9 is more than 8 times the largest radius 1 .*allowed: up to 8, or 0 \\(automatic\\)"
+                 "${base}|--steps|1|--skin|9")
+carom_input_test(skin_simultaneous "WorldDef::skin \\(--skin\\) sizes the CPU engine's neighbour lists.*got 0.5"
+                 "${base}|--steps|1|--skin|0.5|--collisions|simultaneous")
+carom_cli_test(skin_picks_the_cpu pass "\"backend_reason\": \"--backend auto: --skin sizes the CPU engine's neighbour lists\""
+               "run|--particles|100|--steps|5|--skin|0.5|--json")
 # The CPU backend has no devices or pipelines: naming one is a mistake.
 carom_input_test(cpu_with_device "--device: '5' needs --backend opencl; the cpu backend has no devices to choose from" "${base}|--steps|1|--device|5")
 carom_input_test(cpu_with_pipeline "--pipeline: 'host-grid' needs --backend opencl; the cpu backend has one pipeline"

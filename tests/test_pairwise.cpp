@@ -320,3 +320,36 @@ TEST_CASE("pairwise: the CPU's neighbour lists give the bits of the grid search"
         CHECK(listed.images() == grid.images());
     }
 }
+
+// WorldDef::skin sets how far the lists reach: a larger skin builds them
+// less often; one that a substep's travel alone would close leaves every
+// substep to the grid. The bits are the grid's whatever the skin.
+TEST_CASE("pairwise: the CPU's neighbour lists give the grid's bits with any skin") {
+    const InitialState s = makeInitialState(SceneDef{3000, 0.4f, 0, 0, 0.5f, 1.0f, 1, 2, 2, 23});
+    WorldDef world = pairwiseWorld(s.width, s.height, 0.01f, {0, 0}, Boundary::Periodic);
+    CpuBackend grid(world);
+    grid.useNeighbourLists(false);
+    grid.setParticles(s.particles);
+    grid.step(300);
+    std::vector<Particle> expected;
+    grid.readParticles(expected);
+    std::uint64_t builds[4] = {};
+    const float skins[4] = {0.01f, 0.3f, 1.5f, 7.5f};  // radii just under 1: about 8 is the largest allowed
+    for (int i = 0; i < 4; ++i) {
+        CAPTURE(skins[i]);
+        world.skin = skins[i];
+        CpuBackend listed(world);
+        listed.setParticles(s.particles);
+        listed.step(300);
+        std::vector<Particle> got;
+        listed.readParticles(got);
+        REQUIRE(got.size() == expected.size());
+        CHECK(std::memcmp(got.data(), expected.data(), got.size() * sizeof(Particle)) == 0);
+        CHECK(listed.contacts().collisions == grid.contacts().collisions);
+        builds[i] = listed.neighbourListBuilds();
+    }
+    CHECK(builds[0] == 0);  // 0.01 is less than two substeps' travel: the grid every substep
+    CHECK(builds[1] > builds[2]);
+    CHECK(builds[2] > builds[3]);
+    CHECK(builds[3] > 0);
+}

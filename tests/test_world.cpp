@@ -578,6 +578,38 @@ TEST_CASE("world: dt and gravity change between steps, and the collision count o
                          Error);
 }
 
+TEST_CASE("world: a skin is refused where no neighbour lists take it, and beyond 8 largest radii") {
+    const Scene scene = gas(300, 0.3f);  // radii up to 1 (0.9989)
+    WorldDef def = worldFor(scene, ComputeEngine::Cpu, Boundary::Walls);
+    const std::string elsewhere =
+        "WorldDef::skin (--skin) sizes the CPU engine's neighbour lists, which only the pairwise scheme keeps: it "
+        "must be 0 on the OpenCL engines and with the simultaneous and events schemes; got 0.5";
+    def.skin = 0.5f;
+    for (CollisionScheme scheme : {CollisionScheme::Simultaneous, CollisionScheme::Events}) {
+        WorldDef other = def;
+        other.collisions = scheme;
+        CHECK_THROWS_WITH_AS(World{other}, elsewhere.c_str(), Error);
+    }
+    if (engineAvailable(ComputeEngine::OpenClResident)) {
+        WorldDef opencl = def;
+        opencl.engine = ComputeEngine::OpenClResident;
+        CHECK_THROWS_WITH_AS(World{opencl}, elsewhere.c_str(), Error);
+    }
+    for (float bad : {-1.0f, NAN, INFINITY}) {
+        def.skin = bad;
+        CHECK_THROWS_WITH_AS(World{def}, doctest::Contains("skin must be a finite number >= 0 (0 = automatic)"), Error);
+    }
+    def.skin = 8.5f;
+    World tooWide(def);
+    CHECK_THROWS_WITH_AS(tooWide.setDisks(scene.disks),
+                         doctest::Contains("skin 8.5 is more than 8 times the largest radius 0.99"), Error);
+    def.skin = 7.5f;
+    World widest(def);
+    widest.setDisks(scene.disks);
+    widest.step(5);
+    CHECK(widest.def().skin == 7.5f);
+}
+
 TEST_CASE("world: a disk dragged and disks dropped keep the step and collision counts") {
     const Scene scene = gas(300, 0.3f);
     WorldDef def = worldFor(scene, ComputeEngine::Cpu, Boundary::Walls);

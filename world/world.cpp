@@ -19,6 +19,7 @@
 #include "backends/backend.h"
 #include "engine/diagnostics.h"
 #include "engine/disk_conversion.h"
+#include "engine/error_message.h"
 #include "engine/event_state.h"
 #include "engine/grid.h"
 #include "engine/observables.h"
@@ -320,6 +321,11 @@ World::World(const WorldDef& def) : impl_(std::make_unique<Impl>()) {
     if (def.collisions == CollisionScheme::Events && def.maxTravel != 0.0f)
         throw Error("WorldDef::maxTravel must be 0 with CollisionScheme::Events, which has no steps to split; got " +
                     std::to_string(def.maxTravel));
+    if (def.skin != 0.0f && (def.engine != ComputeEngine::Cpu || def.collisions != CollisionScheme::Pairwise))
+        fail(
+            "WorldDef::skin (--skin) sizes the CPU engine's neighbour lists, which only the pairwise scheme keeps: "
+            "it must be 0 on the OpenCL engines and with the simultaneous and events schemes; got ",
+            def.skin);
     impl_->def = def;
     impl_->backend = makeBackend(def);
 }

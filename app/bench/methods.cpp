@@ -139,8 +139,9 @@ std::map<std::string, double> profileCpu(const WorldDef& world, const std::vecto
     const std::uint64_t buildsBefore = backend.neighbourListBuilds();
     backend.step(steps);
     const double buildsPerStep = double(backend.neighbourListBuilds() - buildsBefore) / double(steps);
-    const float skin = NeighbourLists::automaticSkin(
-        maxRadius, gridTravelAllowance(grid.geometry, world.width, world.height, maxRadius, world.boundary));
+    const float skin = NeighbourLists::skinFor(
+        world.skin, maxRadius,
+        gridTravelAllowance(grid.geometry, world.width, world.height, maxRadius, world.boundary));
     NeighbourLists lists;
     const double listSeconds = secondsEach(std::min<std::uint64_t>(std::max<std::uint64_t>(steps, 1), 20), [&] {
         lists.build(particles.data(), particles.size(), maxRadius, skin, caromBoxOf(world), threads);

@@ -354,6 +354,7 @@ World Viewer::makeWorld(WorldDef def, const std::vector<Disk>& disks, const std:
     def.dt = dt_;
     def.gravity = gravityOn_ ? gravity_ : carom::Vec2{0, 0};
     def.collisions = collisions_;
+    if (def.collisions != CollisionScheme::Pairwise) def.skin = 0.0f;  // --skin: the pairwise scheme's lists only
     World world(app::withEngine(def, options_.scene));
     world.setStopCheck(&app::StopSignals::received);  // a frame's steps may take long
     world.setDisks(disks, source);

@@ -223,6 +223,14 @@ struct WorldDef {
     /// (every step is one substep) [fraction of the smallest radius], >= 0.
     /// Not with CollisionScheme::Events, which has no steps to split.
     float maxTravel = 0.0f;
+    /// The CPU engine's neighbour lists (pairwise scheme): each disk lists the
+    /// disks whose centres lie within contact plus `skin`, and the lists are
+    /// rebuilt once the disks have moved about half of it since the last
+    /// build [length]. 0 = automatic (the largest radius, more where a
+    /// substep travels far); else at most kMaxSkinRadii x the largest radius
+    /// (setDisks refuses more). Sets the speed, never a result. Must be 0 on
+    /// the OpenCL engines and with the other schemes, which keep no lists.
+    float skin = 0.0f;
     CollisionScheme collisions = CollisionScheme::Pairwise;
     ComputeEngine engine = ComputeEngine::Cpu;
     /// OpenCL engines only: which device, as an index in the order of the
@@ -252,6 +260,10 @@ void validate(const WorldDef& world);
 
 /// The maxTravel the command line's `--dt auto` uses when none is given.
 constexpr float kDefaultMaxTravel = 0.2f;
+
+/// The largest WorldDef::skin, in largest radii: the lists then hold about
+/// (2 + kMaxSkinRadii)^2 x the packing disks each.
+constexpr float kMaxSkinRadii = 8.0f;
 /// The most substeps one step may take before the run is refused as runaway.
 constexpr std::uint64_t kMaxSubsteps = 1'000'000;
 

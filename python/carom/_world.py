@@ -159,9 +159,9 @@ def _path(name: str, value) -> str:
     return path
 
 
-def _engine_name(engine: str, device, pipeline: Optional[str], events: bool = False) -> Tuple[str, str]:
+def _engine_name(engine: str, device, pipeline: Optional[str], cpu_only: bool = False) -> Tuple[str, str]:
     """The C++ engine name and device selector for `engine`, `device` and `pipeline` (and, for engine="auto",
-    whether the world runs the events scheme, which runs on the CPU)."""
+    whether the world asks for what only the CPU has: the events scheme, a skin)."""
     _choice("engine", engine, ("auto", "cpu", "opencl"))
     if device is not None and (isinstance(device, bool) or not isinstance(device, (int, str))):
         raise InputError(f"device: {device!r}; allowed: an index of carom.devices(), part of a name, or None")
@@ -169,7 +169,7 @@ def _engine_name(engine: str, device, pipeline: Optional[str], events: bool = Fa
     if engine == "auto":
         if device is not None or pipeline is not None:  # they ask for OpenCL, as on the command line
             engine = "opencl"
-        elif events:
+        elif cpu_only:
             return "cpu", ""
         else:
             name, selector, _ = _carom.choose_engine()
@@ -213,6 +213,10 @@ class World:
         FutureWarning.
     max_travel: > 0 splits each step so no disk moves more than this fraction
         of the smallest radius per substep; 0 = off.
+    skin: the CPU engine's neighbour lists (pairwise scheme): each disk lists
+        the disks within contact plus this distance, again once the disks
+        have moved about half of it; 0 = automatic (about the largest radius),
+        else at most 8 largest radii. Changes the speed, never a result.
     seed: the random seed of place(); None draws one from the OS, kept in
         world.seed so that the run can be repeated.
 
@@ -223,18 +227,19 @@ class World:
     def __init__(self, box: Sequence[float], boundary: str = "walls", dt: float = 0.01,
                  gravity: Sequence[float] = (0.0, 0.0), collisions: str = "pairwise", engine: str = "cpu",
                  device: Union[int, str, None] = None, pipeline: Optional[str] = None, max_travel: float = 0.0,
-                 seed: Optional[int] = None):
+                 skin: float = 0.0, seed: Optional[int] = None):
         width, height = _pair("box", box)
         _choice("boundary", boundary, ("walls", "periodic"))
         _choice("collisions", collisions, ("pairwise", "simultaneous", "events"))
         if collisions == "events" and engine == "opencl":
             raise InputError(f"collisions='events' runs on engine='cpu' only (one thread, in double); got engine={engine!r}")
-        engine_name, selector = _engine_name(engine, device, pipeline, collisions == "events")
+        skin = _number("skin", skin)
+        engine_name, selector = _engine_name(engine, device, pipeline, collisions == "events" or skin > 0)
         travel = _number("max_travel", max_travel)
         if not travel >= 0:
             raise InputError(f"max_travel: {max_travel!r}; allowed: >= 0 (0 = off)")
         core = _carom.World(width, height, _number("dt", dt), _pair("gravity", gravity), boundary, collisions,
-                            engine_name, selector, travel)
+                            engine_name, selector, travel, skin)
         self._adopt(core, selector, seed)
 
     def _adopt(self, core: "_carom.World", device: str, seed: Optional[int]) -> None:
@@ -263,7 +268,8 @@ class World:
 
     def __getstate__(self) -> dict:
         core = self._core
-        state = {"engine": core.engine, "device": self._device, "max_travel": core.max_travel, "seed": self.seed,
+        state = {"engine": core.engine, "device": self._device, "max_travel": core.max_travel, "skin": core.skin,
+                 "seed": self.seed,
                  "world": (core.width, core.height, core.dt, tuple(core.gravity), core.boundary,
                            core.collision_scheme)}
         if hasattr(self, "scene_steps"):
@@ -280,13 +286,14 @@ class World:
         if "checkpoint" not in state:
             width, height, dt, gravity, boundary, collisions = state["world"]
             core = _carom.World(width, height, dt, gravity, boundary, collisions, state["engine"], state["device"],
-                                state["max_travel"])
+                                state["max_travel"], state.get("skin", 0.0))
         else:
             with tempfile.TemporaryDirectory() as folder:
                 path = os.path.join(folder, "world.ckpt")
                 with open(path, "wb") as file:
                     file.write(state["checkpoint"])
-                core = _carom.World.from_checkpoint(path, state["engine"], state["device"], state["max_travel"])
+                core = _carom.World.from_checkpoint(path, state["engine"], state["device"], state["max_travel"],
+                                                    state.get("skin", 0.0))
         self._adopt(core, state["device"], state["seed"])
         if "scene_steps" in state:
             self.scene_steps = state["scene_steps"]
@@ -305,26 +312,28 @@ class World:
 
     @classmethod
     def from_scene(cls, path: Union[str, os.PathLike], engine: str = "cpu", device: Union[int, str, None] = None,
-                   pipeline: Optional[str] = None, max_travel: Optional[float] = None) -> "World":
+                   pipeline: Optional[str] = None, max_travel: Optional[float] = None, skin: float = 0.0) -> "World":
         """The world of a scene file, its disks placed as `carom run --scene path` places them.
         max_travel: None keeps the file's (its max_travel, or dt = "auto").
         world.scene_steps is the number of steps `carom run` would take."""
-        engine_name, selector = _engine_name(engine, device, pipeline)
+        skin = _number("skin", skin)
+        engine_name, selector = _engine_name(engine, device, pipeline, skin > 0)
         travel = None if max_travel is None else _number("max_travel", max_travel)
-        core, steps = _carom.World.from_scene_file(_path("path", path), engine_name, selector, travel)
+        core, steps = _carom.World.from_scene_file(_path("path", path), engine_name, selector, travel, skin)
         world = cls._from_core(core, selector)
         world.scene_steps = steps
         return world
 
     @classmethod
     def from_checkpoint(cls, path: Union[str, os.PathLike], engine: str = "cpu", device: Union[int, str, None] = None,
-                        pipeline: Optional[str] = None, max_travel: float = 0.0) -> "World":
+                        pipeline: Optional[str] = None, max_travel: float = 0.0, skin: float = 0.0) -> "World":
         """The world a checkpoint holds (save_checkpoint, `carom run --checkpoint`), continuing bit for bit.
-        A checkpoint does not hold max_travel (nor the engine): pass the saved world's to continue
-        its substeps alike (copy() and pickle keep it)."""
-        engine_name, selector = _engine_name(engine, device, pipeline)
+        A checkpoint does not hold max_travel, the skin or the engine: pass the saved world's to continue
+        its substeps alike (copy() and pickle keep them)."""
+        skin = _number("skin", skin)
+        engine_name, selector = _engine_name(engine, device, pipeline, skin > 0)
         core = _carom.World.from_checkpoint(_path("path", path), engine_name, selector,
-                                            _number("max_travel", max_travel))
+                                            _number("max_travel", max_travel), skin)
         return cls._from_core(core, selector)
 
     def save_checkpoint(self, path: Union[str, os.PathLike]) -> None:

@@ -187,8 +187,8 @@ float named(const std::string& name, Convert convert, const Value& value) {
 }
 
 WorldDef worldDef(float width, float height, float dt, std::array<float, 2> gravity, const std::string& boundary,
-                  const std::string& collisions, const std::string& engine, const std::string& device,
-                  float maxTravel) {
+                  const std::string& collisions, const std::string& engine, const std::string& device, float maxTravel,
+                  float skin) {
     WorldDef def;
     def.width = width;
     def.height = height;
@@ -199,6 +199,7 @@ WorldDef worldDef(float width, float height, float dt, std::array<float, 2> grav
     def.engine = carom::parseComputeEngine(engine);
     def.device = device;
     def.maxTravel = maxTravel;
+    def.skin = skin;
     return def;
 }
 
@@ -296,34 +297,38 @@ NB_MODULE(_carom, m) {
     nb::class_<World>(m, "World")
         .def(nb::new_([](float width, float height, float dt, std::array<float, 2> gravity, const std::string& boundary,
                          const std::string& collisions, const std::string& engine, const std::string& device,
-                         float maxTravel) {
-                 return World(worldDef(width, height, dt, gravity, boundary, collisions, engine, device, maxTravel));
+                         float maxTravel, float skin) {
+                 return World(
+                     worldDef(width, height, dt, gravity, boundary, collisions, engine, device, maxTravel, skin));
              }),
              "width"_a, "height"_a, "dt"_a, "gravity"_a, "boundary"_a, "collisions"_a, "engine"_a, "device"_a,
-             "max_travel"_a)
+             "max_travel"_a, "skin"_a)
         .def_static(
             "from_scene_file",
-            [](const Path& path, const std::string& engine, const std::string& device, std::optional<float> maxTravel) {
+            [](const Path& path, const std::string& engine, const std::string& device, std::optional<float> maxTravel,
+               float skin) {
                 carom::SceneFileDef file = carom::io::readSceneFile(path.native());
                 file.world.engine = carom::parseComputeEngine(engine);
                 file.world.device = device;
                 if (maxTravel) file.world.maxTravel = *maxTravel;  // else the file's (dt = "auto" sets it)
+                file.world.skin = skin;
                 const carom::io::SceneFile scene = carom::io::loadScene(file);
                 World world(scene.world);
                 world.setDisks(scene.disks, path.native());
                 return nb::make_tuple(std::move(world), scene.steps);
             },
-            "path"_a, "engine"_a, "device"_a, "max_travel"_a)
+            "path"_a, "engine"_a, "device"_a, "max_travel"_a, "skin"_a)
         .def_static(
             "from_checkpoint",
-            [](const Path& path, const std::string& engine, const std::string& device, float maxTravel) {
-                WorldDef def;  // loadCheckpoint takes only the engine, the device and maxTravel from it
+            [](const Path& path, const std::string& engine, const std::string& device, float maxTravel, float skin) {
+                WorldDef def;  // loadCheckpoint takes only the engine, the device, maxTravel and the skin from it
                 def.engine = carom::parseComputeEngine(engine);
                 def.device = device;
                 def.maxTravel = maxTravel;
+                def.skin = skin;
                 return carom::io::loadCheckpoint(path.native(), def);
             },
-            "path"_a, "engine"_a, "device"_a, "max_travel"_a)
+            "path"_a, "engine"_a, "device"_a, "max_travel"_a, "skin"_a)
         .def(
             "save_checkpoint", [](const World& w, const Path& path) { carom::io::saveCheckpoint(path.native(), w); },
             "path"_a)
@@ -407,6 +412,7 @@ NB_MODULE(_carom, m) {
         .def_prop_ro("collision_scheme", [](const World& w) { return carom::collisionSchemeName(w.def().collisions); })
         .def_prop_ro("engine", [](const World& w) { return carom::computeEngineName(w.def().engine); })
         .def_prop_ro("max_travel", [](const World& w) { return w.def().maxTravel; })
+        .def_prop_ro("skin", [](const World& w) { return w.def().skin; })
         .def_prop_ro("kinetic_energy", &World::kineticEnergy)
         .def_prop_ro("potential_energy", &World::potentialEnergy)
         .def_prop_ro("total_energy", &World::totalEnergy)

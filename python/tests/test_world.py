@@ -3,6 +3,7 @@ and every refusal naming the value."""
 import gc
 import json
 import os
+import pickle
 import re
 import subprocess
 import time
@@ -93,6 +94,29 @@ def gas(engine="cpu", collisions="pairwise", particles=400, **kwargs):
     world = carom.World(box=(60, 60), boundary="periodic", collisions=collisions, engine=engine, seed=11, **kwargs)
     world.place(particles, radius=(0.5, 1.0), speed=1.5)
     return world
+
+
+def test_a_skin_changes_no_bit_and_is_refused_where_no_lists_take_it():
+    expected = gas()
+    expected.step(200)
+    for skin in (0.01, 0.4, 3.0):
+        world = gas(skin=skin)
+        world.step(200)
+        assert np.array_equal(world.positions, expected.positions), skin
+        assert np.array_equal(world.velocities, expected.velocities), skin
+        copied = pickle.loads(pickle.dumps(world))
+        copied.step(10)
+        world.step(10)
+        assert np.array_equal(copied.positions, world.positions), skin
+    assert carom.World(box=(60, 60), engine="auto", skin=0.5).engine == "cpu"
+    with pytest.raises(carom.InputError, match="skin must be a finite number >= 0"):
+        carom.World(box=(60, 60), skin=-1.0)
+    with pytest.raises(carom.InputError, match="skin: nan is not finite"):
+        carom.World(box=(60, 60), skin=float("nan"))
+    with pytest.raises(carom.InputError, match="only the pairwise scheme keeps"):
+        carom.World(box=(60, 60), collisions="simultaneous", skin=0.5)
+    with pytest.raises(carom.InputError, match="more than 8 times the largest radius"):
+        gas(skin=9.0)
 
 
 def test_device_memory_counts_the_engines_buffers(engine, carom_exe, tmp_path):
