@@ -17,9 +17,8 @@
  *                        addTileStarts)
  *   scatterToCells       each slot, and its id, to start + rank of its cell
  *   sortCellSegments     each cell's slots and ids into ascending id: the ids
- *                        are then sortedIndices (sortAndGatherCells, for a
- *                        pairwise step, also gathers the particles into
- *                        that order)
+ *                        are then sortedIndices (for a pairwise step it
+ *                        can also gather the particles into that order)
  *
  * Arrival ranks depend on thread scheduling; sorting each cell's few slots by
  * id makes the result deterministic and equal to the host's ascending-id
@@ -125,8 +124,8 @@ static inline void carom_tile_cells(
 }
 
 /* A tile's word in the scan's status (scanCountsIntoCells): 0 until the tile
- * publishes; then a flag and a value of 30 bits (a sum of particles, fewer
- * than kMaxParticles < 2^30). */
+ * publishes; then a flag and a value of 30 bits (a sum of particles, at
+ * most kMaxParticles = 10^9 < 2^30). */
 #define CAROM_TILE_TOTAL 0x40000000u  /* the value is the tile's own total */
 #define CAROM_TILE_PREFIX 0x80000000u /* the value is the sum of this tile and every tile before it */
 #define CAROM_TILE_VALUE 0x3FFFFFFFu
@@ -281,36 +280,21 @@ static inline void carom_sort_cell(GridCell cell, __global uint* cellOrder, __gl
 
 /* Per cell: zeroes the cell's count in `nextCounts`, which the step counts
  * the new positions into; sorts the cell's slots and ids by id: sortedIds is
- * then sortedIndices. */
+ * then sortedIndices. Where `gathered` is not null (a pairwise step's), the
+ * cell's particles are then gathered from their slots in `state` into
+ * `gathered` in sorted order, and their cell into cellOf[k], k being the
+ * sorted position: the step's searches then read a neighbour without looking
+ * up its slot (kernels/pairwise.h, carom_slot). cellOf was by slot until
+ * here; the scatter, its last reader so, ran before. */
 __kernel void sortCellSegments(__global const uint* halt,
                                __global const GridCell* cells,
                                uint cellCount,
                                __global uint* cellOrder,
                                __global uint* sortedIds,
-                               __global uint* nextCounts)
-{
-    if (CAROM_HALTED(halt)) return;
-    const uint c = get_global_id(0);
-    if (c >= cellCount) return;
-    nextCounts[c] = 0u;
-    carom_sort_cell(cells[c], cellOrder, sortedIds);
-}
-
-/* sortCellSegments for a pairwise step: then each cell's particles gathered
- * from their slots in `state` into `gathered` in sorted order, and their
- * cell into cellOf[k], k being the sorted position: the step's searches then
- * read a neighbour without looking up its slot (kernels/pairwise.h,
- * carom_slot). cellOf was by slot until here; the scatter, its last reader
- * so, ran before. */
-__kernel void sortAndGatherCells(__global const uint* halt,
-                                 __global const GridCell* cells,
-                                 uint cellCount,
-                                 __global uint* cellOrder,
-                                 __global uint* sortedIds,
-                                 __global uint* nextCounts,
-                                 __global const Particle* state,
-                                 __global Particle* gathered,
-                                 __global uint* cellOf)
+                               __global uint* nextCounts,
+                               __global const Particle* state,
+                               __global Particle* gathered,
+                               __global uint* cellOf)
 {
     if (CAROM_HALTED(halt)) return;
     const uint c = get_global_id(0);
@@ -318,6 +302,7 @@ __kernel void sortAndGatherCells(__global const uint* halt,
     nextCounts[c] = 0u;
     const GridCell cell = cells[c];
     carom_sort_cell(cell, cellOrder, sortedIds);
+    if (!gathered) return;
     for (uint k = cell.start; k < cell.start + cell.count; ++k) {
         gathered[k] = state[cellOrder[k]];
         cellOf[k] = c;

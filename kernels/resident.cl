@@ -108,7 +108,7 @@ static inline float carom_group_max(float value, __local float* scratch)
 /* The end of a pairwise step, after its rounds (kernels/pairwise.cl): for
  * each k, particle sortedIds[k] is finished from slot
  * carom_slot(cellOrder, k) of `state` into slot k of `next` (in place where
- * the state was gathered into sorted order, sortAndGatherCells: `state` is
+ * the state was gathered into sorted order, sortCellSegments: `state` is
  * `next` and cellOrder null) and counted into the next step's grid. The
  * kernel also takes the largest v.x^2 + v.y^2 of the new state, which sizes
  * the next step's substeps, so that needs no pass of its own: each work-item

@@ -163,7 +163,7 @@ __kernel void stepSmallPairwise(__global Particle* state,
         /* The state gathered into sorted order in `next`, and each disk's
          * cell by sorted position in cellAt (rankInCell, unused until the
          * finish counts into it): the searches then look up no slots
-         * (carom_slot), as in the launches (sortAndGatherCells). */
+         * (carom_slot), as in the launches (sortCellSegments). */
         __global uint* const cellAt = rankInCell;
         for (uint k = lid; k < step.count; k += size) {
             const uint slot = cellOrder[k];

@@ -64,6 +64,6 @@ if(OpenCL_FOUND)
         "buildGrid (host)|upload grid|findEvents|resolveRoundsInGroup|finishStepById|read list lengths|download state")
     # Above and below the resident pipeline's small-system limit (2 048 disks).
     carom_bench_profile_test(resident_pairwise opencl-resident 3000
-        "scanCountsIntoCells|scatterToCells|sortAndGatherCells|findEvents|resolveRoundsInGroup|finishPairwiseAndCount|read list lengths")
+        "scanCountsIntoCells|scatterToCells|sortCellSegments|findEvents|resolveRoundsInGroup|finishPairwiseAndCount|read list lengths")
     carom_bench_profile_test(resident_small_pairwise opencl-resident 500 "stepSmallPairwise|read list lengths")
 endif()

@@ -24,15 +24,21 @@ OpenClBackend::OpenClBackend(const WorldDef& world, const std::string& device, c
     context_ = Context(clCreateContext(nullptr, 1, &device_.id, nullptr, nullptr, &status));
     check(status, "clCreateContext");
     trackBuffers(context_.get());
-    queue_ =
-        Queue(clCreateCommandQueue(context_.get(), device_.id, profiling ? CL_QUEUE_PROFILING_ENABLE : 0, &status));
-    check(status, "clCreateCommandQueue");
-    program_ = buildProgram(context_.get(), device_, programSource, device_.correctlyRoundedDivideSqrt);
-    views_ = DeviceViews(context_.get(), device_, program_.get(), profiler_.get());
-    firstNonFinite_ = createBuffer(context_.get(), sizeof(kNoneNonFinite), "first non-finite step and particle");
-    halt_ = createBuffer(context_.get(), sizeof(kRunning), "halt");
-    check(clEnqueueWriteBuffer(queue_.get(), halt_.get(), CL_TRUE, 0, sizeof(kRunning), &kRunning, 0, nullptr, nullptr),
-          "clEnqueueWriteBuffer(halt)");
+    try {  // a constructor that throws runs no destructor, which would untrack the context
+        queue_ =
+            Queue(clCreateCommandQueue(context_.get(), device_.id, profiling ? CL_QUEUE_PROFILING_ENABLE : 0, &status));
+        check(status, "clCreateCommandQueue");
+        program_ = buildProgram(context_.get(), device_, programSource, device_.correctlyRoundedDivideSqrt);
+        views_ = DeviceViews(context_.get(), device_, program_.get(), profiler_.get());
+        firstNonFinite_ = createBuffer(context_.get(), sizeof(kNoneNonFinite), "first non-finite step and particle");
+        halt_ = createBuffer(context_.get(), sizeof(kRunning), "halt");
+        check(clEnqueueWriteBuffer(queue_.get(), halt_.get(), CL_TRUE, 0, sizeof(kRunning), &kRunning, 0, nullptr,
+                                   nullptr),
+              "clEnqueueWriteBuffer(halt)");
+    } catch (...) {
+        untrackBuffers(context_.get());
+        throw;
+    }
 }
 
 OpenClBackend::~OpenClBackend() { untrackBuffers(context_.get()); }

@@ -30,14 +30,9 @@ std::size_t powerOfTwoAtMost(std::size_t limit) {
 }  // namespace
 
 bool keepsWorkGroupsRunning(const DeviceInfo& device) {
-    if (const char* forced = std::getenv("CAROM_GRID_SCAN")) {
-        const std::string scan = forced;
-        if (scan == "one-pass") return true;
-        if (scan == "launches") return false;
-        throw Error("CAROM_GRID_SCAN is \"" + scan + "\"; it may be one-pass or launches (or unset)");
-    }
-    return device.type == "CPU" || device.platformName.find("NVIDIA") != std::string::npos ||
-           device.platformName.find("AMD") != std::string::npos;
+    return forcedChoice("CAROM_GRID_SCAN", "one-pass", "launches",
+                        device.type == "CPU" || device.platformName.find("NVIDIA") != std::string::npos ||
+                            device.platformName.find("AMD") != std::string::npos);
 }
 
 std::size_t DeviceGrid::scanTileBytes(std::size_t groupSize, std::size_t items) {
@@ -76,9 +71,8 @@ DeviceGrid::DeviceGrid(cl_context context, const DeviceInfo& device, cl_program 
     }
     scatterKernel_ = createKernel(program, "scatterToCells");
     sortKernel_ = createKernel(program, "sortCellSegments");
-    sortAndGatherKernel_ = createKernel(program, "sortAndGatherCells");
     groupSize_ = kGridGroupSize;
-    for (cl_kernel k : {countKernel_.get(), scatterKernel_.get(), sortKernel_.get(), sortAndGatherKernel_.get()})
+    for (cl_kernel k : {countKernel_.get(), scatterKernel_.get(), sortKernel_.get()})
         groupSize_ = std::min(groupSize_, kernelWorkGroupLimit(k, device.id));
     std::size_t scanLimit = kernelWorkGroupLimit(scanKernel_.get(), device.id);
     if (!onePassScan_) {
@@ -107,26 +101,14 @@ void DeviceGrid::count(cl_command_queue queue, cl_mem state) {
     enqueue1d(queue, countKernel_.get(), particleCount_, groupSize_, "countCells", profiler_);
 }
 
-void DeviceGrid::scanAndScatter(cl_command_queue queue, cl_mem ids, cl_mem sortedIds, cl_mem halt) {
+void DeviceGrid::build(cl_command_queue queue, cl_mem ids, cl_mem sortedIds, cl_mem halt, const Gather& gather) {
     onePassScan_ ? scanInOnePass(queue, halt) : scanInLaunches(queue, halt);
     setKernelArgs(scatterKernel_.get(), halt, cellOf_.get(), rankInCell_.get(), cells_.get(), cl_uint(particleCount_),
                   ids, cellOrder_.get(), sortedIds);
     enqueue1d(queue, scatterKernel_.get(), particleCount_, groupSize_, "scatterToCells", profiler_);
-}
-
-void DeviceGrid::build(cl_command_queue queue, cl_mem ids, cl_mem sortedIds, cl_mem halt) {
-    scanAndScatter(queue, ids, sortedIds, halt);
     setKernelArgs(sortKernel_.get(), halt, cells_.get(), cl_uint(cellCount_), cellOrder_.get(), sortedIds,
-                  nextCounts_.get());
+                  nextCounts_.get(), gather.state, gather.gathered, cellOf_.get());
     enqueue1d(queue, sortKernel_.get(), cellCount_, groupSize_, "sortCellSegments", profiler_);
-}
-
-void DeviceGrid::buildAndGather(cl_command_queue queue, cl_mem ids, cl_mem sortedIds, cl_mem halt, cl_mem state,
-                                cl_mem gathered) {
-    scanAndScatter(queue, ids, sortedIds, halt);
-    setKernelArgs(sortAndGatherKernel_.get(), halt, cells_.get(), cl_uint(cellCount_), cellOrder_.get(), sortedIds,
-                  nextCounts_.get(), state, gathered, cellOf_.get());
-    enqueue1d(queue, sortAndGatherKernel_.get(), cellCount_, groupSize_, "sortAndGatherCells", profiler_);
 }
 
 void DeviceGrid::resetScan(cl_command_queue queue) {

@@ -47,13 +47,14 @@ public:
     // `sortedIds` (sortedIndices: ascending id within a cell); zeroes the
     // next counts for the step to count into. Its kernels do nothing once
     // `halt` (one word, CAROM_RUNNING while a chunk runs on) says a chunk
-    // of steps stopped; resetScan() must then follow.
-    void build(cl_command_queue queue, cl_mem ids, cl_mem sortedIds, cl_mem halt);
-    // build(), and the particles of `state` (slot order) gathered into
-    // `gathered` in sorted order, particle sortedIds[k] at k, whose cell
-    // cellOf() then holds at k (sortAndGatherCells), for a pairwise step.
-    void buildAndGather(cl_command_queue queue, cl_mem ids, cl_mem sortedIds, cl_mem halt, cl_mem state,
-                        cl_mem gathered);
+    // of steps stopped; resetScan() must then follow. With a Gather (a
+    // pairwise step's), the particles of `state` (slot order) are gathered
+    // into `gathered` in sorted order, particle sortedIds[k] at k, whose cell
+    // cellOf() then holds at k (sortCellSegments).
+    struct Gather {
+        cl_mem state, gathered;  // {} (null): no gather
+    };
+    void build(cl_command_queue queue, cl_mem ids, cl_mem sortedIds, cl_mem halt, const Gather& gather = {});
     // Zeroes the scan's status words, which builds that did nothing left as they were.
     void resetScan(cl_command_queue queue);
     // The step has counted the new state into the next counts: make them current.
@@ -101,10 +102,7 @@ private:
 
     bool onePassScan_ = true;  // keepsWorkGroupsRunning
     // scanKernel_ is scanCountsIntoCells, or scanTiles before the other two.
-    void scanAndScatter(cl_command_queue queue, cl_mem ids, cl_mem sortedIds, cl_mem halt);
-
-    Kernel countKernel_, scanKernel_, scatterKernel_, sortKernel_, sortAndGatherKernel_, scanTileSumsKernel_,
-        addTileStartsKernel_;
+    Kernel countKernel_, scanKernel_, scatterKernel_, sortKernel_, scanTileSumsKernel_, addTileStartsKernel_;
     Buffer counts_, nextCounts_, cells_, cellOrder_, cellOf_, rankInCell_;  // cellOrder_: slots
     // The scan's ticket and tile words (scanCountsIntoCells): the current
     // one zero before each build, which zeroes the other and swaps them.

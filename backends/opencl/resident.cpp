@@ -33,15 +33,7 @@ constexpr std::size_t kGatherUpTo = std::size_t{1} << 18;
 
 // Whether pairwise steps of `count` disks gather the state (kGatherUpTo);
 // CAROM_PAIRWISE_GATHER=on or off overrides the choice (the tests run both).
-bool gathers(std::size_t count) {
-    if (const char* forced = std::getenv("CAROM_PAIRWISE_GATHER")) {
-        const std::string gather = forced;
-        if (gather == "on") return true;
-        if (gather == "off") return false;
-        throw Error("CAROM_PAIRWISE_GATHER is \"" + gather + "\"; it may be on or off (or unset)");
-    }
-    return count <= kGatherUpTo;
-}
+bool gathers(std::size_t count) { return forcedChoice("CAROM_PAIRWISE_GATHER", "on", "off", count <= kGatherUpTo); }
 
 }  // namespace
 
@@ -205,10 +197,8 @@ std::uint64_t OpenClResidentBackend::stepPairwiseChunk(std::uint64_t substeps, s
 void OpenClResidentBackend::enqueuePairwiseSubstep(const CaromStepParams& step,
                                                    const DevicePairwise::StartCheck& check) {
     pairwise_.enqueueStart(queue_.get(), halt_.get(), check);
-    if (gathered_)
-        deviceGrid_.buildAndGather(queue_.get(), ids_.get(), sortedIds_.get(), halt_.get(), state_.get(), next_.get());
-    else
-        deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get(), halt_.get());
+    deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get(), halt_.get(),
+                      gathered_ ? DeviceGrid::Gather{state_.get(), next_.get()} : DeviceGrid::Gather{});
     const cl_mem stepState = gathered_ ? next_.get() : state_.get();
     const cl_mem slots = gathered_ ? nullptr : deviceGrid_.cellOrder();
     pairwise_.enqueueStep(

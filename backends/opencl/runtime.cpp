@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cctype>
+#include <cstdlib>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -165,6 +166,14 @@ std::vector<DeviceInfo> listDevices() {
     }
     if (devices.empty()) throw Error(std::string("OpenCL platforms exist but offer no device: ") + kNoOpenCl);
     return devices;
+}
+
+bool forcedChoice(const char* variable, const std::string& yes, const std::string& no, bool otherwise) {
+    const char* forced = std::getenv(variable);
+    if (!forced) return otherwise;
+    if (forced == yes) return true;
+    if (forced == no) return false;
+    throw Error(std::string(variable) + " is \"" + forced + "\"; it may be " + yes + " or " + no + " (or unset)");
 }
 
 DeviceInfo selectDevice(const std::string& selector) {

@@ -49,6 +49,11 @@ std::vector<DeviceInfo> listDevices();
 // platform name; empty selects the first GPU, else the first device.
 DeviceInfo selectDevice(const std::string& selector);
 
+// A choice that the environment variable `variable` may force (the tests
+// run both ways): true where it is `yes`, false where it is `no`, and
+// `otherwise` where it is unset; any other value is refused.
+bool forcedChoice(const char* variable, const std::string& yes, const std::string& no, bool otherwise);
+
 // An owning OpenCL object handle, released on destruction.
 template <class T, cl_int (*Release)(T)>
 class Handle {
