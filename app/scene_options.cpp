@@ -301,7 +301,8 @@ Setup makeSetupOf(const SceneOptions& o) {
             throw Error("--box must be two finite numbers > 0, got " + io::shortestText(o.box[0]) + " " +
                         io::shortestText(o.box[1]));
     }
-    requireRoomFor(scene.particles, "--particles");
+    requireRoomFor(scene.particles, "--particles", availableMemoryBytes(),
+                   o.backend.kind == "opencl" ? kOpenClHostBytesPerDisk : kHostBytesPerDisk);
     Scene placed = makeScene(scene);
     setup.world.width = placed.width;
     setup.world.height = placed.height;

@@ -16,7 +16,8 @@ GridGeometry gridGeometryFor(float width, float height, float maxRadius, std::si
     // A hair more than the diameter: float rounding of position * cellsPerLength
     // must never put two touching disks two cells apart.
     const double diameter = 2.0 * maxRadius * (1.0 + 1e-5);
-    const double maxCells = 4.0 * double(particleCount) + 1024.0;
+    // Up to 4 cells a disk, and no more than an int counts (from 5 * 10^8 disks).
+    const double maxCells = std::min(4.0 * double(particleCount), 2e9) + 1024.0;
     const double cellSize = std::max(diameter + slack, std::sqrt(double(width) * height / maxCells));
     GridGeometry g;
     g.cols = static_cast<int>(std::clamp(std::floor(width / cellSize), 1.0, maxCells));

@@ -114,10 +114,11 @@ std::uint64_t peakResidentBytes() {
 #endif
 }
 
-void requireRoomFor(std::uint64_t disks, const std::string& what, std::uint64_t availableBytes) {
+void requireRoomFor(std::uint64_t disks, const std::string& what, std::uint64_t availableBytes,
+                    std::uint64_t bytesPerDisk) {
     if (disks > kMaxParticles)
         throw Error(what + ": " + std::to_string(disks) + " particles; allowed: 1 to " + std::to_string(kMaxParticles));
-    const std::uint64_t needed = disks * kHostBytesPerDisk;
+    const std::uint64_t needed = disks * bytesPerDisk;
     if (availableBytes > 0 && needed > availableBytes)
         throw Error(what + ": " + std::to_string(disks) + " particles need about " + std::to_string(needed >> 20) +
                     " MiB of memory, more than the " + std::to_string(availableBytes >> 20) +

@@ -41,8 +41,8 @@ carom_cli_test(resume_with_collisions fail "--collisions excludes --resume"
 carom_cli_test(resume_version1 pass "\"scheme\": \"simultaneous\",.*\"step\": 20,"
                "run|--backend|cpu|--resume|${data}/version1.ckpt|--steps|10|--json")
 carom_cli_test(every_zero fail "--every: '0' is out of range; allowed: whole numbers from 1 to" "${run}|--every|0")
-carom_cli_test(too_many_particles fail "--particles: '500000001' is out of range; allowed: whole numbers from 1 to 500000000"
-               "${run}|--particles|500000001")
+carom_cli_test(too_many_particles fail "--particles: '1000000001' is out of range; allowed: whole numbers from 1 to 1000000000"
+               "${run}|--particles|1000000001")
 carom_cli_test(unwritable_trajectory fail "--trajectory '/nonexistent-dir/t.xyz': the folder '/nonexistent-dir' does not exist"
                "${run}|--trajectory|/nonexistent-dir/t.xyz")
 carom_cli_test(same_file_twice fail "--stats and --output-state name the same file"

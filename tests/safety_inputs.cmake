@@ -24,7 +24,7 @@ carom_input_test(every_negative
                  "--every: '-1' is out of range; allowed: whole numbers from 1 to 18446744073709551615"
                  "${base}|--steps|1|--every|-1")
 carom_input_test(particles_past_32_bits
-                 "--particles: '5000000000' is out of range; allowed: whole numbers from 1 to 500000000"
+                 "--particles: '5000000000' is out of range; allowed: whole numbers from 1 to 1000000000"
                  "${base}|--steps|1|--particles|5000000000")
 carom_input_test(bench_seed_negative "--seed: '-1' is out of range; ${u64}" "bench|--quick|--methods|cpu|--seed|-1")
 carom_input_test(validate_seed_negative "--seed: '-1' is out of range; ${u64}" "validate|--quick|--seed|-1")
@@ -54,9 +54,9 @@ carom_input_test(cpu_with_pipeline "--pipeline: 'host-grid' needs --backend open
 
 # Counts checked against carom's limit before anything is allocated.
 carom_input_test(bench_size_past_limit
-                 "--sizes: '500000001' is too many particles; allowed: whole numbers from 1 to 500000000"
-                 "bench|--methods|cpu|--sizes|500000001")
-carom_input_test(bench_size_4e9 "--sizes: '4e9' is too many particles; allowed: whole numbers from 1 to 500000000"
+                 "--sizes: '1000000001' is too many particles; allowed: whole numbers from 1 to 1000000000"
+                 "bench|--methods|cpu|--sizes|1000000001")
+carom_input_test(bench_size_4e9 "--sizes: '4e9' is too many particles; allowed: whole numbers from 1 to 1000000000"
                  "bench|--methods|cpu|--sizes|4e9")
 carom_input_test(validate_particles_cap
                  "--particles: '100000000' is out of range; allowed: whole numbers from 256 to 1000000"

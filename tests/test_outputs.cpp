@@ -226,11 +226,15 @@ TEST_CASE("resources: requests that cannot fit are refused before allocating") {
     CHECK_NOTHROW(requireRoomFor(1000, "--particles", 0));
     CHECK_NOTHROW(requireRoomFor(kMaxParticles, "--particles", 0));
     CHECK_THROWS_WITH_AS(requireRoomFor(kMaxParticles + 1, "--particles", 0),
-                         doctest::Contains("--particles: 500000001 particles; allowed: 1 to 500000000"), Error);
+                         doctest::Contains("--particles: 1000000001 particles; allowed: 1 to 1000000000"), Error);
     const std::uint64_t oneGiB = std::uint64_t{1} << 30;
     CHECK_NOTHROW(requireRoomFor(1000000, "--particles", oneGiB));
     CHECK_THROWS_WITH_AS(requireRoomFor(100000000, "--particles", oneGiB),
                          doctest::Contains("100000000 particles need about 30517 MiB of memory, more than the "
                                            "1024 MiB available"),
                          Error);
+    // An OpenCL engine keeps its state on the device: less a disk on the host.
+    CHECK_NOTHROW(requireRoomFor(5000000, "--particles", oneGiB, kOpenClHostBytesPerDisk));
+    CHECK_THROWS_WITH_AS(requireRoomFor(10000000, "--particles", oneGiB, kOpenClHostBytesPerDisk),
+                         doctest::Contains("10000000 particles need about 1220 MiB of memory"), Error);
 }

@@ -89,8 +89,8 @@ inline double centreOfMassFrameKinetic(double kinetic, std::array<double, 2> mom
 }
 
 /// The most disks a world may hold: disk ids and grid cell offsets are
-/// 32-bit, and the grid's up to 4 cells per disk must stay countable in an int.
-constexpr std::uint64_t kMaxParticles = 500'000'000;
+/// 32-bit, and the OpenCL grid's one-pass scan sums them in 30 bits.
+constexpr std::uint64_t kMaxParticles = 1'000'000'000;
 
 // Memory: a request that cannot fit is refused before anything is allocated.
 
@@ -98,6 +98,9 @@ constexpr std::uint64_t kMaxParticles = 500'000'000;
 /// engine's two state buffers, the read-back copy, the grids and the CPU
 /// engine's neighbour lists (10^7 pairwise disks on it peak at 278).
 constexpr std::uint64_t kHostBytesPerDisk = 320;
+/// The same on an OpenCL engine, whose state and grid live on the device
+/// (10^8 disks on one peak at 106 [bytes] a disk, starting).
+constexpr std::uint64_t kOpenClHostBytesPerDisk = 128;
 
 /// The memory available to a new allocation now [bytes]: Linux's MemAvailable
 /// (free memory plus the caches it can drop), else the free physical pages,
@@ -120,9 +123,10 @@ std::uint64_t peakResidentBytes();
 
 /// Throws Error naming `what` (a file, a field, an option) when `disks` is
 /// more than kMaxParticles or needs more than `availableBytes` of host memory
-/// (kHostBytesPerDisk each; 0 bytes: unknown, not checked).
-void requireRoomFor(std::uint64_t disks, const std::string& what,
-                    std::uint64_t availableBytes = availableMemoryBytes());
+/// (`bytesPerDisk` each: kHostBytesPerDisk, or kOpenClHostBytesPerDisk for
+/// an OpenCL engine; 0 bytes: unknown, not checked).
+void requireRoomFor(std::uint64_t disks, const std::string& what, std::uint64_t availableBytes = availableMemoryBytes(),
+                    std::uint64_t bytesPerDisk = kHostBytesPerDisk);
 
 /// What happens at the edges of the box.
 enum class Boundary {
