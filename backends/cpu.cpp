@@ -402,7 +402,8 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
             const unsigned int* sorted = listed ? identity_.data() : grid_.sortedIndices.data();
             const unsigned int* slots = listed ? nullptr : sorted;
             const CaromNeighbours neighbours =
-                listed ? CaromNeighbours{startCells_.data(), grid_.cells.data(), lists_.starts(), lists_.list()}
+                listed ? CaromNeighbours{startCells_.data(), grid_.cells.data(), lists_.starts(), lists_.starts() + 1,
+                                         lists_.list()}
                        : carom_grid_neighbours(grid_.cellOf.data(), grid_.cells.data());
 
             // Every disk's earliest event: forward over each pair once, then the

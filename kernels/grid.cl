@@ -153,6 +153,11 @@ __kernel void scanCountsIntoCells(__global const uint* halt,
     __local uint tileIndex, before;
     const uint lid = get_local_id(0);
     const uint size = get_local_size(0);
+    if (CAROM_GRID_SKIPPED(halt)) { /* `status` stays zero; `nextStatus` is zeroed all the same */
+        if (lid == 0) nextStatus[1 + get_group_id(0)] = 0u;
+        if (get_global_id(0) == 0) nextStatus[0] = 0u;
+        return;
+    }
     if (lid == 0) tileIndex = atomic_inc(&status[0]);
     barrier(CLK_LOCAL_MEM_FENCE);
     const uint t = tileIndex;
@@ -194,7 +199,7 @@ __kernel void scanTiles(__global const uint* halt,
                         __local uint* tile,
                         __local uint* runSums)
 {
-    if (CAROM_HALTED(halt)) return;
+    if (CAROM_HALTED(halt) || CAROM_GRID_SKIPPED(halt)) return;
     const uint first = get_group_id(0) * get_local_size(0) * CAROM_SCAN_ITEMS;
     const uint total = carom_scan_tile(counts, n, first, CAROM_SCAN_ITEMS, tile, runSums);
     if (get_local_id(0) == 0) tileSums[get_group_id(0)] = total;
@@ -205,7 +210,7 @@ __kernel void scanTiles(__global const uint* halt,
 __kernel void scanTileSums(
     __global const uint* halt, __global uint* tileSums, uint tiles, __local uint* tile, __local uint* runSums)
 {
-    if (CAROM_HALTED(halt)) return;
+    if (CAROM_HALTED(halt) || CAROM_GRID_SKIPPED(halt)) return;
     const uint lid = get_local_id(0);
     const uint size = get_local_size(0);
     const uint tileLength = size * CAROM_SCAN_ITEMS;
@@ -222,7 +227,7 @@ __kernel void scanTileSums(
 __kernel void addTileStarts(
     __global const uint* halt, __global GridCell* cells, uint n, __global const uint* tileStarts, uint tileLength)
 {
-    if (CAROM_HALTED(halt)) return;
+    if (CAROM_HALTED(halt) || CAROM_GRID_SKIPPED(halt)) return;
     const uint c = get_global_id(0);
     if (c >= n) return;
     cells[c].start += tileStarts[c / tileLength];
@@ -254,6 +259,11 @@ __kernel void scatterToCells(__global const uint* halt,
     if (CAROM_HALTED(halt)) return;
     const uint slot = get_global_id(0);
     if (slot >= count) return;
+    if (CAROM_GRID_SKIPPED(halt)) { /* the state keeps its order: each slot its own position */
+        cellOrder[slot] = slot;
+        sortedIds[slot] = ids[slot];
+        return;
+    }
     carom_scatter_slot(slot, cells[cellOf[slot]].start, rankInCell, ids, cellOrder, sortedIds);
 }
 
@@ -300,6 +310,7 @@ __kernel void sortCellSegments(__global const uint* halt,
     const uint c = get_global_id(0);
     if (c >= cellCount) return;
     nextCounts[c] = 0u;
+    if (CAROM_GRID_SKIPPED(halt)) return; /* never with a gather (OpenClResidentBackend) */
     const GridCell cell = cells[c];
     carom_sort_cell(cell, cellOrder, sortedIds);
     if (!gathered) return;

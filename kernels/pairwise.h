@@ -282,6 +282,20 @@ static inline void carom_list_add(CaromList list, unsigned int k, unsigned int e
 /* The words before the OpenCL pipelines' lists in their buffer: the
  * lengths, then the words the host reads back with them (its record). */
 #define CAROM_LIST_HEADER_WORDS 256u
+/* The resident pipeline's neighbour lists (kernels/pairwise.cl), in the
+ * header's last words: whether they hold for the state (built for its order
+ * and positions); whether this substep builds them and whether its searches
+ * use them (startPairwiseStep); the entries the last build needed; the
+ * largest displacement squared since the build (the float's bits) of the
+ * state each parity's finish wrote; and, for the record, how many builds
+ * there were and how many substeps used them. */
+#define CAROM_LISTS_BUILT (CAROM_LIST_HEADER_WORDS - 8u)
+#define CAROM_LISTS_BUILD (CAROM_LIST_HEADER_WORDS - 7u)
+#define CAROM_LISTS_USED (CAROM_LIST_HEADER_WORDS - 6u)
+#define CAROM_LISTS_TOTAL (CAROM_LIST_HEADER_WORDS - 5u)
+#define CAROM_LISTS_DISPLACEMENT(parity) (CAROM_LIST_HEADER_WORDS - 4u + (parity))
+#define CAROM_LISTS_BUILDS (CAROM_LIST_HEADER_WORDS - 2u)
+#define CAROM_LISTS_USES (CAROM_LIST_HEADER_WORDS - 1u)
 
 /* What a search visits, and whom it adds to the dirty list to search again. */
 #define CAROM_SEARCH_ALL 0 /* every neighbour */
@@ -296,14 +310,17 @@ static inline void carom_list_add(CaromList list, unsigned int k, unsigned int e
 /* Where a search finds a disk's candidates: the grid's 3x3 cells around the
  * cell the disk started the step in (cellOf, by slot: the grid's cells are
  * wide enough for every pair that can meet within the step); or, where
- * `listStarts` is not null, the disk's neighbour list, positions ascending,
- * list[listStarts[k] .. listStarts[k + 1]), which holds every disk it can
- * meet within the step (the CPU backend's lists with a skin). The earliest
- * event is a minimum, so both give the same bits. */
+ * `listStarts` is not null, the disk's neighbour list,
+ * list[listStarts[k] .. listEnds[k]), which holds every disk it can meet
+ * within the step (lists with a skin: the CPU backend's, positions
+ * ascending, listEnds being listStarts + 1; the resident pipeline's, in the
+ * grid's order). The earliest event is a minimum, so both give the same
+ * bits. */
 typedef struct CaromNeighbours {
     CAROM_GLOBAL const unsigned int* cellOf;
     CAROM_GLOBAL const GridCell* cells;
     CAROM_GLOBAL const unsigned int* listStarts;
+    CAROM_GLOBAL const unsigned int* listEnds;
     CAROM_GLOBAL const unsigned int* list;
 } CaromNeighbours;
 
@@ -314,6 +331,7 @@ static inline CaromNeighbours carom_grid_neighbours(CAROM_GLOBAL const unsigned 
     neighbours.cellOf = cellOf;
     neighbours.cells = cells;
     neighbours.listStarts = 0;
+    neighbours.listEnds = 0;
     neighbours.list = 0;
     return neighbours;
 }
@@ -329,11 +347,12 @@ static inline unsigned int carom_skip_below(CAROM_GLOBAL const unsigned int* lis
 }
 
 /* Runs `visit` for each candidate q >= first of the disk at sorted position
- * k, which started the step in cell (cellX, cellY) (CaromNeighbours). */
+ * k, which started the step in cell (cellX, cellY) (CaromNeighbours; `first`
+ * > 0 needs a list in ascending order). */
 #define CAROM_FOR_EACH_CANDIDATE(k, cellX, cellY, first, neighbours, step, q, visit)                           \
     do {                                                                                                       \
         if ((neighbours).listStarts) {                                                                         \
-            const unsigned int carom_end = (neighbours).listStarts[(k) + 1u];                                  \
+            const unsigned int carom_end = (neighbours).listEnds[k];                                           \
             for (unsigned int carom_e =                                                                        \
                      carom_skip_below((neighbours).list, (neighbours).listStarts[k], carom_end, first);        \
                  carom_e < carom_end; ++carom_e) {                                                             \

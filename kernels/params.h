@@ -42,10 +42,14 @@ typedef struct CaromStepParams {
 
 /* halt[0] while a chunk of steps the host enqueued without waiting runs on
  * (startPairwiseStep, kernels/pairwise.cl); else the index of the substep
- * it stopped before, and every kernel given `halt` does nothing. */
+ * it stopped before, and every kernel given `halt` does nothing. halt[1] is
+ * not 0 where a pairwise substep searches neighbour lists that hold already:
+ * its grid build then only keeps the grid's buffers ready for the next
+ * (kernels/grid.cl). */
 #define CAROM_RUNNING 0xFFFFFFFFu
 #ifdef __OPENCL_VERSION__
 #define CAROM_HALTED(halt) ((halt)[0] != CAROM_RUNNING)
+#define CAROM_GRID_SKIPPED(halt) ((halt)[1] != 0u)
 #endif
 
 /* How a step is split into substeps (Backend::step, carom_substeps_needed):

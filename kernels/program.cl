@@ -3,7 +3,7 @@
  * particle.h keep each definition single. The benchmark's kernels are a
  * program of their own (bench.cl). */
 #include "host_grid.cl"
-#include "resident.cl"
 #include "pairwise.cl"
+#include "resident.cl"
 #include "small_system.cl"
 #include "view.cl"

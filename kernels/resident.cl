@@ -68,7 +68,10 @@ __kernel void resolveIntegrateAndCount(__global const Particle* state,
 
 /* One particle's end of a pairwise step: particle sortedIds[k] finished
  * from slot carom_slot(cellOrder, k) of `state` into slot k of `next` and
- * counted into the next grid's `counts`; returns its v.x^2 + v.y^2. */
+ * counted into the next grid's `counts`; returns its v.x^2 + v.y^2. Where
+ * `origins` is not null (neighbour lists), `displacementSquared` becomes at
+ * least the squared distance it moved from origins[k] (to the nearest image
+ * in a periodic box). */
 static inline float carom_finish_slot(uint k,
                                       __global const Particle* state,
                                       __global const uint* cellOrder,
@@ -80,12 +83,22 @@ static inline float carom_finish_slot(uint k,
                                       __global uint* cellOf,
                                       __global uint* rankInCell,
                                       uint stepIndex,
-                                      __global uint* firstNonFinite)
+                                      __global uint* firstNonFinite,
+                                      __global const float2* origins,
+                                      float* displacementSquared)
 {
     const Particle moved = carom_finish_step(state[carom_slot(cellOrder, k)], step, &tallies[sortedIds[k]]);
     next[k] = moved;
     carom_count_into_cell(k, moved.position, step.grid, counts, cellOf, rankInCell);
     carom_record_non_finite(moved, sortedIds[k], stepIndex, firstNonFinite);
+    if (origins) {
+        float dx = moved.position.x - origins[k].x, dy = moved.position.y - origins[k].y;
+        if (step.box.periodic) {
+            dx = carom_nearest_image(dx, step.box.width);
+            dy = carom_nearest_image(dy, step.box.height);
+        }
+        *displacementSquared = fmax(*displacementSquared, dx * dx + dy * dy);
+    }
     return carom_speed_squared(moved);
 }
 
@@ -119,7 +132,9 @@ static inline float carom_group_max(float value, __local float* scratch)
  * maxSpeedSquared reduction bit for bit. A disk left non-finite is recorded
  * under `stepIndex` in lengths[nonFiniteIndex..+1] (carom_record_non_finite),
  * and the rounds this step used, at most, in lengths[roundsIndex]. The host
- * reads them back with the list lengths, in one read. */
+ * reads them back with the list lengths, in one read. With neighbour lists
+ * (neighbourWords not null) the largest displacement since their build is
+ * taken alike, into CAROM_LISTS_DISPLACEMENT(parity). */
 __kernel void finishPairwiseAndCount(__global const uint* halt,
                                      __global const Particle* state,
                                      __global const uint* cellOrder,
@@ -136,20 +151,29 @@ __kernel void finishPairwiseAndCount(__global const uint* halt,
                                      uint stepIndex,
                                      uint nonFiniteIndex,
                                      uint roundsIndex,
+                                     __global uint* neighbourWords,
                                      __local float* scratch)
 {
     if (CAROM_HALTED(halt)) return;
     __global uint* speedWords = lengths + speedIndex;
+    __global const float2* origins = neighbourWords ? carom_list_origins(neighbourWords, step.count) : 0;
     /* The last round that changed a disk, a round a work-item (a loop of
      * global loads on one would set the kernel's pace at small N); the
      * lengths end where the record starts. */
     for (uint r = get_global_id(0) + 1u; CAROM_CHANGED_LENGTH(r) < nonFiniteIndex; r += get_global_size(0))
         if (lengths[CAROM_CHANGED_LENGTH(r)] > 0u) atomic_max(&lengths[roundsIndex], r);
-    float largest = 0.0f;
+    float largest = 0.0f, farthest = 0.0f;
     for (uint k = get_global_id(0); k < step.count; k += get_global_size(0))
-        largest = fmax(largest, carom_finish_slot(k, state, cellOrder, sortedIds, step, next, tallies, nextCounts,
-                                                  cellOf, rankInCell, stepIndex, lengths + nonFiniteIndex));
-    if (get_global_id(0) == 0) speedWords[1 - parity] = 0u;
+        largest =
+            fmax(largest, carom_finish_slot(k, state, cellOrder, sortedIds, step, next, tallies, nextCounts, cellOf,
+                                            rankInCell, stepIndex, lengths + nonFiniteIndex, origins, &farthest));
+    if (get_global_id(0) == 0) {
+        speedWords[1 - parity] = 0u;
+        lengths[CAROM_LISTS_DISPLACEMENT(1 - parity)] = 0u;
+    }
     const float groupLargest = carom_group_max(largest, scratch);
     if (get_local_id(0) == 0) atomic_max(&speedWords[parity], as_uint(groupLargest));
+    if (!origins) return;
+    const float groupFarthest = carom_group_max(farthest, scratch);
+    if (get_local_id(0) == 0) atomic_max(&lengths[CAROM_LISTS_DISPLACEMENT(parity)], as_uint(groupFarthest));
 }

@@ -177,12 +177,13 @@ __kernel void stepSmallPairwise(__global Particle* state,
         const uint epoch = firstEpoch + s * (maxRounds + 1);
         const CaromList none = carom_list(0, lengths, 0, 0);
         const CaromList pendingList = carom_list(l.pending0, lengths, CAROM_PENDING_LENGTH(0), l.pendingMarks);
+        const CaromNeighbours neighbours = carom_grid_neighbours(cellAt, cells);
         for (uint k = lid; k < step.count; k += size)
-            carom_find_event(k, next, 0, sortedIds, carom_grid_neighbours(cellAt, cells), step, l.events,
-                             CAROM_SEARCH_ALL, none, none, pendingList, epoch);
+            carom_find_event(k, next, 0, sortedIds, neighbours, step, l.events, CAROM_SEARCH_ALL, none, none,
+                             pendingList, epoch);
         barrier(CLK_GLOBAL_MEM_FENCE);
 
-        carom_rounds_in_group(1, maxRounds, epoch + 1, next, 0, sortedIds, cellAt, cells, step, tallies, l);
+        carom_rounds_in_group(1, maxRounds, epoch + 1, next, 0, sortedIds, neighbours, step, tallies, l);
         for (uint r = 1; r <= maxRounds; ++r)
             if (lengths[CAROM_CHANGED_LENGTH(r)] > 0u) mostRounds = max(mostRounds, r);
 
@@ -190,7 +191,7 @@ __kernel void stepSmallPairwise(__global Particle* state,
         float own = 0.0f;
         for (uint k = lid; k < step.count; k += size)
             own = fmax(own, carom_finish_slot(k, next, 0, sortedIds, step, next, tallies, nextCounts, cellOf,
-                                              rankInCell, firstStepIndex + s, lengths + nonFiniteIndex));
+                                              rankInCell, firstStepIndex + s, lengths + nonFiniteIndex, 0, 0));
         largest = carom_group_max(own, scratch);
         barrier(CLK_GLOBAL_MEM_FENCE);
         __global Particle* const stepped = next;

@@ -2,6 +2,7 @@
 // shared host builder; the resident state across calls; and the all-pairs
 // baselines of `carom bench` against the grid search.
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <numeric>
@@ -143,8 +144,8 @@ TEST_CASE("resident grid: both scans give the same grid from one tile to thousan
                                     upload(states[1].data(), n * sizeof(Particle))};
     const Buffer idBuffer = upload(ids.data(), n * sizeof(cl_uint));
     const Buffer sortedIds = createBuffer(context.get(), n * sizeof(cl_uint), "sorted ids");
-    const cl_uint running = CAROM_RUNNING;
-    const Buffer halt = upload(&running, sizeof running);
+    const cl_uint running[2] = {CAROM_RUNNING, 0};  // running, the grid built (kernels/params.h)
+    const Buffer halt = upload(running, sizeof running);
     const auto poison = [&](cl_mem buffer, std::size_t bytes) {
         const cl_uint junk = 0xFFFFFFFFu;
         check(clEnqueueFillBuffer(queue.get(), buffer, &junk, sizeof junk, 0, bytes, 0, nullptr, nullptr),
@@ -298,6 +299,80 @@ TEST_CASE("resident pipeline: pairwise chunks stop where the substep count chang
         CHECK(chunked->collisions() == cpu->collisions());
         CHECK(chunked->contacts().maxRounds == cpu->contacts().maxRounds);
     }
+}
+
+// Pairwise steps that search neighbour lists (forced on, as for large
+// systems) skip the grid's build while the lists hold, and rebuild them as
+// the disks move: the grid's bits, and the CPU's, in walled and periodic
+// boxes, with gravity and mixed radii. One large disk among small ones
+// widens the grid's cells, and so the lists' skin: the small disks' lists
+// then outgrow their first room.
+TEST_CASE("resident pipeline: pairwise neighbour lists reuse their build with the grid's bits") {
+    for (const Boundary boundary : {Boundary::Walls, Boundary::Periodic})
+        for (const float radiusMax : {0.5f, 2.5f, 5.0f}) {
+            CAPTURE(boundary);
+            CAPTURE(radiusMax);
+            SceneDef scene;
+            scene.particles = 4000;
+            scene.packing = radiusMax == 5.0f ? 0.5f : 0.35f;
+            scene.radiusMin = 0.5f;
+            scene.radiusMax = radiusMax == 5.0f ? 0.5f : radiusMax;
+            InitialState s = makeInitialState(scene);
+            if (radiusMax == 5.0f) {  // the large disk in the middle, without the disks it would overlap
+                const float x = s.width / 2, y = s.height / 2;
+                s.particles.erase(std::remove_if(s.particles.begin(), s.particles.end(),
+                                                 [&](const Particle& p) {
+                                                     return std::hypot(p.position.x - x, p.position.y - y) <
+                                                            radiusMax + 0.6f;
+                                                 }),
+                                  s.particles.end());
+                s.particles.push_back(disk(x, y, 0, 0, 1, radiusMax));
+            }
+            WorldDef world = boxUnder(CollisionScheme::Pairwise, s);
+            world.boundary = boundary;
+            world.gravity = float2{0.0f, -1.0f};
+            std::unique_ptr<OpenClResidentBackend> listed, grid;
+            {
+                const test::ScopedEnvironment on("CAROM_PAIRWISE_LISTS", "on");
+                listed = makeOpenCl<OpenClResidentBackend>(world);
+                listed->setParticles(s.particles);
+            }
+            {
+                const test::ScopedEnvironment off("CAROM_PAIRWISE_LISTS", "off");
+                grid = makeOpenCl<OpenClResidentBackend>(world);
+                grid->setParticles(s.particles);
+            }
+            REQUIRE(listed->searchesNeighbourLists());
+            CHECK_FALSE(grid->searchesNeighbourLists());
+            auto cpu = makeBackend(EngineDef{}, world);
+            cpu->setParticles(s.particles);
+            for (std::uint64_t steps : {1, 40, 100, 60}) {
+                CAPTURE(steps);
+                listed->step(steps);
+                grid->step(steps);
+                cpu->step(steps);
+                CHECK(bitwiseEqual(read(*listed), read(*grid)));
+                if (listed->exactArithmetic()) CHECK(bitwiseEqual(read(*listed), read(*cpu)));
+                CHECK(listed->collisions() == grid->collisions());
+            }
+            CHECK(listed->collisions() > 0);
+            // Built, rebuilt as the disks moved (within the skin of small cells), and reused between builds.
+            CHECK(listed->neighbourListBuilds() >= 1);
+            if (radiusMax == 0.5f) CHECK(listed->neighbourListBuilds() > 1);
+            CHECK(listed->neighbourListUses() > 2 * listed->neighbourListBuilds());
+            if (radiusMax == 5.0f) CHECK(listed->neighbourListRoom() > 6 * s.particles.size());
+            // A state loaded without the lists builds its grid each step again.
+            const test::ScopedEnvironment off("CAROM_PAIRWISE_LISTS", "off");
+            listed->setParticles(s.particles);
+            cpu->setParticles(s.particles);
+            CHECK_FALSE(listed->searchesNeighbourLists());
+            listed->step(20);
+            cpu->step(20);
+            if (listed->exactArithmetic()) CHECK(bitwiseEqual(read(*listed), read(*cpu)));
+            MESSAGE("builds " << listed->neighbourListBuilds() << ", substeps searching them "
+                              << listed->neighbourListUses() << " of " << listed->contacts().substeps << ", room "
+                              << listed->neighbourListRoom());
+        }
 }
 
 TEST_CASE("pipelines: a value that is not a ComputeEngine is refused") {

@@ -31,9 +31,9 @@ OpenClBackend::OpenClBackend(const WorldDef& world, const std::string& device, c
         program_ = buildProgram(context_.get(), device_, programSource, device_.correctlyRoundedDivideSqrt);
         views_ = DeviceViews(context_.get(), device_, program_.get(), profiler_.get());
         firstNonFinite_ = createBuffer(context_.get(), sizeof(kNoneNonFinite), "first non-finite step and particle");
-        halt_ = createBuffer(context_.get(), sizeof(kRunning), "halt");
-        check(clEnqueueWriteBuffer(queue_.get(), halt_.get(), CL_TRUE, 0, sizeof(kRunning), &kRunning, 0, nullptr,
-                                   nullptr),
+        const cl_uint halt[2] = {kRunning, 0};  // running; the grid built each step (kernels/params.h)
+        halt_ = createBuffer(context_.get(), sizeof halt, "halt");
+        check(clEnqueueWriteBuffer(queue_.get(), halt_.get(), CL_TRUE, 0, sizeof halt, halt, 0, nullptr, nullptr),
               "clEnqueueWriteBuffer(halt)");
     } catch (...) {
         untrackBuffers(context_.get());

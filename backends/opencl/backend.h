@@ -122,6 +122,8 @@ protected:
     // One word every kernel of a pairwise step reads first: kRunning, or the
     // substep before which a chunk of steps enqueued without a wait stopped
     // (startPairwiseStep, kernels/pairwise.cl); those kernels then do nothing.
+    // A second word tells the grid's kernels that neighbour lists hold, so
+    // that the grid is not needed (kernels/params.h).
     opencl::Buffer halt_;
 
 private:

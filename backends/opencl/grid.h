@@ -46,8 +46,10 @@ public:
     // From the counts and the slots' `ids`: the cells, cellOrder() and
     // `sortedIds` (sortedIndices: ascending id within a cell); zeroes the
     // next counts for the step to count into. Its kernels do nothing once
-    // `halt` (one word, CAROM_RUNNING while a chunk runs on) says a chunk
-    // of steps stopped; resetScan() must then follow. With a Gather (a
+    // `halt` (two words, kernels/params.h: CAROM_RUNNING while a chunk runs
+    // on) says a chunk of steps stopped, and resetScan() must then follow;
+    // and only keep the grid's buffers ready for the next build where its
+    // second word says that neighbour lists hold. With a Gather (a
     // pairwise step's), the particles of `state` (slot order) are gathered
     // into `gathered` in sorted order, particle sortedIds[k] at k, whose cell
     // cellOf() then holds at k (sortCellSegments).

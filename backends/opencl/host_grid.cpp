@@ -88,7 +88,7 @@ void OpenClHostGridBackend::stepPairwise(float dt) {
     cl_command_queue queue = queue_.get();
     const CaromStepParams step = stepParams(dt);
     uploadGrid();
-    pairwise_.enqueueStart(queue, halt_.get(), {});
+    pairwise_.enqueueStart(queue, halt_.get(), {}, step);
     pairwise_.enqueueStep(queue,
                           {state_.get(), sortedIndices_.get(), sortedIndices_.get(), cellOf_.get(), cells_.get(),
                            tallies_.get(), halt_.get()},

@@ -1,6 +1,7 @@
 #include "backends/opencl/pairwise.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <limits>
 
@@ -36,6 +37,13 @@ static_assert(kCountsWithRecord <= CAROM_LIST_HEADER_WORDS, "the lengths and the
 // the events (two), two pending lists, the changed list, then the marks.
 constexpr std::size_t kListWordsPerDisk = 8;
 constexpr std::size_t kMarksWord = 5;  // the first marks' words start at kMarksWord * count
+static_assert(kCountsWithRecord <= CAROM_LISTS_BUILT, "the record must end before the neighbour lists' words");
+// The neighbour lists' buffer (carom_list_origins): words per disk
+// before the entries, and the room for entries a disk to begin with (a
+// disk has 3-5 neighbours within the grid's skin at packings 0.6-0.9 among
+// equal disks; mixed radii may need more, and the room then grows).
+constexpr std::size_t kNeighbourWordsPerDisk = 4;
+constexpr std::size_t kFirstListRoomPerDisk = 6;
 
 }  // namespace
 
@@ -43,20 +51,36 @@ static_assert(sizeof(CaromEvent) == 8, "CaromEvent must match its OpenCL layout"
 
 DevicePairwise::DevicePairwise(cl_context context, const DeviceInfo& device, cl_program program,
                                std::size_t particleCount, cl_command_queue queue, Profiler* profiler)
-    : particleCount_(particleCount), profiler_(profiler), hostCounts_(kCountsWithRecord) {
+    : particleCount_(particleCount), profiler_(profiler), hostCounts_(CAROM_LIST_HEADER_WORDS) {
     startKernel_ = createKernel(program, "startPairwiseStep");
     findKernel_ = createKernel(program, "findEvents");
     searchChangedKernel_ = createKernel(program, "searchChanged");
     resolveKernel_ = createKernel(program, "resolveEvents");
     roundsInGroupKernel_ = createKernel(program, "resolveRoundsInGroup");
-    for (cl_kernel k : {startKernel_.get(), findKernel_.get(), searchChangedKernel_.get(), resolveKernel_.get()})
+    buildListsKernel_ = createKernel(program, "buildNeighbourLists");
+    for (cl_kernel k : {startKernel_.get(), findKernel_.get(), searchChangedKernel_.get(), resolveKernel_.get(),
+                        buildListsKernel_.get()})
         groupSize_ = std::min(groupSize_, kernelWorkGroupLimit(k, device.id));
     roundsGroupSize_ = std::min(kRoundsGroupSize, kernelWorkGroupLimit(roundsInGroupKernel_.get(), device.id));
     listItems_ = std::min((particleCount + groupSize_ - 1) / groupSize_ * groupSize_,
                           std::max<std::size_t>(1, device.computeUnits) * kListItemsPerComputeUnit);
     lists_ = createBuffer(context, (CAROM_LIST_HEADER_WORDS + kListWordsPerDisk * particleCount) * sizeof(cl_uint),
                           "pairwise lists");
+    enqueueZero(queue, lists_.get(), CAROM_LIST_HEADER_WORDS * sizeof(cl_uint), "pairwise lists' header");
     clearMarks(queue);
+}
+
+void DevicePairwise::enableLists(cl_context context, float skin) {
+    context_ = context;
+    skin_ = skin;
+    makeListRoom(context, kFirstListRoomPerDisk * particleCount_);
+}
+
+void DevicePairwise::makeListRoom(cl_context context, std::size_t entries) {
+    neighbours_.reset();  // first: the lists may fill the device
+    neighbours_ =
+        createBuffer(context, (kNeighbourWordsPerDisk * particleCount_ + entries) * sizeof(cl_uint), "neighbour lists");
+    listRoom_ = entries;
 }
 
 void DevicePairwise::clearMarks(cl_command_queue queue) {
@@ -84,7 +108,7 @@ void DevicePairwise::enqueueRound(cl_command_queue queue, unsigned int round) {
                   cl_uint{epoch});
     enqueue1d(queue, resolveKernel_.get(), listItems_, groupSize_, "resolveEvents", profiler_);
     setKernelArgs(searchChangedKernel_.get(), b.halt, b.state, b.slots, b.ids, b.cellOf, b.cells, step_, lists_.get(),
-                  cl_uint{round}, cl_uint{epoch});
+                  neighbours_.get(), cl_uint{round}, cl_uint{epoch});
     enqueue1d(queue, searchChangedKernel_.get(), listItems_, groupSize_, "searchChanged", profiler_);
 }
 
@@ -92,13 +116,15 @@ void DevicePairwise::enqueueRoundsInGroup(cl_command_queue queue, unsigned int f
     const StepBuffers& b = buffers_;
     const cl_uint firstEpoch = reserveEpochs(queue, kMaxPairwiseRounds - firstRound + 1);
     setKernelArgs(roundsInGroupKernel_.get(), b.halt, b.state, b.slots, b.ids, b.cellOf, b.cells, step_, b.tallies,
-                  lists_.get(), cl_uint{firstRound}, cl_uint{kMaxPairwiseRounds}, firstEpoch);
+                  lists_.get(), neighbours_.get(), cl_uint{firstRound}, cl_uint{kMaxPairwiseRounds}, firstEpoch);
     enqueue1d(queue, roundsInGroupKernel_.get(), roundsGroupSize_, roundsGroupSize_, "resolveRoundsInGroup", profiler_);
 }
 
-void DevicePairwise::enqueueStart(cl_command_queue queue, cl_mem halt, const StartCheck& check) {
+void DevicePairwise::enqueueStart(cl_command_queue queue, cl_mem halt, const StartCheck& check,
+                                  const CaromStepParams& step) {
     setKernelArgs(startKernel_.get(), halt, lists_.get(), cl_uint(kCounts), check.check, check.rule, check.substeps,
-                  check.speedWord, nonFiniteIndex(), check.stepIndex);
+                  cl_uint(speedIndex() + check.speedParity), check.speedParity, nonFiniteIndex(), check.stepIndex,
+                  skin_, step.duration, std::hypot(step.gravityX, step.gravityY));
     enqueue1d(queue, startKernel_.get(), kCounts, groupSize_, "startPairwiseStep", profiler_);
 }
 
@@ -113,8 +139,15 @@ void DevicePairwise::enqueueStep(cl_command_queue queue, const StepBuffers& buff
     buffers_ = buffers;
     step_ = step;
     const unsigned int epoch = nextEpoch(queue);
+    if (neighbours_.get())
+        for (const cl_uint fill : {0u, 1u}) {  // the arguments are taken as each launch is enqueued
+            setKernelArgs(buildListsKernel_.get(), buffers.halt, buffers.state, buffers.slots, buffers.cellOf,
+                          buffers.cells, step, lists_.get(), neighbours_.get(), skin_, cl_uint(listRoom_), fill);
+            enqueue1d(queue, buildListsKernel_.get(), particleCount_, groupSize_,
+                      fill ? "buildNeighbourLists (fill)" : "buildNeighbourLists (count)", profiler_);
+        }
     setKernelArgs(findKernel_.get(), buffers.halt, buffers.state, buffers.slots, buffers.ids, buffers.cellOf,
-                  buffers.cells, step, lists_.get(), cl_uint{epoch});
+                  buffers.cells, step, lists_.get(), neighbours_.get(), cl_uint{epoch});
     enqueue1d(queue, findKernel_.get(), particleCount_, groupSize_, "findEvents", profiler_);
     for (unsigned int round = 1; round <= launchedRounds_; ++round) enqueueRound(queue, round);
     if (launchedRounds_ < kMaxPairwiseRounds) enqueueRoundsInGroup(queue, launchedRounds_ + 1);
@@ -146,13 +179,17 @@ float DevicePairwise::speedSquaredRecord(unsigned int parity) const {
 }
 
 void DevicePairwise::readLengths(cl_command_queue queue) {
-    check(clEnqueueReadBuffer(queue, lists_.get(), CL_TRUE, 0, kCountsWithRecord * sizeof(cl_uint), hostCounts_.data(),
+    check(clEnqueueReadBuffer(queue, lists_.get(), CL_TRUE, 0, hostCounts_.size() * sizeof(cl_uint), hostCounts_.data(),
                               0, nullptr, eventSlot(profiler_, "read list lengths")),
           "clEnqueueReadBuffer(list lengths)");
 }
 
 unsigned int DevicePairwise::complete(cl_command_queue queue) {
     readLengths(queue);
+    // A build whose entries did not fit left its substep to the grid
+    // (buildNeighbourLists): room for them, and a quarter more.
+    if (neighbours_.get() && hostCounts_[CAROM_LISTS_TOTAL] > listRoom_)
+        makeListRoom(context_, std::size_t(hostCounts_[CAROM_LISTS_TOTAL]) * 5 / 4);
     unsigned int rounds = 0;
     for (unsigned int r = 1; r <= kMaxPairwiseRounds; ++r)
         if (hostCounts_[CAROM_CHANGED_LENGTH(r)] > 0) rounds = r;

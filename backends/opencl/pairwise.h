@@ -12,6 +12,11 @@
 // step before (kLaunchedRoundLength). Which kernel runs a round changes no
 // result. complete() later reads the lists' lengths, once a step or once a
 // chunk of steps.
+//
+// With neighbour lists (enableLists, the resident pipeline's), each
+// substep's start decides on the device whether its searches use the lists
+// that hold, build them first, or use the grid (startPairwiseStep): the
+// candidates are the same, so the results are too.
 #pragma once
 
 #include <cstddef>
@@ -34,8 +39,9 @@ public:
     // sorted position k, `ids[k]` its id, `cellOf[slots[k]]` its cell; with
     // `slots` null, the state is in sorted order (kernels/pairwise.h,
     // carom_slot).
-    // `halt`: one word, CAROM_RUNNING while a chunk of steps runs on; its
-    // kernels do nothing once it says the chunk stopped (startPairwiseStep).
+    // `halt`: two words (kernels/params.h), the first CAROM_RUNNING while a
+    // chunk of steps runs on; its kernels do nothing once it says the chunk
+    // stopped (startPairwiseStep).
     struct StepBuffers {
         cl_mem state, slots, ids, cellOf, cells, tallies, halt;
     };
@@ -43,16 +49,31 @@ public:
     // What startPairwiseStep checks of the state a substep starts from, in
     // a chunk of substeps enqueued without a wait: nothing (the chunk's
     // first), that no disk is non-finite, or that too and that its largest
-    // speed (the word speedWord of lists()) needs `substeps` under `rule`
+    // speed (the word speedIndex() + speedParity of lists()) needs `substeps` under `rule`
     // (a step's first substep). A failed check writes stepIndex to halt.
     static constexpr cl_uint kNoCheck = 0, kCheckFinite = 1, kCheckSubsteps = 2;
     struct StartCheck {
         cl_uint check = kNoCheck;
         CaromSubstepRule rule{};
-        cl_uint substeps = 0, speedWord = 0, stepIndex = 0;
+        cl_uint substeps = 0, speedParity = 0, stepIndex = 0;  // speedParity: speedIndex()'s word of the state
     };
-    // Enqueues the start of a (sub)step: the check, then the lengths zeroed.
-    void enqueueStart(cl_command_queue queue, cl_mem halt, const StartCheck& check);
+    // Enqueues the start of a (sub)step: the check, then the lengths zeroed
+    // and, with lists, their plan for `step`.
+    void enqueueStart(cl_command_queue queue, cl_mem halt, const StartCheck& check, const CaromStepParams& step);
+
+    // Searches neighbour lists with this skin (the reach beyond contact), for
+    // which the grid's cells must be wide enough, instead of the grid's cells
+    // wherever they hold; the state must then stay in the order the lists
+    // were built for between builds (the grid's kernels keep it where the
+    // start says the lists hold: halt[1]). Their buffer (the entries'
+    // room grows as they need it) is neighbours().
+    void enableLists(cl_context context, float skin);
+    cl_mem neighbours() const { return neighbours_.get(); }
+    // Since the buffers were made, as of the last complete(): the lists'
+    // builds, and the substeps that searched them.
+    cl_uint listBuildsRecord() const { return hostCounts_[CAROM_LISTS_BUILDS]; }
+    cl_uint listUsesRecord() const { return hostCounts_[CAROM_LISTS_USES]; }
+    std::size_t listRoom() const { return listRoom_; }  // the entries neighbours() holds
     // Enqueues the rounds of one (sub)step after its start: afterwards a finish kernel may follow.
     void enqueueStep(cl_command_queue queue, const StepBuffers& buffers, const CaromStepParams& step);
     // The lists' buffer (kernels/pairwise.cl CaromDeviceLists), whose first
@@ -101,13 +122,18 @@ private:
     void enqueueRound(cl_command_queue queue, unsigned int round);
     void enqueueRoundsInGroup(cl_command_queue queue, unsigned int firstRound);
 
+    void makeListRoom(cl_context context, std::size_t entries);  // neighbours_ for this many entries
+
     std::size_t particleCount_ = 0;
     Profiler* profiler_ = nullptr;
+    cl_context context_ = nullptr;  // lists: where their room grows
+    float skin_ = 0.0f;             // lists: their skin; 0 without
+    std::size_t listRoom_ = 0;      // lists: the entries neighbours_ holds
     std::size_t groupSize_ = 64;
     std::size_t listItems_ = 64;        // work-items of a list kernel, which stride over its list
     std::size_t roundsGroupSize_ = 64;  // resolveRoundsInGroup's one work-group
-    Kernel startKernel_, findKernel_, searchChangedKernel_, resolveKernel_, roundsInGroupKernel_;
-    Buffer lists_;
+    Kernel startKernel_, findKernel_, searchChangedKernel_, resolveKernel_, roundsInGroupKernel_, buildListsKernel_;
+    Buffer lists_, neighbours_;
     std::vector<cl_uint> hostCounts_;
     unsigned int epoch_ = 0;
     // Rounds 1 .. this run as launches: set from the step before's lengths;

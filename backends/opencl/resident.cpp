@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <string>
 #include <utility>
 
 #include "backends/opencl/program.h"
+#include "engine/neighbour_lists.h"
 #include "engine/parallel.h"
 
 namespace carom {
@@ -35,6 +37,12 @@ constexpr std::size_t kGatherUpTo = std::size_t{1} << 18;
 // CAROM_PAIRWISE_GATHER=on or off overrides the choice (the tests run both).
 bool gathers(std::size_t count) { return forcedChoice("CAROM_PAIRWISE_GATHER", "on", "off", count <= kGatherUpTo); }
 
+// Whether pairwise steps of `count` disks search neighbour lists: where the
+// state is not gathered; CAROM_PAIRWISE_LISTS=on or off overrides the
+// choice (the tests run both). The lists keep the state where it is between
+// their builds, so with them it is not gathered.
+bool searchesLists(std::size_t count) { return forcedChoice("CAROM_PAIRWISE_LISTS", "on", "off", count > kGatherUpTo); }
+
 }  // namespace
 
 OpenClResidentBackend::OpenClResidentBackend(const WorldDef& world, const std::string& device, bool profiling)
@@ -56,6 +64,22 @@ void OpenClResidentBackend::releaseState() {
 // Slot s holds particle s to begin with; the first step writes them in cell order.
 void OpenClResidentBackend::loadState(const std::vector<Particle>& particles) {
     const std::size_t n = particles.size();
+    inOneGroup_ = n <= kSmallSystemParticles;
+    const bool pairwise = world_.collisions == CollisionScheme::Pairwise;
+    // The lists take the skin the CPU engine's would, and are built from the
+    // device's grid, whose cells are widened for it: the substeps stay sized
+    // by the pairwise grid's allowance (gridTravel()), so the results are the
+    // same; only the searches' candidates and the cells change.
+    const float skin = NeighbourLists::skinFor(world_.skin, maxRadius_, gridTravel());
+    listed_ = pairwise && !inOneGroup_ && std::isfinite(skin) && searchesLists(n);
+    if (listed_) {
+        const GridGeometry wide = gridGeometryFor(world_.width, world_.height, maxRadius_, n, world_.boundary, skin);
+        // A periodic box under 3 such cells a side has narrower ones: no lists.
+        const double reach = 2.0 * maxRadius_ * (1.0 + 1e-5) + skin;
+        listed_ = double(world_.width) / wide.cols >= reach && double(world_.height) / wide.rows >= reach;
+        if (listed_) grid_.geometry = wide;
+    }
+    gathered_ = !listed_ && gathers(n);
     ids_ = createBuffer(context_.get(), n * sizeof(cl_uint), "particle ids");
     sortedIds_ = createBuffer(context_.get(), n * sizeof(cl_uint), "particle ids in cell order");
     UninitialisedVector<cl_uint> ids(n);
@@ -65,11 +89,11 @@ void OpenClResidentBackend::loadState(const std::vector<Particle>& particles) {
           "clEnqueueWriteBuffer(particle ids)");
     deviceGrid_ = DeviceGrid(context_.get(), device_, program_.get(), grid_.geometry, n, profiler_.get());
     deviceGrid_.count(queue_.get(), state_.get());
+    buildGridEachStep();  // whatever the lists of a state before chose
     speedKnown_ = false;
-    inOneGroup_ = n <= kSmallSystemParticles;
-    gathered_ = gathers(n);
-    if (world_.collisions != CollisionScheme::Pairwise) return;
+    if (!pairwise) return;
     pairwise_ = DevicePairwise(context_.get(), device_, program_.get(), n, queue_.get(), profiler_.get());
+    if (listed_) pairwise_.enableLists(context_.get(), skin);
     // The finish's record: no disk non-finite, no speed yet (zero).
     cl_uint record[DevicePairwise::kRecordWords] = {};
     std::copy_n(kNoneNonFinite, DevicePairwise::kNonFiniteWords, record);
@@ -163,7 +187,7 @@ std::uint64_t OpenClResidentBackend::stepPairwiseChunk(std::uint64_t substeps, s
                                                      : DevicePairwise::kCheckFinite;
             check.rule = rule;
             check.substeps = cl_uint(substepsPerStep);
-            check.speedWord = DevicePairwise::speedIndex() + speedParity_;
+            check.speedParity = speedParity_;
             check.stepIndex = firstStepIndex + cl_uint(s);
             enqueuePairwiseSubstep(step, check);
         }
@@ -196,7 +220,7 @@ std::uint64_t OpenClResidentBackend::stepPairwiseChunk(std::uint64_t substeps, s
 // finish runs in place.
 void OpenClResidentBackend::enqueuePairwiseSubstep(const CaromStepParams& step,
                                                    const DevicePairwise::StartCheck& check) {
-    pairwise_.enqueueStart(queue_.get(), halt_.get(), check);
+    pairwise_.enqueueStart(queue_.get(), halt_.get(), check, step);
     deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get(), halt_.get(),
                       gathered_ ? DeviceGrid::Gather{state_.get(), next_.get()} : DeviceGrid::Gather{});
     const cl_mem stepState = gathered_ ? next_.get() : state_.get();
@@ -209,8 +233,8 @@ void OpenClResidentBackend::enqueuePairwiseSubstep(const CaromStepParams& step,
     setKernelArgs(finishAndCountKernel_.get(), halt_.get(), stepState, slots, sortedIds_.get(), step, next_.get(),
                   tallies_.get(), deviceGrid_.nextCounts(), deviceGrid_.cellOf(), deviceGrid_.rankInCell(),
                   pairwise_.lists(), DevicePairwise::speedIndex(), cl_uint{speedParity_}, check.stepIndex,
-                  DevicePairwise::nonFiniteIndex(), DevicePairwise::roundsIndex());
-    setLocalArg(finishAndCountKernel_.get(), 16, reductionGroupSize_ * sizeof(cl_float));
+                  DevicePairwise::nonFiniteIndex(), DevicePairwise::roundsIndex(), pairwise_.neighbours());
+    setLocalArg(finishAndCountKernel_.get(), 17, reductionGroupSize_ * sizeof(cl_float));
     enqueue1d(queue_.get(), finishAndCountKernel_.get(), finishItems_, reductionGroupSize_, "finishPairwiseAndCount",
               profiler_.get());
     swapStepBuffers();
@@ -235,7 +259,15 @@ float OpenClResidentBackend::maxSpeedSquared() {
     return pairwise_.speedSquaredRecord(speedParity_);
 }
 
+void OpenClResidentBackend::buildGridEachStep() {
+    const cl_uint build = 0;
+    check(clEnqueueWriteBuffer(queue_.get(), halt_.get(), CL_TRUE, sizeof(cl_uint), sizeof build, &build, 0, nullptr,
+                               nullptr),
+          "clEnqueueWriteBuffer(halt)");
+}
+
 Grid OpenClResidentBackend::readDeviceGrid() {
+    buildGridEachStep();  // whatever the last pairwise substep chose
     deviceGrid_.build(queue_.get(), ids_.get(), sortedIds_.get(), halt_.get());
     return deviceGrid_.read(queue_.get(), sortedIds_.get());
 }

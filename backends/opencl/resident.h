@@ -8,7 +8,10 @@
 // small system's steps run whole in one work-group instead
 // (DeviceSmallSystem, kernels/small_system.cl): a chunk of pairwise steps,
 // or several simultaneous steps, per launch. The host reads the state only
-// when asked (readParticles). Bitwise equal to the host-grid pipeline.
+// when asked (readParticles). Pairwise steps of large systems search
+// neighbour lists, which skip the grid's build while they hold (kept in the
+// order they were built for, the state stays there). Bitwise equal to the
+// host-grid pipeline.
 #pragma once
 
 #include "backends/opencl/backend.h"
@@ -26,6 +29,13 @@ public:
     // The grid of the current state as the device builds it, read back
     // (tests compare it with the shared builder's).
     Grid readDeviceGrid();
+    // Pairwise steps' neighbour lists, as of the last wait: whether they are
+    // searched, and since the state was loaded how many builds there were and
+    // how many substeps searched them.
+    bool searchesNeighbourLists() const { return listed_; }
+    std::uint32_t neighbourListBuilds() const { return pairwise_.listBuildsRecord(); }
+    std::uint32_t neighbourListUses() const { return pairwise_.listUsesRecord(); }
+    std::size_t neighbourListRoom() const { return pairwise_.listRoom(); }  // entries, for all disks
 
 private:
     const char* pipelineName() const override { return "resident"; }
@@ -59,11 +69,13 @@ private:
     void enqueuePairwiseSubstep(const CaromStepParams& step, const opencl::DevicePairwise::StartCheck& check);
     void swapStepBuffers();                // next_, sortedIds_ and the next counts become current
     void resumeAfterHalt();                // running again after a chunk stopped early
+    void buildGridEachStep();              // halt[1] zeroed: the grid's kernels build it (kernels/params.h)
     opencl::Kernel fusedKernel_;           // resolveIntegrateAndCount
     opencl::Kernel finishAndCountKernel_;  // pairwise: finishPairwiseAndCount
     opencl::DeviceSmallSystem smallSystem_;
     bool inOneGroup_ = false;  // steps run whole in one work-group (smallSystem_)
     bool gathered_ = false;    // pairwise steps gather the state into sorted order (kGatherUpTo)
+    bool listed_ = false;      // pairwise steps search neighbour lists (searchesLists)
     opencl::DeviceGrid deviceGrid_;
     opencl::Buffer ids_;               // the particle id in each slot of state_
     opencl::Buffer sortedIds_;         // sortedIndices, then the ids of next_'s slots
