@@ -26,22 +26,23 @@ constexpr std::size_t kFinishGroupsPerComputeUnit = 16;
 // request between chunks is not kept waiting. The chunk's length follows
 // its last duration; it changes no result.
 constexpr auto kChunkSeconds = 0.01;
-// Pairwise steps of up to this many disks gather the state into the step's
-// sorted order: their searches then load no slots, which made a step 5-13 %
-// faster at 10^4-10^5 disks on an H100; from 10^6 the gather's copy (64
-// bytes a disk) costs more than that saves (4-6 % slower;
-// bench/results/nvidia-h100-gather.txt).
+// Pairwise steps without neighbour lists (searchesLists) of up to this many
+// disks gather the state into the step's sorted order: their searches then
+// load no slots, which made a step 5-13 % faster at 10^4-10^5 disks on an
+// H100; from 10^6 the gather's copy (64 bytes a disk) costs more than that
+// saves (4-6 % slower; bench/results/nvidia-h100-gather.txt).
 constexpr std::size_t kGatherUpTo = std::size_t{1} << 18;
 
 // Whether pairwise steps of `count` disks gather the state (kGatherUpTo);
 // CAROM_PAIRWISE_GATHER=on or off overrides the choice (the tests run both).
 bool gathers(std::size_t count) { return forcedChoice("CAROM_PAIRWISE_GATHER", "on", "off", count <= kGatherUpTo); }
 
-// Whether pairwise steps of `count` disks search neighbour lists: where the
-// state is not gathered; CAROM_PAIRWISE_LISTS=on or off overrides the
-// choice (the tests run both). The lists keep the state where it is between
-// their builds, so with them it is not gathered.
-bool searchesLists(std::size_t count) { return forcedChoice("CAROM_PAIRWISE_LISTS", "on", "off", count > kGatherUpTo); }
+// Whether pairwise steps search neighbour lists: yes, unless
+// CAROM_PAIRWISE_LISTS=off (the tests run both). On an H100 they made a
+// step 17-18 % faster at 10^4-10^5 disks, 10 % at 10^6 and 4 % at 1.6*10^7
+// (bench/results/nvidia-h100-lists.txt). The lists keep the state where it
+// is between their builds, so with them it is not gathered.
+bool searchesLists() { return forcedChoice("CAROM_PAIRWISE_LISTS", "on", "off", true); }
 
 }  // namespace
 
@@ -71,7 +72,7 @@ void OpenClResidentBackend::loadState(const std::vector<Particle>& particles) {
     // by the pairwise grid's allowance (gridTravel()), so the results are the
     // same; only the searches' candidates and the cells change.
     const float skin = NeighbourLists::skinFor(world_.skin, maxRadius_, gridTravel());
-    listed_ = pairwise && !inOneGroup_ && std::isfinite(skin) && searchesLists(n);
+    listed_ = pairwise && !inOneGroup_ && std::isfinite(skin) && searchesLists();
     if (listed_) {
         const GridGeometry wide = gridGeometryFor(world_.width, world_.height, maxRadius_, n, world_.boundary, skin);
         // A periodic box under 3 such cells a side has narrower ones: no lists.
