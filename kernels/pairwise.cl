@@ -128,7 +128,7 @@ static inline void carom_plan_lists(
     lengths[CAROM_LISTS_BUILD] = (uint)build;
     lengths[CAROM_LISTS_USED] = (uint)(holds || build);
     if (!holds) lengths[CAROM_LISTS_BUILT] = 0u;
-    if (build) lengths[CAROM_LISTS_TOTAL] = 0u;
+    if (build) lengths[CAROM_LISTS_TOTAL] = lengths[CAROM_LISTS_OVERFLOW] = 0u;
     if (holds || build) lengths[CAROM_LISTS_USES] += 1u;
     halt[1] = (uint)holds;
 }
@@ -143,7 +143,7 @@ static inline void carom_plan_lists(
  * kernels from here on do nothing. Every work-item decides alike. With a
  * skin (> 0: the resident pipeline's neighbour lists), it then chooses how
  * the substep finds neighbours (carom_plan_lists; the speed word's parity is
- * the state's). */
+ * the state's); without, the substep searches the grid. */
 __kernel void startPairwiseStep(__global uint* halt,
                                 __global uint* lengths,
                                 uint lengthCount,
@@ -166,7 +166,13 @@ __kernel void startPairwiseStep(__global uint* halt,
         return;
     }
     for (uint i = get_global_id(0); i < lengthCount; i += get_global_size(0)) lengths[i] = 0u;
-    if (skin > 0.0f && get_global_id(0) == 0) carom_plan_lists(halt, lengths, speedSquared, parity, skin, dt, gravity);
+    if (get_global_id(0) != 0) return;
+    if (skin > 0.0f) {
+        carom_plan_lists(halt, lengths, speedSquared, parity, skin, dt, gravity);
+    } else {
+        lengths[CAROM_LISTS_USED] = 0u;
+        halt[1] = 0u;
+    }
 }
 
 /* Round 0, every disk: its earliest event over all its neighbours. (The
@@ -370,9 +376,9 @@ static inline uint carom_collect_neighbours(uint k,
  * work-group's places at once, after the places taken before: which list
  * lands where changes nothing computed), and keeps where the disk is, from
  * which the finishes measure how far it moves. The second writes the
- * entries where they all fit in `capacity`; where they do not, the substep
- * searches the grid instead, and the host makes room for them before the
- * next chunk (DevicePairwise::complete). */
+ * entries where they all fit in `capacity` (and their count in 32 bits);
+ * where they do not, the substep searches the grid instead, and the host
+ * makes room for them before the next chunk (DevicePairwise::complete). */
 __kernel void buildNeighbourLists(__global const uint* halt,
                                   __global const Particle* state,
                                   __global const uint* slots,
@@ -389,7 +395,7 @@ __kernel void buildNeighbourLists(__global const uint* halt,
     const uint k = get_global_id(0);
     if (fill) {
         if (k >= step.count) return;
-        const int fits = words[CAROM_LISTS_TOTAL] <= capacity;
+        const int fits = words[CAROM_LISTS_OVERFLOW] == 0u;
         if (k == 0) {
             words[CAROM_LISTS_USED] = (uint)fits;
             words[CAROM_LISTS_BUILT] = (uint)fits;
@@ -410,7 +416,11 @@ __kernel void buildNeighbourLists(__global const uint* halt,
         offset = atomic_add(&groupLength, length);
     }
     barrier(CLK_LOCAL_MEM_FENCE);
-    if (get_local_id(0) == 0) groupStart = atomic_add(&words[CAROM_LISTS_TOTAL], groupLength);
+    if (get_local_id(0) == 0) {
+        groupStart = atomic_add(&words[CAROM_LISTS_TOTAL], groupLength);
+        const uint end = groupStart + groupLength;
+        if (end < groupStart || end > capacity) words[CAROM_LISTS_OVERFLOW] = 1u;
+    }
     barrier(CLK_LOCAL_MEM_FENCE);
     if (k >= step.count) return;
     neighbourWords[k] = groupStart + offset;

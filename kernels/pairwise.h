@@ -283,12 +283,14 @@ static inline void carom_list_add(CaromList list, unsigned int k, unsigned int e
  * lengths, then the words the host reads back with them (its record). */
 #define CAROM_LIST_HEADER_WORDS 256u
 /* The resident pipeline's neighbour lists (kernels/pairwise.cl), in the
- * header's last words: whether they hold for the state (built for its order
+ * header's last words: whether the last build's entries overflowed their
+ * room (or 32 bits); whether they hold for the state (built for its order
  * and positions); whether this substep builds them and whether its searches
  * use them (startPairwiseStep); the entries the last build needed; the
  * largest displacement squared since the build (the float's bits) of the
  * state each parity's finish wrote; and, for the record, how many builds
  * there were and how many substeps used them. */
+#define CAROM_LISTS_OVERFLOW (CAROM_LIST_HEADER_WORDS - 9u)
 #define CAROM_LISTS_BUILT (CAROM_LIST_HEADER_WORDS - 8u)
 #define CAROM_LISTS_BUILD (CAROM_LIST_HEADER_WORDS - 7u)
 #define CAROM_LISTS_USED (CAROM_LIST_HEADER_WORDS - 6u)

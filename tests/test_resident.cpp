@@ -361,6 +361,9 @@ TEST_CASE("resident pipeline: pairwise neighbour lists reuse their build with th
             if (radiusMax == 0.5f) CHECK(listed->neighbourListBuilds() > 1);
             CHECK(listed->neighbourListUses() > 2 * listed->neighbourListBuilds());
             if (radiusMax == 5.0f) CHECK(listed->neighbourListRoom() > 6 * s.particles.size());
+            MESSAGE("builds " << listed->neighbourListBuilds() << ", substeps searching them "
+                              << listed->neighbourListUses() << " of " << listed->contacts().substeps << ", room "
+                              << listed->neighbourListRoom());
             // A state loaded without the lists builds its grid each step again.
             const test::ScopedEnvironment off("CAROM_PAIRWISE_LISTS", "off");
             listed->setParticles(s.particles);
@@ -369,9 +372,6 @@ TEST_CASE("resident pipeline: pairwise neighbour lists reuse their build with th
             listed->step(20);
             cpu->step(20);
             if (listed->exactArithmetic()) CHECK(bitwiseEqual(read(*listed), read(*cpu)));
-            MESSAGE("builds " << listed->neighbourListBuilds() << ", substeps searching them "
-                              << listed->neighbourListUses() << " of " << listed->contacts().substeps << ", room "
-                              << listed->neighbourListRoom());
         }
 }
 

@@ -37,7 +37,7 @@ static_assert(kCountsWithRecord <= CAROM_LIST_HEADER_WORDS, "the lengths and the
 // the events (two), two pending lists, the changed list, then the marks.
 constexpr std::size_t kListWordsPerDisk = 8;
 constexpr std::size_t kMarksWord = 5;  // the first marks' words start at kMarksWord * count
-static_assert(kCountsWithRecord <= CAROM_LISTS_BUILT, "the record must end before the neighbour lists' words");
+static_assert(kCountsWithRecord <= CAROM_LISTS_OVERFLOW, "the record must end before the neighbour lists' words");
 // The neighbour lists' buffer (carom_list_origins): words per disk
 // before the entries, and the room for entries a disk to begin with (a
 // disk has 3-5 neighbours within the grid's skin at packings 0.6-0.9 among
@@ -73,14 +73,19 @@ DevicePairwise::DevicePairwise(cl_context context, const DeviceInfo& device, cl_
 void DevicePairwise::enableLists(cl_context context, float skin) {
     context_ = context;
     skin_ = skin;
-    makeListRoom(context, kFirstListRoomPerDisk * particleCount_);
+    if (!makeListRoom(context, kFirstListRoomPerDisk * particleCount_)) skin_ = 0.0f;
 }
 
-void DevicePairwise::makeListRoom(cl_context context, std::size_t entries) {
+bool DevicePairwise::makeListRoom(cl_context context, std::size_t entries) {
     neighbours_.reset();  // first: the lists may fill the device
-    neighbours_ =
-        createBuffer(context, (kNeighbourWordsPerDisk * particleCount_ + entries) * sizeof(cl_uint), "neighbour lists");
+    try {
+        neighbours_ = createBuffer(context, (kNeighbourWordsPerDisk * particleCount_ + entries) * sizeof(cl_uint),
+                                   "neighbour lists");
+    } catch (const Error&) {  // more than the device's largest buffer
+        return false;
+    }
     listRoom_ = entries;
+    return true;
 }
 
 void DevicePairwise::clearMarks(cl_command_queue queue) {
@@ -187,9 +192,23 @@ void DevicePairwise::readLengths(cl_command_queue queue) {
 unsigned int DevicePairwise::complete(cl_command_queue queue) {
     readLengths(queue);
     // A build whose entries did not fit left its substep to the grid
-    // (buildNeighbourLists): room for them, and a quarter more.
-    if (neighbours_.get() && hostCounts_[CAROM_LISTS_TOTAL] > listRoom_)
-        makeListRoom(context_, std::size_t(hostCounts_[CAROM_LISTS_TOTAL]) * 5 / 4);
+    // (buildNeighbourLists): room for them, and a quarter more; where that
+    // passes 32-bit offsets (a count that wrapped reads as no more than the
+    // room) or the device's largest buffer, the grid serves from here on.
+    if (neighbours_.get() && hostCounts_[CAROM_LISTS_OVERFLOW] != 0) {
+        const std::size_t needed = hostCounts_[CAROM_LISTS_TOTAL];
+        const std::size_t room = needed + needed / 4;
+        if (needed <= listRoom_ || room > std::numeric_limits<cl_uint>::max() || !makeListRoom(context_, room)) {
+            neighbours_.reset();
+            listRoom_ = 0;
+            skin_ = 0.0f;
+        }
+        // Handled: not to be read again before the next build sets it.
+        const cl_uint zero = 0;
+        check(clEnqueueFillBuffer(queue, lists_.get(), &zero, sizeof zero, CAROM_LISTS_OVERFLOW * sizeof(cl_uint),
+                                  sizeof zero, 0, nullptr, nullptr),
+              "clEnqueueFillBuffer(lists' overflow)");
+    }
     unsigned int rounds = 0;
     for (unsigned int r = 1; r <= kMaxPairwiseRounds; ++r)
         if (hostCounts_[CAROM_CHANGED_LENGTH(r)] > 0) rounds = r;

@@ -69,6 +69,7 @@ public:
     // room grows as they need it) is neighbours().
     void enableLists(cl_context context, float skin);
     cl_mem neighbours() const { return neighbours_.get(); }
+    bool searchesLists() const { return skin_ > 0.0f; }  // whether they are on (they may stop: complete())
     // Since the buffers were made, as of the last complete(): the lists'
     // builds, and the substeps that searched them.
     cl_uint listBuildsRecord() const { return hostCounts_[CAROM_LISTS_BUILDS]; }
@@ -122,7 +123,7 @@ private:
     void enqueueRound(cl_command_queue queue, unsigned int round);
     void enqueueRoundsInGroup(cl_command_queue queue, unsigned int firstRound);
 
-    void makeListRoom(cl_context context, std::size_t entries);  // neighbours_ for this many entries
+    bool makeListRoom(cl_context context, std::size_t entries);  // neighbours_ for this many entries, if it can
 
     std::size_t particleCount_ = 0;
     Profiler* profiler_ = nullptr;

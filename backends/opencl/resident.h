@@ -32,7 +32,7 @@ public:
     // Pairwise steps' neighbour lists, as of the last wait: whether they are
     // searched, and since the state was loaded how many builds there were and
     // how many substeps searched them.
-    bool searchesNeighbourLists() const { return listed_; }
+    bool searchesNeighbourLists() const { return listed_ && pairwise_.searchesLists(); }
     std::uint32_t neighbourListBuilds() const { return pairwise_.listBuildsRecord(); }
     std::uint32_t neighbourListUses() const { return pairwise_.listUsesRecord(); }
     std::size_t neighbourListRoom() const { return pairwise_.listRoom(); }  // entries, for all disks
