@@ -49,7 +49,7 @@ CAROM_BACKEND_TEST_CASE("periodic: a disk leaving one side enters the opposite o
 CAROM_BACKEND_TEST_CASE("periodic: images count the box lengths crossed, so positions unwrap onto the line") {
     // (5, 5) moving at (7, -3) for 10 time units: at (75, -25), 3 widths right and 3 heights down.
     for (const CollisionScheme scheme : {CollisionScheme::Simultaneous, CollisionScheme::Pairwise}) {
-        CAPTURE(collisionSchemeName(scheme));
+        CAPTURE(std::string(collisionSchemeName(scheme)));
         WorldDef world = periodicBox(20, 10, 0.01f);
         world.collisions = scheme;
         const Run r = run(def, world, {disk(5, 5, 7, -3, 1, 0.5f)}, 1000);
@@ -66,7 +66,7 @@ CAROM_BACKEND_TEST_CASE("periodic: image counts wrap around modulo 2^32 instead 
     for (const CollisionScheme scheme :
          {CollisionScheme::Simultaneous, CollisionScheme::Pairwise, CollisionScheme::Events}) {
         if (scheme == CollisionScheme::Events && def.engine != ComputeEngine::Cpu) continue;
-        CAPTURE(collisionSchemeName(scheme));
+        CAPTURE(std::string(collisionSchemeName(scheme)));
         WorldDef world = periodicBox(20, 10, 0.01f);
         world.collisions = scheme;
         auto backend = makeBackend(def, world);

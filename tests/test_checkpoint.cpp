@@ -189,7 +189,7 @@ CAROM_OPENCL_TEST_CASE("checkpoint: a run resumed on another backend continues b
     const Snapshot whole = runAndCheckpoint(cpu, start, 2000);
     const std::string file = std::string("cross-") + computeEngineName(def.engine) + ".ckpt";  // one per pipeline
     for (const auto& [first, second] : {std::pair{cpu, def}, std::pair{def, cpu}}) {
-        CAPTURE(computeEngineName(first.engine));
+        CAPTURE(std::string(computeEngineName(first.engine)));
         writeCheckpoint(file, runAndCheckpoint(first, start, 1000));
         const Snapshot resumed = runAndCheckpoint(second, readCheckpoint(file), 1000);
         CHECK(resumed.collisions == whole.collisions);

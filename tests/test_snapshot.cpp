@@ -145,8 +145,8 @@ CAROM_BACKEND_TEST_CASE("snapshot: a restored world steps on bit for bit, in the
     const Scene scene = polydisperse(1000);
     for (CollisionScheme scheme : {CollisionScheme::Pairwise, CollisionScheme::Simultaneous})
         for (Boundary boundary : {Boundary::Walls, Boundary::Periodic}) {
-            CAPTURE(collisionSchemeName(scheme));
-            CAPTURE(boundaryName(boundary));
+            CAPTURE(std::string(collisionSchemeName(scheme)));
+            CAPTURE(std::string(boundaryName(boundary)));
             checkContinues(worldOf(scene, scheme, boundary, def), scene, 200);
         }
 }
@@ -154,7 +154,7 @@ CAROM_BACKEND_TEST_CASE("snapshot: a restored world steps on bit for bit, in the
 TEST_CASE("snapshot: a restored world steps on bit for bit in the events scheme, the engine's exact state included") {
     const Scene scene = polydisperse(400);
     for (Boundary boundary : {Boundary::Walls, Boundary::Periodic}) {
-        CAPTURE(boundaryName(boundary));
+        CAPTURE(std::string(boundaryName(boundary)));
         checkContinues(worldOf(scene, CollisionScheme::Events, boundary, EngineDef{}), scene, 100);
     }
 }
@@ -291,7 +291,7 @@ TEST_CASE("snapshot: a checkpoint file holds the snapshot bit for bit, and resto
     const Scene scene = polydisperse(300);
     const std::string path = (std::filesystem::temp_directory_path() / "carom_snapshot.ckpt").string();
     for (CollisionScheme scheme : {CollisionScheme::Pairwise, CollisionScheme::Events}) {
-        CAPTURE(collisionSchemeName(scheme));
+        CAPTURE(std::string(collisionSchemeName(scheme)));
         World world(worldOf(scene, scheme, Boundary::Walls, EngineDef{}));
         world.setDisks(scene.disks);
         world.step(25);
@@ -318,7 +318,7 @@ TEST_CASE("io: trajectories and statistics hold the engine's measurements of the
     std::filesystem::create_directories(folder);
     const auto path = [&](const char* name) { return (folder / name).string(); };
     for (CollisionScheme scheme : {CollisionScheme::Pairwise, CollisionScheme::Events}) {
-        CAPTURE(collisionSchemeName(scheme));
+        CAPTURE(std::string(collisionSchemeName(scheme)));
         World world(worldOf(scene, scheme, Boundary::Walls, EngineDef{}));
         world.setDisks(scene.disks);
         io::TrajectoryWriter trajectory(path("public.xyz"));

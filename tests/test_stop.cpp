@@ -107,7 +107,7 @@ CAROM_BACKEND_TEST_CASE("stop: a stop check cuts a step of many substeps short, 
 TEST_CASE("stop: a stop check stops many short steps between two, promptly, and the steps taken are whole") {
     const Scene scene = gas(2000, 1.0f);
     for (CollisionScheme scheme : {CollisionScheme::Simultaneous, CollisionScheme::Events}) {
-        CAPTURE(collisionSchemeName(scheme));
+        CAPTURE(std::string(collisionSchemeName(scheme)));
         World world = worldOf(scene, EngineDef{}, scheme, 0.01f, 0.0f);
         const Clock::time_point start = Clock::now();
         world.setStopCheck([start] { return Clock::now() - start > std::chrono::milliseconds(100); });

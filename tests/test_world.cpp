@@ -65,8 +65,8 @@ CAROM_BACKEND_TEST_CASE("world: steps bit for bit as its backend, with the same 
         for (Boundary boundary : {Boundary::Walls, Boundary::Periodic}) {
             WorldDef spec = worldFor(scene, engine, boundary);
             spec.collisions = scheme;
-            CAPTURE(collisionSchemeName(scheme));
-            CAPTURE(boundaryName(boundary));
+            CAPTURE(std::string(collisionSchemeName(scheme)));
+            CAPTURE(std::string(boundaryName(boundary)));
             World world(spec);
             world.setDisks(scene.disks);
             world.step(60);
@@ -214,7 +214,7 @@ TEST_CASE("world: deep overlaps are warned of, or refused on request, keeping th
 CAROM_BACKEND_TEST_CASE("world: disk memory follows the steps and outlives a new set of disks") {
     const Scene scene = gas(300, 0.3f);
     for (CollisionScheme scheme : {CollisionScheme::Pairwise, CollisionScheme::Simultaneous}) {
-        CAPTURE(collisionSchemeName(scheme));
+        CAPTURE(std::string(collisionSchemeName(scheme)));
         WorldDef spec = worldFor(scene, def.engine, Boundary::Walls);
         spec.collisions = scheme;
         World world(spec);
@@ -252,7 +252,7 @@ CAROM_BACKEND_TEST_CASE("world: device memory counts the engine's buffers on the
     const Scene scene = gas(4000, 0.3f);
     const std::vector<Disk> few(scene.disks.begin(), scene.disks.begin() + 1000);
     for (CollisionScheme scheme : {CollisionScheme::Pairwise, CollisionScheme::Simultaneous}) {
-        CAPTURE(collisionSchemeName(scheme));
+        CAPTURE(std::string(collisionSchemeName(scheme)));
         WorldDef spec = worldFor(scene, def.engine, Boundary::Walls);
         spec.collisions = scheme;
         World world(spec);
@@ -473,7 +473,7 @@ TEST_CASE("io: a world resumed from its checkpoint continues bit for bit, events
     const Scene scene = gas(400, 0.4f);
     const std::string path = (std::filesystem::temp_directory_path() / "carom_world.ckpt").string();
     for (CollisionScheme scheme : {CollisionScheme::Pairwise, CollisionScheme::Events}) {
-        CAPTURE(collisionSchemeName(scheme));
+        CAPTURE(std::string(collisionSchemeName(scheme)));
         WorldDef def = worldFor(scene, ComputeEngine::Cpu, Boundary::Walls);
         def.collisions = scheme;
         World straight(def);
@@ -507,7 +507,7 @@ CAROM_BACKEND_TEST_CASE("world: periodic images go through edits, snapshots and 
     for (const CollisionScheme scheme :
          {CollisionScheme::Simultaneous, CollisionScheme::Pairwise, CollisionScheme::Events}) {
         if (scheme == CollisionScheme::Events && def.engine != ComputeEngine::Cpu) continue;
-        CAPTURE(collisionSchemeName(scheme));
+        CAPTURE(std::string(collisionSchemeName(scheme)));
         WorldDef world = box(20, 10, 0.01f);
         world.boundary = Boundary::Periodic;
         world.collisions = scheme;

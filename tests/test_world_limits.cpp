@@ -78,7 +78,7 @@ TEST_CASE("world: a null array with a count is refused, naming the argument, and
 
 TEST_CASE("world: step refuses to take the step count past 2^64 - 1, and keeps its step") {
     for (CollisionScheme scheme : {CollisionScheme::Pairwise, CollisionScheme::Events}) {
-        CAPTURE(collisionSchemeName(scheme));
+        CAPTURE(std::string(collisionSchemeName(scheme)));
         World world = twoDisks(scheme, 1.0f);
         world.step(20);  // a time that 2^64 steps of kMinDt reach (18.4)
         Snapshot late = world.snapshot();
@@ -153,7 +153,7 @@ TEST_CASE("snapshot: an events state with two disks on one centre is refused, th
 
 TEST_CASE("world: an edit that puts two disks on one centre is refused, as setDisks refuses it, for every scheme") {
     for (CollisionScheme scheme : {CollisionScheme::Pairwise, CollisionScheme::Simultaneous, CollisionScheme::Events}) {
-        CAPTURE(collisionSchemeName(scheme));
+        CAPTURE(std::string(collisionSchemeName(scheme)));
         World world = twoDisks(scheme);
         const std::vector<Disk> before = world.disks();
         CHECK(refusalOf([&] {

@@ -1,7 +1,6 @@
 #include "backends/opencl/runtime.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cctype>
 #include <cstdlib>
 #include <map>
@@ -230,11 +229,13 @@ Kernel createKernel(cl_program program, const char* name) {
 
 namespace {
 
-// The counts of the tracked contexts. A buffer's share is taken back by its
-// destructor callback, which holds the count: the callback may come after
-// the context stopped being tracked, or on another thread.
+// The counts of the tracked contexts, and the share of each counted buffer
+// the engine holds. A share is taken back when the engine releases the
+// buffer, not when the driver frees it (after the commands that use it,
+// on its own thread): so the count is the same on every run. It holds its
+// count, which a context may stop tracking first.
 struct BufferCount {
-    std::atomic<unsigned long long> live{0}, peak{0};
+    unsigned long long live = 0, peak = 0;
 };
 struct BufferShare {
     std::shared_ptr<BufferCount> count;
@@ -242,32 +243,31 @@ struct BufferShare {
 };
 std::mutex trackedMutex;
 std::map<cl_context, std::shared_ptr<BufferCount>> tracked;
-
-std::shared_ptr<BufferCount> countOf(cl_context context) {
-    const std::lock_guard<std::mutex> lock(trackedMutex);
-    const auto found = tracked.find(context);
-    return found == tracked.end() ? nullptr : found->second;
-}
-
-void CL_CALLBACK returnShare(cl_mem, void* data) {
-    const std::unique_ptr<BufferShare> share(static_cast<BufferShare*>(data));
-    share->count->live -= share->bytes;
-}
+std::map<cl_mem, BufferShare> shares;
 
 }  // namespace
+
+cl_int releaseMem(cl_mem buffer) {
+    {
+        const std::lock_guard<std::mutex> lock(trackedMutex);
+        if (const auto found = shares.find(buffer); found != shares.end()) {
+            found->second.count->live -= found->second.bytes;
+            shares.erase(found);
+        }
+    }
+    return clReleaseMemObject(buffer);
+}
 
 Buffer createBuffer(cl_context context, std::size_t bytes, const char* what) {
     cl_int status = CL_SUCCESS;
     Buffer buffer(clCreateBuffer(context, CL_MEM_READ_WRITE, std::max<std::size_t>(bytes, 1), nullptr, &status));
     check(status, (std::string("clCreateBuffer(") + what + ", " + std::to_string(bytes) + " bytes)").c_str());
-    if (std::shared_ptr<BufferCount> count = countOf(context)) {
-        auto share = std::make_unique<BufferShare>(BufferShare{count, bytes});
-        check(clSetMemObjectDestructorCallback(buffer.get(), returnShare, share.get()),
-              "clSetMemObjectDestructorCallback");
-        share.release();
-        const unsigned long long live = count->live += bytes;
-        unsigned long long peak = count->peak;
-        while (live > peak && !count->peak.compare_exchange_weak(peak, live)) continue;
+    const std::lock_guard<std::mutex> lock(trackedMutex);
+    if (const auto found = tracked.find(context); found != tracked.end()) {
+        BufferCount& count = *found->second;
+        shares.emplace(buffer.get(), BufferShare{found->second, bytes});
+        count.live += bytes;
+        count.peak = std::max(count.peak, count.live);
     }
     return buffer;
 }
@@ -283,8 +283,9 @@ void untrackBuffers(cl_context context) {
 }
 
 BufferBytes bufferBytes(cl_context context) {
-    const std::shared_ptr<BufferCount> count = countOf(context);
-    return count ? BufferBytes{count->live, count->peak} : BufferBytes{};
+    const std::lock_guard<std::mutex> lock(trackedMutex);
+    const auto found = tracked.find(context);
+    return found == tracked.end() ? BufferBytes{} : BufferBytes{found->second->live, found->second->peak};
 }
 
 std::size_t kernelWorkGroupLimit(cl_kernel kernel, cl_device_id device) {

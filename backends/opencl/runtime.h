@@ -86,7 +86,8 @@ inline cl_int releaseContext(cl_context h) { return clReleaseContext(h); }
 inline cl_int releaseQueue(cl_command_queue h) { return clReleaseCommandQueue(h); }
 inline cl_int releaseProgram(cl_program h) { return clReleaseProgram(h); }
 inline cl_int releaseKernel(cl_kernel h) { return clReleaseKernel(h); }
-inline cl_int releaseMem(cl_mem h) { return clReleaseMemObject(h); }
+// Takes back the buffer's share of its context's BufferBytes, if counted.
+cl_int releaseMem(cl_mem h);
 
 using Context = Handle<cl_context, releaseContext>;
 using Queue = Handle<cl_command_queue, releaseQueue>;
@@ -102,7 +103,7 @@ Program buildProgram(cl_context context, const DeviceInfo& device, const char* s
 
 Kernel createKernel(cl_program program, const char* name);
 // A buffer of `bytes` in `context`; counted in the context's BufferBytes
-// while it lives, where the context is tracked.
+// until released, where the context is tracked.
 Buffer createBuffer(cl_context context, std::size_t bytes, const char* what);
 
 // The bytes of a context's buffers alive now, and the most alive at once.
