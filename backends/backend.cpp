@@ -81,7 +81,7 @@ CaromSubstepRule Backend::substepRule() const {
     if (world_.collisions == CollisionScheme::Events) return rule;  // exact: no substeps
     if (world_.maxTravel > 0.0f) rule.allowed = world_.maxTravel * minRadius_;
     if (world_.collisions == CollisionScheme::Pairwise)
-        rule.allowed = std::min(rule.allowed, gridTravel_ / kPairwiseSpeedMargin);
+        rule.allowed = std::min(rule.allowed, gridTravel_ / CAROM_PAIRWISE_SPEED_MARGIN);
     return rule;
 }
 

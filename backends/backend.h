@@ -43,10 +43,6 @@ constexpr std::chrono::milliseconds kStopCheckInterval{20};
 // costs less than a few percent of such a step. Shorter ones run whole.
 constexpr std::uint64_t kStoppableSubsteps = 8;
 
-// Collisions within a step can speed a disk up: substeps are sized so that
-// a disk this many times faster than the fastest one at the step's start
-// still stays within the grid's allowance.
-constexpr float kPairwiseSpeedMargin = 2.0f;
 // The most rounds of a pairwise step; events still pending after them are
 // left for the next step (they show up as late contacts).
 constexpr unsigned int kMaxPairwiseRounds = 64;
@@ -229,7 +225,7 @@ private:
     void requireFinite() const;
     // How step() splits a step: the longest move of one substep is
     // maxTravel x the smallest radius, and with the pairwise scheme the
-    // grid's allowance over kPairwiseSpeedMargin; infinite when neither
+    // grid's allowance over CAROM_PAIRWISE_SPEED_MARGIN; infinite when neither
     // limits it.
     CaromSubstepRule substepRule() const;
 

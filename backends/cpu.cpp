@@ -505,15 +505,12 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
 
 CpuBackend::ListPlan CpuBackend::planLists(float dt, int threads, std::size_t chunk) {
     if (!useLists_ || listsTooLong_) return {};
-    // The farthest a disk travels in the substep, on the margin the grid's
-    // allowance assumes for the speeds its collisions may reach (at most
-    // gridTravel(): the substeps are sized so).
-    const float gravity = std::hypot(world_.gravity.x, world_.gravity.y);
-    const float travel = kPairwiseSpeedMargin * (std::sqrt(maxSpeedSquared()) + gravity * dt) * dt;
+    // At most gridTravel(): the substeps are sized so.
+    const float travel = carom_substep_travel(maxSpeedSquared(), std::hypot(world_.gravity.x, world_.gravity.y), dt);
     if (lists_.hold(maxDisplacementSquared_, travel)) return {true, false};
     // Lists built now with a skin this substep can cross (a small WorldDef::skin) would not hold: the grid then.
     const float skin = NeighbourLists::skinFor(world_.skin, maxRadius_, gridTravel());
-    if (!NeighbourLists::covers(skin, 0.0f, travel)) {
+    if (!carom_lists_cover(skin, 0.0f, travel)) {
         lists_.clear();
         return {};
     }

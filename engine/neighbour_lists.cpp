@@ -1,7 +1,6 @@
 #include "engine/neighbour_lists.h"
 
 #include <algorithm>
-#include <cmath>
 #include <limits>
 
 #include "kernels/physics.h"
@@ -26,14 +25,9 @@ void forEachWithin(std::size_t i, const Particle* particles, const Grid& grid, C
         for (unsigned int q = begin; q < end; ++q) {
             const std::uint32_t j = grid.sortedIndices[q];
             if (j == i) continue;
-            float dx = self.position.x - particles[j].position.x;
-            float dy = self.position.y - particles[j].position.y;
-            if (box.periodic) {
-                dx = carom_nearest_image(dx, box.width);
-                dy = carom_nearest_image(dy, box.height);
-            }
+            const float2 d = carom_offset(self.position, particles[j].position, box);
             const float reach = self.radius + particles[j].radius + skin;
-            if (dx * dx + dy * dy < reach * reach) visit(j);
+            if (d.x * d.x + d.y * d.y < reach * reach) visit(j);
         }
     }
 }
@@ -48,15 +42,20 @@ float NeighbourLists::skinFor(float asked, float maxRadius, float travel) {
     return std::max(maxRadius, 4.0f * travel);
 }
 
+std::optional<GridGeometry> NeighbourLists::gridFor(CaromBox box, float maxRadius, std::size_t count, float skin) {
+    const Boundary boundary = box.periodic ? Boundary::Periodic : Boundary::Walls;
+    const GridGeometry geometry = gridGeometryFor(box.width, box.height, maxRadius, count, boundary, skin);
+    const double reach = 2.0 * maxRadius * (1.0 + 1e-5) + skin;
+    if (double(box.width) / geometry.cols < reach || double(box.height) / geometry.rows < reach) return std::nullopt;
+    return geometry;
+}
+
 bool NeighbourLists::begin(const Particle* particles, std::size_t count, float maxRadius, float skin, CaromBox box,
                            int threads, std::size_t chunk) {
     built_ = false;
-    const Boundary boundary = box.periodic ? Boundary::Periodic : Boundary::Walls;
-    grid_.geometry = gridGeometryFor(box.width, box.height, maxRadius, count, boundary, skin);
-    // The 3 x 3 cells hold every disk within reach only where a cell is that wide.
-    const double reach = 2.0 * maxRadius * (1.0 + 1e-5) + skin;
-    if (double(box.width) / grid_.geometry.cols < reach || double(box.height) / grid_.geometry.rows < reach)
-        return false;
+    const std::optional<GridGeometry> geometry = gridFor(box, maxRadius, count, skin);
+    if (!geometry) return false;
+    grid_.geometry = *geometry;
     builder_.prepare(count, grid_, threads);
     particles_ = particles;
     count_ = count;
@@ -118,13 +117,6 @@ void NeighbourLists::place(std::size_t c) {
     const std::vector<std::uint32_t>& mine = chunkLists_[c];
     std::copy(mine.begin(), mine.end(), list_.begin() + std::ptrdiff_t(starts_[c * chunk_]));
     if (c + 1 == chunkLists_.size()) built_ = true;
-}
-
-bool NeighbourLists::covers(float skin, float maxDisplacementSquared, float travel) {
-    // A pair left out was more than contact plus the skin apart at the
-    // build: it can meet only once both disks' moves since then and in the
-    // substep close the skin. A tenth of the skin is left to rounding.
-    return 2.0 * (std::sqrt(double(maxDisplacementSquared)) + double(travel)) < 0.9 * double(skin);
 }
 
 }  // namespace carom

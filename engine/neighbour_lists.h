@@ -11,9 +11,11 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "engine/grid.h"
+#include "kernels/pairwise.h"
 
 namespace carom {
 
@@ -24,13 +26,17 @@ public:
     // (Backend's grid allowance), half a diameter, and room for the
     // substep's travel besides.
     static float skinFor(float asked, float maxRadius, float travel);
+    // The grid lists of this skin are built from, for `count` disks of
+    // largest radius `maxRadius`: cells widened by the skin, whose 3 x 3
+    // hold every disk within reach; none where the box is too small for
+    // cells that wide (a periodic box under 3 of them a side).
+    static std::optional<GridGeometry> gridFor(CaromBox box, float maxRadius, std::size_t count, float skin);
 
     // A build runs in phases, each shared by a team of threads (the same
     // lists, bit for bit, whoever runs what): begin (one thread), the
     // grid's phases (grid(), builder()), collect for every disk, sum (one
     // thread), place for every chunk. begin returns false, and nothing is
-    // built, where the box is too small for cells as wide as the lists reach
-    // (a periodic box under 3 of them a side) or the disks too many.
+    // built, where gridFor has no grid or the disks are too many.
     bool begin(const Particle* particles, std::size_t count, float maxRadius, float skin, CaromBox box, int threads,
                std::size_t chunk);
     // Every phase at once, on a team of `threads` (outside a substep: the
@@ -50,12 +56,10 @@ public:
 
     // Whether the lists built last still hold every pair that can meet in a
     // substep in which no disk travels `travel` or more, after the disks
-    // moved at most sqrt(maxDisplacementSquared) since the build.
+    // moved at most sqrt(maxDisplacementSquared) since the build (carom_lists_cover).
     bool hold(float maxDisplacementSquared, float travel) const {
-        return built_ && covers(skin_, maxDisplacementSquared, travel);
+        return built_ && carom_lists_cover(skin_, maxDisplacementSquared, travel);
     }
-    // Whether lists of this skin hold every pair that can meet in such a substep.
-    static bool covers(float skin, float maxDisplacementSquared, float travel);
     void clear() { built_ = false; }
     bool built() const { return built_; }
 
@@ -65,13 +69,7 @@ public:
     // How far disk i at `position` is from where the build found it, squared
     // (to the nearest image in a periodic box).
     float displacementSquared(std::size_t i, Vec2 position) const {
-        float dx = position.x - origins_[i].x;
-        float dy = position.y - origins_[i].y;
-        if (box_.periodic) {
-            dx = carom_nearest_image(dx, box_.width);
-            dy = carom_nearest_image(dy, box_.height);
-        }
-        return dx * dx + dy * dy;
+        return carom_displacement_squared(position, origins_[i], box_);
     }
 
 private:

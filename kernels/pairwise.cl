@@ -100,15 +100,6 @@ static inline CaromNeighbours carom_step_neighbours(__global const uint* cellOf,
     return neighbours;
 }
 
-/* Whether lists of this skin hold every pair that can meet in a substep in
- * which no disk travels `travel` or more, after the disks moved at most
- * sqrt(displacementSquared) since their build; a tenth of the skin is left to
- * rounding (as NeighbourLists::covers on the CPU). */
-static inline int carom_lists_cover(float skin, float displacementSquared, float travel)
-{
-    return 2.0f * (sqrt(displacementSquared) + travel) < 0.9f * skin;
-}
-
 /* The start's choice for a substep's neighbour lists (skin > 0), from the
  * largest speed squared of the state it starts from (0 before any finish:
  * unknown) and the disks' largest displacement squared since the lists were
@@ -118,10 +109,9 @@ static inline int carom_lists_cover(float skin, float displacementSquared, float
 static inline void carom_plan_lists(
     __global uint* halt, __global uint* lengths, float speedSquared, uint parity, float skin, float dt, float gravity)
 {
-    /* The farthest a disk travels in the substep, on the margin the grid's
-     * allowance assumes (kPairwiseSpeedMargin); an unknown speed counts as
-     * all that the substeps allow, for which lists built now do not hold. */
-    const float travel = speedSquared > 0.0f ? 2.0f * (sqrt(speedSquared) + gravity * dt) * dt : skin;
+    /* An unknown speed counts as all that the substeps allow, for which
+     * lists built now do not hold. */
+    const float travel = speedSquared > 0.0f ? carom_substep_travel(speedSquared, gravity, dt) : skin;
     const int holds = lengths[CAROM_LISTS_BUILT] != 0u &&
                       carom_lists_cover(skin, as_float(lengths[CAROM_LISTS_DISPLACEMENT(parity)]), travel);
     const int build = !holds && carom_lists_cover(skin, 0.0f, travel);
@@ -359,7 +349,7 @@ static inline uint carom_collect_neighbours(uint k,
         for (uint q = begin; q < stop; ++q) {
             if (q == k) continue;
             const Particle other = state[carom_slot(slots, q)];
-            const float2 d = carom_separation(self, other, step.box);
+            const float2 d = carom_offset(self.position, other.position, step.box);
             const float reach = self.radius + other.radius + skin;
             if (d.x * d.x + d.y * d.y < reach * reach) {
                 if (entries) entries[at + length] = q;

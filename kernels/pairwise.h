@@ -131,19 +131,6 @@ static inline Particle carom_fly(Particle p, float t, float gravityX, float grav
     return p;
 }
 
-/* Separation of two disks at the same time, to the nearest image. */
-static inline float2 carom_separation(Particle a, Particle b, CaromBox box)
-{
-    float2 d;
-    d.x = a.position.x - b.position.x;
-    d.y = a.position.y - b.position.y;
-    if (box.periodic) {
-        d.x = carom_nearest_image(d.x, box.width);
-        d.y = carom_nearest_image(d.y, box.height);
-    }
-    return d;
-}
-
 /* When disks a and b (ids idA != idB) first touch while approaching, from
  * the later of their own times to the end of the step; CAROM_NEVER if they
  * do not. A pair already touching or overlapping and approaching meets at
@@ -159,7 +146,7 @@ static inline float carom_pair_event_time(
     const float t0 = a.time > b.time ? a.time : b.time;
     a = carom_fly(a, t0, step.gravityX, step.gravityY);
     b = carom_fly(b, t0, step.gravityX, step.gravityY);
-    const float2 d = carom_separation(a, b, step.box);
+    const float2 d = carom_offset(a.position, b.position, step.box);
     const float dvx = a.velocity.x - b.velocity.x;
     const float dvy = a.velocity.y - b.velocity.y;
     const float approach = d.x * dvx + d.y * dvy;
@@ -298,6 +285,37 @@ static inline void carom_list_add(CaromList list, unsigned int k, unsigned int e
 #define CAROM_LISTS_DISPLACEMENT(parity) (CAROM_LIST_HEADER_WORDS - 4u + (parity))
 #define CAROM_LISTS_BUILDS (CAROM_LIST_HEADER_WORDS - 2u)
 #define CAROM_LISTS_USES (CAROM_LIST_HEADER_WORDS - 1u)
+
+/* Collisions within a substep can speed a disk up: substeps are sized so
+ * that a disk this many times faster than the fastest one at the substep's
+ * start still stays within the pairwise grid's allowance. */
+#define CAROM_PAIRWISE_SPEED_MARGIN 2.0f
+
+/* The farthest a disk travels in a substep of dt whose fastest disk starts
+ * at sqrt(speedSquared), under gravity of this magnitude, on that margin. */
+static inline float carom_substep_travel(float speedSquared, float gravity, float dt)
+{
+    return CAROM_PAIRWISE_SPEED_MARGIN * (carom_sqrt(speedSquared) + gravity * dt) * dt;
+}
+
+/* Whether neighbour lists of this skin hold every pair that can meet in a
+ * substep in which no disk travels `travel` or more, after the disks moved
+ * at most sqrt(displacementSquared) since their build. A pair left out was
+ * more than contact plus the skin apart at the build: it can meet only once
+ * both disks' moves since then and in the substep close the skin. A tenth
+ * of the skin is left to rounding. */
+static inline int carom_lists_cover(float skin, float displacementSquared, float travel)
+{
+    return 2.0f * (carom_sqrt(displacementSquared) + travel) < 0.9f * skin;
+}
+
+/* How far a disk at `position` is from `origin`, where the lists' build
+ * found it, squared (to the nearest image). */
+static inline float carom_displacement_squared(float2 position, float2 origin, CaromBox box)
+{
+    const float2 d = carom_offset(position, origin, box);
+    return d.x * d.x + d.y * d.y;
+}
 
 /* What a search visits, and whom it adds to the dirty list to search again. */
 #define CAROM_SEARCH_ALL 0 /* every neighbour */
@@ -527,7 +545,7 @@ static inline void carom_collide_pair(Particle* a,
 {
     *a = carom_fly(*a, t, step.gravityX, step.gravityY);
     *b = carom_fly(*b, t, step.gravityX, step.gravityY);
-    const float2 d = carom_separation(*a, *b, step.box);
+    const float2 d = carom_offset(a->position, b->position, step.box);
     const float dist2 = d.x * d.x + d.y * d.y;
     const float approach = (a->velocity.x - b->velocity.x) * d.x + (a->velocity.y - b->velocity.y) * d.y;
     const float shareA = b->mass / (a->mass + b->mass); /* a's share of the impulse and of the push */

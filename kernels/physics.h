@@ -80,6 +80,19 @@ static inline float carom_nearest_image(float d, float extent)
     return d;
 }
 
+/* a - b, to the nearest image in a periodic box. */
+static inline float2 carom_offset(float2 a, float2 b, CaromBox box)
+{
+    float2 d;
+    d.x = a.x - b.x;
+    d.y = a.y - b.y;
+    if (box.periodic) {
+        d.x = carom_nearest_image(d.x, box.width);
+        d.y = carom_nearest_image(d.y, box.height);
+    }
+    return d;
+}
+
 /* A periodic coordinate back into [0, extent), adding the box lengths it
  * moved back by to *image (+1 for one taken off). x + extent can round up to
  * extent itself, which is 0 in a periodic box: x was a hair below 0, which
@@ -130,12 +143,8 @@ typedef struct CaromResponse {
 static inline void carom_add_pair_response(
     unsigned int i, Particle self, unsigned int j, Particle other, CaromBox box, CaromResponse* sum)
 {
-    float dx = self.position.x - other.position.x;
-    float dy = self.position.y - other.position.y;
-    if (box.periodic) {
-        dx = carom_nearest_image(dx, box.width);
-        dy = carom_nearest_image(dy, box.height);
-    }
+    const float2 d = carom_offset(self.position, other.position, box);
+    const float dx = d.x, dy = d.y;
     const float dist2 = dx * dx + dy * dy;
     const float contact = self.radius + other.radius;
     if (dist2 >= contact * contact) return;

@@ -91,14 +91,9 @@ static inline float carom_finish_slot(uint k,
     next[k] = moved;
     carom_count_into_cell(k, moved.position, step.grid, counts, cellOf, rankInCell);
     carom_record_non_finite(moved, sortedIds[k], stepIndex, firstNonFinite);
-    if (origins) {
-        float dx = moved.position.x - origins[k].x, dy = moved.position.y - origins[k].y;
-        if (step.box.periodic) {
-            dx = carom_nearest_image(dx, step.box.width);
-            dy = carom_nearest_image(dy, step.box.height);
-        }
-        *displacementSquared = fmax(*displacementSquared, dx * dx + dy * dy);
-    }
+    if (origins)
+        *displacementSquared =
+            fmax(*displacementSquared, carom_displacement_squared(moved.position, origins[k], step.box));
     return carom_speed_squared(moved);
 }
 

@@ -26,14 +26,9 @@ PairSet bruteForcePairs(const std::vector<Particle>& ps, CaromBox box) {
     PairSet pairs;
     for (std::uint32_t i = 0; i < ps.size(); ++i)
         for (std::uint32_t j = i + 1; j < ps.size(); ++j) {
-            float dx = ps[i].position.x - ps[j].position.x;
-            float dy = ps[i].position.y - ps[j].position.y;
-            if (box.periodic) {
-                dx = carom_nearest_image(dx, box.width);
-                dy = carom_nearest_image(dy, box.height);
-            }
+            const float2 d = carom_offset(ps[i].position, ps[j].position, box);
             const float contact = ps[i].radius + ps[j].radius;
-            if (dx * dx + dy * dy < contact * contact) pairs.insert({i, j});
+            if (d.x * d.x + d.y * d.y < contact * contact) pairs.insert({i, j});
         }
     return pairs;
 }

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -74,11 +75,9 @@ void OpenClResidentBackend::loadState(const std::vector<Particle>& particles) {
     const float skin = NeighbourLists::skinFor(world_.skin, maxRadius_, gridTravel());
     listed_ = pairwise && !inOneGroup_ && std::isfinite(skin) && searchesLists();
     if (listed_) {
-        const GridGeometry wide = gridGeometryFor(world_.width, world_.height, maxRadius_, n, world_.boundary, skin);
-        // A periodic box under 3 such cells a side has narrower ones: no lists.
-        const double reach = 2.0 * maxRadius_ * (1.0 + 1e-5) + skin;
-        listed_ = double(world_.width) / wide.cols >= reach && double(world_.height) / wide.rows >= reach;
-        if (listed_) grid_.geometry = wide;
+        const std::optional<GridGeometry> wide = NeighbourLists::gridFor(caromBoxOf(world_), maxRadius_, n, skin);
+        listed_ = wide.has_value();
+        if (listed_) grid_.geometry = *wide;
     }
     gathered_ = !listed_ && gathers(n);
     ids_ = createBuffer(context_.get(), n * sizeof(cl_uint), "particle ids");
