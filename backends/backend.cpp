@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "engine/error_message.h"
+#include "engine/exact_sum.h"
 #include "engine/parallel.h"
 #include "kernels/physics.h"
 
@@ -285,15 +286,40 @@ void Backend::setMotion(float dt, float2 gravity) {
 }
 
 void drainTallyArray(ContactTally* tallies, std::size_t count, ContactTotals& totals, Image* images) {
-    for (std::size_t i = 0; i < count; ++i) {
-        ContactTally& t = tallies[i];
-        totals.collisions += t.collisions;
-        totals.lateContacts += t.lateContacts;
-        totals.virial += t.virial;
-        for (int w = 0; w < 4; ++w) totals.wallImpulse[w] += t.wallImpulse[w];
-        for (int axis = 0; axis < 2; ++axis) addToImage(images[i][axis], t.image[axis]);
-        t = ContactTally{};
+    // Each thread's share of the disks' tallies, summed exactly: the same
+    // whatever the order and whoever adds them up.
+    struct Share {
+        std::uint64_t collisions = 0, lateContacts = 0;
+        ExactSum virial;
+        std::array<ExactSum, 4> wallImpulse;
+    };
+    std::vector<Share> shares(static_cast<std::size_t>(parallelThreads()));
+    const auto n = static_cast<std::int64_t>(count);
+#pragma omp parallel if (n >= kParallelLength)
+    {
+        Share& mine = shares[std::size_t(threadNumber())];
+#pragma omp for schedule(static)
+        for (std::int64_t i = 0; i < n; ++i) {
+            ContactTally& t = tallies[i];
+            mine.collisions += t.collisions;
+            mine.lateContacts += t.lateContacts;
+            mine.virial.add(t.virial);
+            for (int w = 0; w < 4; ++w) mine.wallImpulse[std::size_t(w)].add(t.wallImpulse[w]);
+            for (int axis = 0; axis < 2; ++axis) addToImage(images[i][axis], t.image[axis]);
+            t = ContactTally{};
+        }
     }
+    Share all;
+    for (const Share& share : shares) {
+        all.collisions += share.collisions;
+        all.lateContacts += share.lateContacts;
+        all.virial.add(share.virial);
+        for (std::size_t w = 0; w < 4; ++w) all.wallImpulse[w].add(share.wallImpulse[w]);
+    }
+    totals.collisions += all.collisions;
+    totals.lateContacts += all.lateContacts;
+    totals.virial += all.virial.value();
+    for (std::size_t w = 0; w < 4; ++w) totals.wallImpulse[w] += all.wallImpulse[w].value();
 }
 
 float maxSpeedSquaredOf(const Particle* particles, std::size_t count) {

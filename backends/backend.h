@@ -171,7 +171,7 @@ protected:
     // that do not wait in advance(); step() returns only after it.
     virtual void awaitSteps() {}
     // Adds the per-particle tallies (kernels/particle.h ContactTally) to
-    // `totals` in id order, in double, and zeroes them. Called often enough
+    // `totals` and zeroes them (drainTallyArray). Called often enough
     // that a float tally never sums more than kTallySubsteps substeps.
     virtual void drainTallies(ContactTotals& totals) = 0;
     // setMotion changed world_.dt or world_.gravity (the state is as before).
@@ -253,9 +253,10 @@ inline void addToImage(std::int32_t& count, std::int32_t change) {
     count = static_cast<std::int32_t>(static_cast<std::uint32_t>(count) + static_cast<std::uint32_t>(change));
 }
 
-// For implementations: adds tallies[0..count) to `totals` in id order, in
-// double (the sum is the same whatever device produced the tallies), and
-// their wraps to images[0..count), and zeroes them.
+// For implementations: adds tallies[0..count) to `totals` and their wraps
+// to images[0..count), and zeroes them. Each drain's sums are exact
+// (ExactSum), rounded once to double: the same whatever device produced the
+// tallies, in whatever order, and however the disks are shared out.
 void drainTallyArray(ContactTally* tallies, std::size_t count, ContactTotals& totals, Image* images);
 // For implementations holding the state on the host: the largest
 // v.x^2 + v.y^2 (an OpenMP max reduction; max is exact in any order).

@@ -151,14 +151,6 @@ ThreadResult combined(const std::vector<ThreadResult>& results) {
     return all;
 }
 
-int threadNumber() {
-#ifdef _OPENMP
-    return omp_get_thread_num();
-#else
-    return 0;
-#endif
-}
-
 int teamThreads() {
 #ifdef _OPENMP
     return omp_get_num_threads();

@@ -31,6 +31,15 @@ inline int parallelThreads() {
 #endif
 }
 
+// The calling thread's number in its OpenMP team (0 outside one).
+inline int threadNumber() {
+#ifdef _OPENMP
+    return omp_get_thread_num();
+#else
+    return 0;
+#endif
+}
+
 // body(i) for every i in [0, n), in static blocks over the threads.
 template <class Body>
 void parallelFor(std::size_t n, Body&& body) {
