@@ -25,9 +25,7 @@ void forEachWithin(std::size_t i, const Particle* particles, const Grid& grid, C
         for (unsigned int q = begin; q < end; ++q) {
             const std::uint32_t j = grid.sortedIndices[q];
             if (j == i) continue;
-            const float2 d = carom_offset(self.position, particles[j].position, box);
-            const float reach = self.radius + particles[j].radius + skin;
-            if (d.x * d.x + d.y * d.y < reach * reach) visit(j);
+            if (carom_within_reach(self, particles[j], skin, box)) visit(j);
         }
     }
 }

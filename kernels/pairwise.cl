@@ -348,10 +348,7 @@ static inline uint carom_collect_neighbours(uint k,
         if (!carom_neighbour_run(run, cellX, cellY, cells, step.grid, step.box, &begin, &stop)) continue;
         for (uint q = begin; q < stop; ++q) {
             if (q == k) continue;
-            const Particle other = state[carom_slot(slots, q)];
-            const float2 d = carom_offset(self.position, other.position, step.box);
-            const float reach = self.radius + other.radius + skin;
-            if (d.x * d.x + d.y * d.y < reach * reach) {
+            if (carom_within_reach(self, state[carom_slot(slots, q)], skin, step.box)) {
                 if (entries) entries[at + length] = q;
                 ++length;
             }

@@ -309,6 +309,15 @@ static inline int carom_lists_cover(float skin, float displacementSquared, float
     return 2.0f * (carom_sqrt(displacementSquared) + travel) < 0.9f * skin;
 }
 
+/* Whether disk b's centre lies within a's contact distance plus `skin` (to
+ * the nearest image): b belongs on a's neighbour list. */
+static inline int carom_within_reach(Particle a, Particle b, float skin, CaromBox box)
+{
+    const float2 d = carom_offset(a.position, b.position, box);
+    const float reach = a.radius + b.radius + skin;
+    return d.x * d.x + d.y * d.y < reach * reach;
+}
+
 /* How far a disk at `position` is from `origin`, where the lists' build
  * found it, squared (to the nearest image). */
 static inline float carom_displacement_squared(float2 position, float2 origin, CaromBox box)

@@ -140,7 +140,8 @@ struct World::Impl {
     bool stateCurrent = false;
     Diagnostics stateMotion;
     bool motionCurrent = false;
-    // Its kT: a pass over every disk in order, on one thread (an exact sum),
+    // Its kT: a pass over every disk in id order, on one thread (a sum in
+    // double whose bits depend on that order),
     // which a run asks for at its start and end and for its measurements.
     double stateTemperature = 0.0;
     bool temperatureCurrent = false;
@@ -328,8 +329,8 @@ void World::Impl::loaded(std::vector<Particle> particles, std::uint64_t atStep, 
     state = std::move(particles);
     stateCurrent = true;
     // kT, and the energies and momentum a run reports at its start: each an
-    // ordered pass over every disk on one thread (exact sums), so the two
-    // side by side.
+    // ordered pass over every disk on one thread (sums in double, in id
+    // order), so the two side by side.
 #pragma omp parallel sections if (state.size() >= std::size_t(kParallelLength))
     {
 #pragma omp section

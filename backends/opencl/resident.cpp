@@ -73,13 +73,13 @@ void OpenClResidentBackend::loadState(const std::vector<Particle>& particles) {
     // by the pairwise grid's allowance (gridTravel()), so the results are the
     // same; only the searches' candidates and the cells change.
     const float skin = NeighbourLists::skinFor(world_.skin, maxRadius_, gridTravel());
-    listed_ = pairwise && !inOneGroup_ && std::isfinite(skin) && searchesLists();
-    if (listed_) {
+    bool listed = pairwise && !inOneGroup_ && std::isfinite(skin) && searchesLists();
+    if (listed) {
         const std::optional<GridGeometry> wide = NeighbourLists::gridFor(caromBoxOf(world_), maxRadius_, n, skin);
-        listed_ = wide.has_value();
-        if (listed_) grid_.geometry = *wide;
+        listed = wide.has_value();
+        if (listed) grid_.geometry = *wide;
     }
-    gathered_ = !listed_ && gathers(n);
+    gathered_ = !listed && gathers(n);
     ids_ = createBuffer(context_.get(), n * sizeof(cl_uint), "particle ids");
     sortedIds_ = createBuffer(context_.get(), n * sizeof(cl_uint), "particle ids in cell order");
     UninitialisedVector<cl_uint> ids(n);
@@ -93,7 +93,7 @@ void OpenClResidentBackend::loadState(const std::vector<Particle>& particles) {
     speedKnown_ = false;
     if (!pairwise) return;
     pairwise_ = DevicePairwise(context_.get(), device_, program_.get(), n, queue_.get(), profiler_.get());
-    if (listed_) pairwise_.enableLists(context_.get(), skin);
+    if (listed) pairwise_.enableLists(context_.get(), skin);
     // The finish's record: no disk non-finite, no speed yet (zero).
     cl_uint record[DevicePairwise::kRecordWords] = {};
     std::copy_n(kNoneNonFinite, DevicePairwise::kNonFiniteWords, record);

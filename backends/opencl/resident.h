@@ -32,7 +32,7 @@ public:
     // Pairwise steps' neighbour lists, as of the last wait: whether they are
     // searched, and since the state was loaded how many builds there were and
     // how many substeps searched them.
-    bool searchesNeighbourLists() const { return listed_ && pairwise_.searchesLists(); }
+    bool searchesNeighbourLists() const { return pairwise_.searchesLists(); }
     std::uint32_t neighbourListBuilds() const { return pairwise_.listBuildsRecord(); }
     std::uint32_t neighbourListUses() const { return pairwise_.listUsesRecord(); }
     std::size_t neighbourListRoom() const { return pairwise_.listRoom(); }  // entries, for all disks
@@ -74,8 +74,7 @@ private:
     opencl::Kernel finishAndCountKernel_;  // pairwise: finishPairwiseAndCount
     opencl::DeviceSmallSystem smallSystem_;
     bool inOneGroup_ = false;  // steps run whole in one work-group (smallSystem_)
-    bool gathered_ = false;    // pairwise steps gather the state into sorted order (kGatherUpTo)
-    bool listed_ = false;      // pairwise steps search neighbour lists (searchesLists)
+    bool gathered_ = false;    // pairwise steps gather the state into sorted order (kGatherUpTo), never with lists
     opencl::DeviceGrid deviceGrid_;
     opencl::Buffer ids_;               // the particle id in each slot of state_
     opencl::Buffer sortedIds_;         // sortedIndices, then the ids of next_'s slots
