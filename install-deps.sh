@@ -1,6 +1,7 @@
 #!/bin/sh
 # Installs what carom needs from Debian 12 packages. Idempotent.
-#   ./install-deps.sh          build dependencies (compiler, CMake, OpenCL, PoCL, libraries, the viewer's SDL2/ImGui)
+#   ./install-deps.sh          build dependencies (compiler, CMake, OpenCL, PoCL, libraries, the viewer's SDL2/ImGui,
+#                              Open MPI for mpirun)
 #   ./install-deps.sh --test   the same, plus what the tests need, and .venv: a virtual
 #                              environment with the Python tests' packages (PyPI)
 #   ./install-deps.sh --python the build dependencies, plus Python's headers and venv,
@@ -11,7 +12,8 @@
 set -eu
 packages="cmake g++ make ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
           libcli11-dev nlohmann-json3-dev libtomlplusplus-dev
-          libsdl2-dev libimgui-dev libstb-dev libgl-dev"
+          libsdl2-dev libimgui-dev libstb-dev libgl-dev
+          libopenmpi-dev openmpi-bin"
 # The viewer's tests render under Xvfb with Mesa's software OpenGL.
 test_packages="doctest-dev xvfb xauth libgl1-mesa-dri libglx-mesa0"
 # The fuzzers (clang's libFuzzer), the formatting check (clang-format) and the output

@@ -21,6 +21,8 @@ struct RunOptions {
     std::uint64_t every = 100;  // steps between samples and checkpoints, >= 1
     std::string resume;         // continue from this checkpoint instead of a scene
     bool quiet = false;         // no progress line on stderr
+    // Under mpirun: domains across and up, one per process; 0 0 = chosen from the box.
+    std::vector<int> domains{0, 0};
 };
 
 void addRunOptions(CLI::App& command, RunOptions& options);

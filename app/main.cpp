@@ -10,6 +10,7 @@
 #include <carom/carom.h>
 
 #include "app/commands.h"
+#include "app/processes.h"
 
 namespace {
 
@@ -44,11 +45,11 @@ int runCarom(int argc, char** argv) {
         if (*validate) return validateCommand(validateOptions);
         if (app.got_subcommand("view")) return runView();
     } catch (const carom::Error& e) {
-        std::cerr << "carom: error: " << e.what() << '\n';
+        return reportError(e.what());
     } catch (const std::bad_alloc&) {
-        std::cerr << "carom: error: out of memory; try fewer particles\n";
+        return reportError("out of memory; try fewer particles");
     } catch (const std::exception& e) {  // a library's own error: still a message, never an abort
-        std::cerr << "carom: error: " << e.what() << '\n';
+        return reportError(e.what());
     }
     return 1;
 }
@@ -84,5 +85,6 @@ int main(int argc, char** argv) {
     // Likewise a FIFO output whose reader went away (EPIPE).
     std::signal(SIGPIPE, SIG_IGN);
 #endif
+    carom::app::Processes processes(argc, argv);
     return checkStandardOutput(runCarom(argc, argv));
 }

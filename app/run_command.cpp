@@ -29,6 +29,7 @@
 #include "app/commands.h"
 #include "app/number_options.h"
 #include "app/output_plan.h"
+#include "app/processes.h"
 #include "app/stop_signals.h"
 
 namespace carom::app {
@@ -56,6 +57,13 @@ void addRunOptions(CLI::App& command, RunOptions& o) {
           "--mass", "--mass-min", "--mass-max", "--speed", "--seed", "--dt", "--gravity", "--boundary", "--collisions"})
         resume->excludes(command.get_option(scene));
     command.add_flag("--quiet", o.quiet, "No progress line on stderr");
+    command
+        .add_option("--domains", o.domains,
+                    "Under mpirun: split the box into NX x NY domains, one per process (default: as square as the "
+                    "process count allows)")
+        ->expected(2)
+        ->type_name("NX NY")
+        ->check(CLI::NonNegativeNumber);
 }
 
 namespace {
@@ -123,9 +131,13 @@ Start planRun(const RunOptions& o) {
 // The world the run steps, on the engine the options ask for: the
 // checkpoint's, continuing bit for bit, or the new scene's.
 World startWorld(Start& start, const RunOptions& o) {
-    const EngineChoice choice = engineChoiceOf(start.world, o.scene);
+    EngineChoice choice = engineChoiceOf(start.world, o.scene);
+    WorldDef def = start.world;
+    def.decomposition = runDecomposition(o.domains[0], o.domains[1]);
+    if (def.decomposition && o.scene.backend.kind == "auto" && choice.engine.engine != ComputeEngine::Cpu)
+        choice = {EngineDef{}, "--backend auto: the processes of mpirun step their domains on the CPU"};
     start.backendReason = choice.reason;
-    const WorldDef def = onEngine(start.world, choice.engine);
+    def = onEngine(def, choice.engine);
     if (start.checkpoint) {
         World world = io::loadCheckpoint(std::move(*start.checkpoint), def);
         start.checkpoint.reset();  // spent
@@ -617,8 +629,12 @@ std::uint64_t runSteps(World& world, bool resumed, std::uint64_t last, Outputs& 
     Chunk chunk;
     std::uint64_t step = world.stepCount();
     if (!resumed) outputs.sample(world);  // a new scene records its start
-    while (step < last && !StopSignals::received() && !outputs.failed()) {
-        const std::uint64_t n = std::min({last - step, every - step % every, chunk.size()});
+    // Every process takes the same calls: process 0's chunks, and a stop
+    // where any process has a reason. Processes step from sample to sample,
+    // as each call ends with the whole world gathered on every one (World::step).
+    while (step < last && !anyProcess(StopSignals::received() || outputs.failed())) {
+        const std::uint64_t n =
+            processZeros(std::min({last - step, every - step % every, processCount() > 1 ? every : chunk.size()}));
         const auto callStart = std::chrono::steady_clock::now();
         advance(world, step, n, outputs);
         chunk.adapt(std::chrono::duration<double>(std::chrono::steady_clock::now() - callStart).count());
@@ -689,6 +705,11 @@ int runCommand(const RunOptions& o) {
     StopSignals stopSignals(StopSignals::FirstSignal::Ends, "carom run");
     Start start = planRun(o);
     start.plan.check();
+    if (processRank() != 0) {  // process 0 writes the files
+        OutputDef none;
+        none.every = start.outputs.every;
+        start.outputs = none;
+    }
     World world = startWorld(start, o);
     for (const std::string& warning : world.warnings()) std::cerr << "carom: warning: " << warning << '\n';
     Outputs outputs(start, world);

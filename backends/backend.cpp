@@ -193,9 +193,11 @@ bool Backend::stopHere() {
     if (stopped_) return true;
     if (!stopAllowed_ || !stopCheck_) return false;
     const auto now = std::chrono::steady_clock::now();
-    if (now < nextStopCheck_) return false;
-    nextStopCheck_ = now + kStopCheckInterval;
-    stopped_ = stopCheck_();
+    if (!stopCheckCollective()) {
+        if (now < nextStopCheck_) return false;
+        nextStopCheck_ = now + kStopCheckInterval;
+    }
+    stopped_ = agreedStop(stopCheck_());
     return stopped_;
 }
 
@@ -218,6 +220,50 @@ void Backend::requireFinite() const {
     throw Error(message.str());
 }
 
+unsigned int Backend::stepShare(Share& share, const Backend& whole, float dt) {
+    const std::size_t n = share.particles.size();
+    if (share.tallies.size() != n)
+        throw Error("a share of " + std::to_string(n) + " disks with " + std::to_string(share.tallies.size()) +
+                    " tallies; allowed: one per disk");
+    grid_.geometry = whole.grid_.geometry;
+    gridTravel_ = whole.gridTravel_;
+    minRadius_ = whole.minRadius_;
+    maxRadius_ = whole.maxRadius_;
+    particleCount_ = n;
+    images_.assign(n, Image{0, 0});  // the wraps stay in the tallies, for the whole world's drain
+    substepsTaken_ = 0;
+    batch_ = previousBatch_ = Batch{};
+    nonFinite_.reset();  // the whole world's backend looks for non-finite disks among its own
+    totals_ = ContactTotals{};
+    substepsSinceDrain_ = 0;
+    load(share.particles);
+    writeTallies(share.tallies);
+    advance(1, dt);
+    readParticles(share.particles);
+    readTallies(share.tallies);
+    readLastRounds(share.lastRounds);
+    return totals_.maxRounds;
+}
+
+void Backend::refuseShares() const {
+    throw Error("the " + device() + " engine does not step a share of a decomposed world; allowed: the CPU engine");
+}
+
+void Backend::writeTallies(const std::vector<ContactTally>& tallies) {
+    (void)tallies;
+    refuseShares();
+}
+
+void Backend::readTallies(std::vector<ContactTally>& tallies) {
+    (void)tallies;
+    throw Error("the " + device() + " engine keeps no tallies per disk");
+}
+
+void Backend::readLastRounds(std::vector<unsigned int>& rounds) {
+    (void)rounds;
+    refuseShares();
+}
+
 void Backend::recordRounds(unsigned int rounds) { totals_.maxRounds = std::max(totals_.maxRounds, rounds); }
 
 CaromStepParams Backend::stepParams(float dt) const {
@@ -233,7 +279,9 @@ CaromStepParams Backend::stepParams(float dt) const {
 }
 
 std::uint64_t Backend::advanceCounted(const Batch& batch, std::uint64_t substeps, float dt) {
-    if (substepsSinceDrain_ + substeps > kTallySubsteps) drainCounted();
+    // Drains every kTallySubsteps substeps, wherever the calls begin and end.
+    if (substepsSinceDrain_ == kTallySubsteps) drainCounted();
+    substeps = std::min(substeps, kTallySubsteps - substepsSinceDrain_);
     previousBatch_ = batch_;
     batch_ = batch;
     const std::uint64_t taken = advance(substeps, dt);
@@ -254,17 +302,31 @@ void Backend::drainCounted() {
 }
 
 const ContactTotals& Backend::contacts() {
-    if (substepsSinceDrain_ > 0) drainCounted();
-    return totals_;
+    reported_ = totals_;
+    if (substepsSinceDrain_ > 0) addUndrained(reported_);
+    return reported_;
+}
+
+void Backend::addUndrained(ContactTotals& totals) {
+    std::vector<ContactTally> tallies;
+    readTallies(tallies);
+    sumTallies(tallies.data(), tallies.size()).addTo(totals);
 }
 
 std::vector<Image> Backend::images() {
-    contacts();  // drains the wraps into images_
-    return images_;
+    std::vector<Image> images = images_;
+    if (substepsSinceDrain_ > 0) {  // plus the wraps not yet drained
+        std::vector<ContactTally> tallies;
+        readTallies(tallies);
+        parallelFor(images.size(), [&](std::size_t i) {
+            for (int axis = 0; axis < 2; ++axis) addToImage(images[i][axis], tallies[i].image[axis]);
+        });
+    }
+    return images;
 }
 
 void Backend::resetContacts() {
-    contacts();
+    if (substepsSinceDrain_ > 0) drainCounted();
     totals_ = ContactTotals{};
 }
 
@@ -285,41 +347,52 @@ void Backend::setMotion(float dt, float2 gravity) {
     motionChanged();
 }
 
-void drainTallyArray(ContactTally* tallies, std::size_t count, ContactTotals& totals, Image* images) {
+void TallySums::add(const TallySums& other) {
+    collisions += other.collisions;
+    lateContacts += other.lateContacts;
+    virial.add(other.virial);
+    for (std::size_t w = 0; w < 4; ++w) wallImpulse[w].add(other.wallImpulse[w]);
+}
+
+void TallySums::addTo(ContactTotals& totals) const {
+    totals.collisions += collisions;
+    totals.lateContacts += lateContacts;
+    totals.virial += virial.value();
+    for (std::size_t w = 0; w < 4; ++w) totals.wallImpulse[w] += wallImpulse[w].value();
+}
+
+TallySums sumTallies(const ContactTally* tallies, std::size_t count) {
     // Each thread's share of the disks' tallies, summed exactly: the same
     // whatever the order and whoever adds them up.
-    struct Share {
-        std::uint64_t collisions = 0, lateContacts = 0;
-        ExactSum virial;
-        std::array<ExactSum, 4> wallImpulse;
-    };
-    std::vector<Share> shares(static_cast<std::size_t>(parallelThreads()));
+    std::vector<TallySums> shares(static_cast<std::size_t>(parallelThreads()));
     const auto n = static_cast<std::int64_t>(count);
 #pragma omp parallel if (n >= kParallelLength)
     {
-        Share& mine = shares[std::size_t(threadNumber())];
+        TallySums& mine = shares[std::size_t(threadNumber())];
 #pragma omp for schedule(static)
         for (std::int64_t i = 0; i < n; ++i) {
-            ContactTally& t = tallies[i];
+            const ContactTally& t = tallies[i];
             mine.collisions += t.collisions;
             mine.lateContacts += t.lateContacts;
             mine.virial.add(t.virial);
             for (int w = 0; w < 4; ++w) mine.wallImpulse[std::size_t(w)].add(t.wallImpulse[w]);
-            for (int axis = 0; axis < 2; ++axis) addToImage(images[i][axis], t.image[axis]);
-            t = ContactTally{};
         }
     }
-    Share all;
-    for (const Share& share : shares) {
-        all.collisions += share.collisions;
-        all.lateContacts += share.lateContacts;
-        all.virial.add(share.virial);
-        for (std::size_t w = 0; w < 4; ++w) all.wallImpulse[w].add(share.wallImpulse[w]);
-    }
-    totals.collisions += all.collisions;
-    totals.lateContacts += all.lateContacts;
-    totals.virial += all.virial.value();
-    for (std::size_t w = 0; w < 4; ++w) totals.wallImpulse[w] += all.wallImpulse[w].value();
+    TallySums all;
+    for (const TallySums& share : shares) all.add(share);
+    return all;
+}
+
+void clearTallies(ContactTally* tallies, std::size_t count, Image* images) {
+    parallelFor(count, [&](std::size_t i) {
+        for (int axis = 0; axis < 2; ++axis) addToImage(images[i][axis], tallies[i].image[axis]);
+        tallies[i] = ContactTally{};
+    });
+}
+
+void drainTallyArray(ContactTally* tallies, std::size_t count, ContactTotals& totals, Image* images) {
+    sumTallies(tallies, count).addTo(totals);
+    clearTallies(tallies, count, images);
 }
 
 float maxSpeedSquaredOf(const Particle* particles, std::size_t count) {

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/exact_sum.h"
 #include "engine/scene.h"
 #include "engine/grid.h"
 #include "engine/observables.h"
@@ -124,7 +125,10 @@ public:
     // state readParticles gives: setParticles' images plus the wraps since.
     virtual std::vector<Image> images();
     // Collisions, virial and wall impulses since setParticles or the last
-    // resetContacts().
+    // resetContacts(). Reading them changes nothing: the per-disk tallies are
+    // drained into the totals every kTallySubsteps substeps (counted from
+    // setParticles), and the totals are the same bits however often and
+    // wherever they are read.
     const ContactTotals& contacts();
     void resetContacts();
     // Pairs that received an impulse since setParticles or resetContacts().
@@ -136,6 +140,23 @@ public:
     // Changes dt and gravity between steps (the box stays fixed); throws
     // Error for values out of range.
     void setMotion(float dt, float2 gravity);
+
+    // One process's share of a decomposed world (backends/decomposed.h): its
+    // disks and those around them, in the order of their ids in the whole
+    // world, with their tallies.
+    struct Share {
+        std::vector<Particle> particles;
+        std::vector<ContactTally> tallies;  // one per particle, carried from substep to substep
+        // Out, pairwise: the last round of the substep that changed each disk, 0 for none.
+        std::vector<unsigned int> lastRounds;
+    };
+    // For DecomposedBackend: steps `share` by one substep of dt on this
+    // backend, with the grid, radii and world of `whole` (the decomposed
+    // world's backend), so that each disk moves as it would among all the
+    // disks wherever all its neighbours within reach are in the share.
+    // Returns the last round that changed a disk of the share (0 for the
+    // simultaneous scheme). Throws Error where this backend cannot.
+    unsigned int stepShare(Share& share, const Backend& whole, float dt);
 
     const WorldDef& world() const { return world_; }
     // The step the state holds: setParticles' `step` plus the steps completed
@@ -171,11 +192,30 @@ protected:
     // that do not wait in advance(); step() returns only after it.
     virtual void awaitSteps() {}
     // Adds the per-particle tallies (kernels/particle.h ContactTally) to
-    // `totals` and zeroes them (drainTallyArray). Called often enough
-    // that a float tally never sums more than kTallySubsteps substeps.
+    // `totals` and zeroes them (drainTallyArray). Called every
+    // kTallySubsteps substeps and by resetContacts.
     virtual void drainTallies(ContactTotals& totals) = 0;
+    // Adds the tallies since the last drain to `totals` as a drain would,
+    // leaving them (contacts()); here from readTallies.
+    virtual void addUndrained(ContactTotals& totals);
     // setMotion changed world_.dt or world_.gravity (the state is as before).
     virtual void motionChanged() {}
+    // The per-particle tallies since the last drain, by id (contacts(),
+    // images()); throws Error where the backend keeps none.
+    virtual void readTallies(std::vector<ContactTally>& tallies);
+    // stepShare's: replaces the per-particle tallies of the state load() took
+    // with `tallies` (one per particle); the last round that changed each
+    // disk in the last substep (zeros where the scheme has no rounds). These
+    // throw Error: this backend takes no shares.
+    virtual void writeTallies(const std::vector<ContactTally>& tallies);
+    virtual void readLastRounds(std::vector<unsigned int>& rounds);
+    // Whether the stop check must be asked at every chance (stopHere), not
+    // every kStopCheckInterval: a decomposed world's check is collective, and
+    // every process must ask it at the same points.
+    virtual bool stopCheckCollective() const { return false; }
+    // What all the processes that step this world together decide from
+    // their stop checks' answers: here the one answer.
+    virtual bool agreedStop(bool stop) { return stop; }
 
     // For implementations: substep number `substep` (counted from 0 since
     // setParticles) left `particle`, the lowest such id, with a position or
@@ -223,13 +263,16 @@ private:
     std::string tooManySubsteps(float speedSquared, const CaromSubstepRule& rule) const;
     // Throws the Error that says where the state went non-finite, once it has.
     void requireFinite() const;
+    // The Error of a backend that takes no shares (writeTallies and the rest).
+    [[noreturn]] void refuseShares() const;
     // How step() splits a step: the longest move of one substep is
     // maxTravel x the smallest radius, and with the pairwise scheme the
     // grid's allowance over CAROM_PAIRWISE_SPEED_MARGIN; infinite when neither
     // limits it.
     CaromSubstepRule substepRule() const;
 
-    ContactTotals totals_;
+    ContactTotals totals_;    // the drained tallies
+    ContactTotals reported_;  // contacts()': totals_ and the tallies since
     std::uint64_t substepsSinceDrain_ = 0;
     float gridTravel_ = 0.0f;          // gridTravelAllowance of grid_
     std::uint64_t stepNumber_ = 0;     // the step the current state holds
@@ -253,6 +296,21 @@ inline void addToImage(std::int32_t& count, std::int32_t change) {
     count = static_cast<std::int32_t>(static_cast<std::uint32_t>(count) + static_cast<std::uint32_t>(change));
 }
 
+// The exact sums of per-disk tallies (sumTallies), until addTo rounds them:
+// what the processes of a decomposed world add up.
+struct TallySums {
+    std::uint64_t collisions = 0, lateContacts = 0;
+    ExactSum virial;
+    std::array<ExactSum, 4> wallImpulse;
+    void add(const TallySums& other);
+    void addTo(ContactTotals& totals) const;  // each sum rounded once to double
+};
+
+// For implementations: the sums of tallies[0..count), on the team of threads.
+TallySums sumTallies(const ContactTally* tallies, std::size_t count);
+// For implementations: adds the wraps of tallies[0..count) to
+// images[0..count), and zeroes the tallies.
+void clearTallies(ContactTally* tallies, std::size_t count, Image* images);
 // For implementations: adds tallies[0..count) to `totals` and their wraps
 // to images[0..count), and zeroes them. Each drain's sums are exact
 // (ExactSum), rounded once to double: the same whatever device produced the

@@ -483,6 +483,7 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
         return stepPairwise(dt);
     }
     epoch_ = firstEpoch + roundsUsed;
+    substepEpoch_ = firstEpoch;
     unsigned int roundsChanged = 0;  // the last round that changed a disk
     for (unsigned int round = 1; round <= roundsUsed; ++round)
         if (changedCount[round] > 0) roundsChanged = round;
@@ -493,6 +494,15 @@ std::uint32_t CpuBackend::stepPairwise(float dt) {
     listBuilds_ += plan.build;
     speedKnown_ = true;
     return all.nonFinite;
+}
+
+void CpuBackend::readLastRounds(std::vector<unsigned int>& rounds) {
+    rounds.assign(state_->size(), 0u);
+    if (world_.collisions != CollisionScheme::Pairwise) return;
+    // Round r marks the disks it changed with the epoch substepEpoch_ + r.
+    parallelFor(rounds.size(), [&](std::size_t i) {
+        if (changedMark_[i] > substepEpoch_) rounds[i] = changedMark_[i] - substepEpoch_;
+    });
 }
 
 CpuBackend::ListPlan CpuBackend::planLists(float dt, int threads, std::size_t chunk) {

@@ -54,6 +54,9 @@ private:
     float maxSpeedSquared() override {
         return speedKnown_ ? maxSpeedSquared_ : maxSpeedSquaredOf(state_->data(), state_->size());
     }
+    void writeTallies(const std::vector<ContactTally>& tallies) override { tallies_ = tallies; }
+    void readTallies(std::vector<ContactTally>& tallies) override { tallies = tallies_; }
+    void readLastRounds(std::vector<unsigned int>& rounds) override;
     void drainTallies(ContactTotals& totals) override {
         drainTallyArray(tallies_.data(), tallies_.size(), totals, images_.data());
     }
@@ -118,6 +121,7 @@ private:
     std::vector<unsigned int> pending_, nextPending_, changed_, dirty_;
     std::vector<unsigned int> pendingMark_, changedMark_, dirtyMark_;
     unsigned int epoch_ = 0;
+    unsigned int substepEpoch_ = 0;  // the last pairwise substep's first epoch (readLastRounds)
     // Pairwise with neighbour lists: a disk's position is its id (identity_
     // serves as the ids and the slots), the cell each disk starts the
     // substep in (the grid's geometry, for the walls it can reach), and the

@@ -681,10 +681,14 @@ float EventDrivenBackend::maxSpeedSquared() {
 }
 
 void EventDrivenBackend::drainTallies(ContactTotals& totals) {
+    addUndrained(totals);
+    undrained_ = ContactTotals{};
+}
+
+void EventDrivenBackend::addUndrained(ContactTotals& totals) {
     totals.collisions += undrained_.collisions;
     totals.virial += undrained_.virial;
     for (int w = 0; w < 4; ++w) totals.wallImpulse[w] += undrained_.wallImpulse[w];
-    undrained_ = ContactTotals{};
 }
 
 }  // namespace carom

@@ -102,6 +102,7 @@ private:
     void returnToStepStart() override;
     float maxSpeedSquared() override;
     void drainTallies(ContactTotals& totals) override;
+    void addUndrained(ContactTotals& totals) override;
     void motionChanged() override;
 
     // Disks are stored in the order of their cells (row by row), re-sorted

@@ -6,6 +6,7 @@
 #   -DMODE=subdirectory  add_subdirectory(SOURCE)
 #   -DSOURCE=<carom source> -DCAROM_BUILD=<this build> -DWORK=<scratch folder> -DCXX=<compiler> [-DLAUNCHER=ccache]
 #   [-DPREFIX_PATH=<this build's CMAKE_PREFIX_PATH, where carom's own dependencies were found>]
+#   [-DMPIEXEC=<mpiexec and its flags>: decomposed_gas runs on 1 and 3 processes, with the same output]
 file(REMOVE_RECURSE "${WORK}")
 function(run)
     execute_process(COMMAND ${ARGN} RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
@@ -48,5 +49,16 @@ if(EXISTS "${WORK}/build/tour")
     message("${out}${err}")
     if(NOT status EQUAL 0 OR NOT out MATCHES "resumed from the checkpoint: the same bits")
         message(FATAL_ERROR "tour failed (${status})")
+    endif()
+endif()
+# A world split among MPI processes prints what one process prints.
+if(EXISTS "${WORK}/build/decomposed_gas" AND MPIEXEC)
+    foreach(processes IN ITEMS 1 3)
+        run(${MPIEXEC} -np ${processes} "${WORK}/build/decomposed_gas")
+        message("${processes} processes: ${output}")
+        set(printed${processes} "${output}")
+    endforeach()
+    if(NOT printed1 MATCHES "^kinetic energy" OR NOT printed1 STREQUAL printed3)
+        message(FATAL_ERROR "decomposed_gas printed different results on 1 and 3 processes")
     endif()
 endif()

@@ -1,6 +1,9 @@
 #include "world/make_backend.h"
 
 #include "backends/cpu.h"
+#ifdef CAROM_HAVE_MPI
+#include "backends/decomposed.h"
+#endif
 #include "backends/event_driven.h"
 #ifdef CAROM_HAVE_OPENCL
 #include "backends/opencl/host_grid.h"
@@ -18,6 +21,24 @@ std::vector<std::string> availableBackends() {
 }
 
 std::unique_ptr<Backend> makeBackend(const WorldDef& world) {
+    if (world.decomposition) {
+        if (world.collisions == CollisionScheme::Events)
+            throw Error(
+                "CollisionScheme::Events runs in one process; allowed in a decomposed world: Pairwise, "
+                "Simultaneous");
+        if (world.engine != ComputeEngine::Cpu)
+            throw Error(std::string("ComputeEngine ") + computeEngineName(world.engine) +
+                        " does not step a domain of a decomposed world yet; allowed there: ComputeEngine::Cpu "
+                        "(--backend cpu)");
+#ifdef CAROM_HAVE_MPI
+        WorldDef one = world;
+        one.decomposition.reset();
+        auto engine = std::make_unique<CpuBackend>(one);
+        // Its shares change every substep: their lists would be built anew each one.
+        engine->useNeighbourLists(false);
+        return std::make_unique<DecomposedBackend>(world, std::move(engine));
+#endif
+    }
     if (world.engine != ComputeEngine::Cpu && world.collisions == CollisionScheme::Events)
         throw Error(std::string("CollisionScheme::Events runs on ComputeEngine::Cpu only (one thread, double "
                                 "precision); got ComputeEngine ") +

@@ -147,6 +147,15 @@ struct World::Impl {
     bool temperatureCurrent = false;
 
     double time() const { return motionTime + double(step - motionStep) * def.dt; }
+    // A decomposed world's reads gather from every process, so every process
+    // takes them here, after each step() call, where all of them are: the
+    // reads between steps are then each process's own.
+    void gatherDecomposed() {
+        if (!def.decomposition) return;
+        current();
+        backend->contacts();
+        backend->images();
+    }
     const std::vector<Particle>& current() {
         if (!stateCurrent && backend->particleCount() > 0) {
             backend->readParticles(state);
@@ -505,9 +514,11 @@ void World::step(std::uint64_t steps) {
     } catch (const Error&) {
         const auto& stopped = impl_->backend->nonFinite();
         impl_->step = stopped ? stopped->step : impl_->backend->stepNumber();
+        impl_->gatherDecomposed();
         throw;
     }
     impl_->step = impl_->backend->stepNumber();
+    impl_->gatherDecomposed();
 }
 
 void World::setStopCheck(std::function<bool()> check) {

@@ -182,11 +182,16 @@ std::optional<ViewSums> OpenClBackend::readView(ViewValue value, DiskView* out) 
 
 float OpenClBackend::maxSpeedSquared() { return views_.maxSpeedSquared(queue_.get(), state_.get(), particleCount_); }
 
-void OpenClBackend::drainTallies(ContactTotals& totals) {
-    std::vector<ContactTally> tallies(particleCount_);
+void OpenClBackend::readTallies(std::vector<ContactTally>& tallies) {
+    tallies.resize(particleCount_);
     check(clEnqueueReadBuffer(queue_.get(), tallies_.get(), CL_TRUE, 0, tallies.size() * sizeof(ContactTally),
                               tallies.data(), 0, nullptr, nullptr),
           "clEnqueueReadBuffer(contact tallies)");
+}
+
+void OpenClBackend::drainTallies(ContactTotals& totals) {
+    std::vector<ContactTally> tallies;
+    readTallies(tallies);
     drainTallyArray(tallies.data(), tallies.size(), totals, images_.data());
     enqueueZero(queue_.get(), tallies_.get(), tallies.size() * sizeof(ContactTally), "contact tallies");
 }

@@ -13,6 +13,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -26,6 +27,8 @@ class Error : public std::runtime_error {
 public:
     using std::runtime_error::runtime_error;
 };
+
+class Decomposition;  // carom/decomposition.h
 
 /// A vector in the plane: two floats, 8-byte aligned, as OpenCL's float2.
 struct alignas(8) Vec2 {
@@ -241,6 +244,10 @@ struct WorldDef {
     /// platforms and their devices (as `carom devices` lists them) or a part
     /// of the device's name; empty = the first GPU, else the first device.
     std::string device;
+    /// Several processes, one world (carom/decomposition.h): each process of
+    /// an MPI communicator steps the disks of its domain, and every result is
+    /// bit for bit that of one process. Empty (the default): one process.
+    std::shared_ptr<const Decomposition> decomposition;
 };
 
 /// A compute engine and, for OpenCL, its device: WorldDef::engine and

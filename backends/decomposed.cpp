@@ -1,0 +1,487 @@
+#include "backends/decomposed.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <utility>
+
+#include "engine/parallel.h"
+#include "kernels/physics.h"
+
+namespace carom {
+
+namespace {
+
+// The deepest halo a pairwise substep needs: 2R + 3 cells at the most rounds.
+constexpr int kMaxPairwiseHalo = 2 * int(kMaxPairwiseRounds) + 3;
+// A pairwise substep's first halo: exact for up to 4 rounds, more than most
+// substeps take below close packing.
+constexpr int kFirstPairwiseHalo = 2 * 4 + 3;
+
+// A record of a halo copy and of a disk handed on, packed by bytes.
+constexpr std::size_t kCopyBytes = sizeof(std::uint32_t) + sizeof(Particle);
+constexpr std::size_t kMigrantBytes = kCopyBytes + sizeof(ContactTally) + sizeof(Image);
+
+template <class T>
+unsigned char* put(unsigned char* out, const T& value) {
+    std::memcpy(out, &value, sizeof value);
+    return out + sizeof value;
+}
+
+template <class T>
+const unsigned char* take(const unsigned char* in, T& value) {
+    std::memcpy(&value, in, sizeof value);
+    return in + sizeof value;
+}
+
+// An MPI type of `bytes` bytes, freed with the object.
+class RecordType {
+public:
+    explicit RecordType(std::size_t bytes) {
+        MPI_Type_contiguous(static_cast<int>(bytes), MPI_BYTE, &type_);
+        MPI_Type_commit(&type_);
+    }
+    ~RecordType() { MPI_Type_free(&type_); }
+    RecordType(const RecordType&) = delete;
+    RecordType& operator=(const RecordType&) = delete;
+    operator MPI_Datatype() const { return type_; }
+
+private:
+    MPI_Datatype type_;
+};
+
+// Each count of `bytes` (records here) fits an int, as MPI's counts must.
+int countOf(std::size_t records) {
+    if (records > std::size_t(std::numeric_limits<int>::max()))
+        throw Error("a message of " + std::to_string(records) +
+                    " disks between two processes; allowed: up to 2^31 - 1 (use more processes)");
+    return static_cast<int>(records);
+}
+
+// Sends out[q] (records of `bytes` bytes) to process q; returns what every
+// process sent here, in rank order, and in `counts` how many records each.
+std::vector<unsigned char> exchange(MPI_Comm comm, const std::vector<std::vector<unsigned char>>& out,
+                                    std::size_t bytes, std::vector<int>& counts) {
+    const int size = static_cast<int>(out.size());
+    std::vector<int> sendCounts(std::size_t(size), 0), sendStarts(std::size_t(size), 0),
+        receiveStarts(std::size_t(size), 0);
+    counts.assign(std::size_t(size), 0);
+    std::vector<unsigned char> sent;
+    for (int q = 0; q < size; ++q) {
+        sendStarts[std::size_t(q)] = countOf(sent.size() / bytes);
+        sendCounts[std::size_t(q)] = countOf(out[std::size_t(q)].size() / bytes);
+        sent.insert(sent.end(), out[std::size_t(q)].begin(), out[std::size_t(q)].end());
+    }
+    MPI_Alltoall(sendCounts.data(), 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+    std::size_t total = 0;
+    for (int q = 0; q < size; ++q) {
+        receiveStarts[std::size_t(q)] = countOf(total);
+        total += std::size_t(counts[std::size_t(q)]);
+    }
+    std::vector<unsigned char> received(total * bytes);
+    const RecordType type(bytes);
+    MPI_Alltoallv(sent.data(), sendCounts.data(), sendStarts.data(), type, received.data(), counts.data(),
+                  receiveStarts.data(), type, comm);
+    return received;
+}
+
+// Gathers every process's `mine` (in rank order) on every process.
+template <class T>
+std::vector<T> gatherAll(MPI_Comm comm, const std::vector<T>& mine) {
+    int size = 1;
+    MPI_Comm_size(comm, &size);
+    std::vector<int> counts(std::size_t(size), 0), starts(std::size_t(size), 0);
+    const int count = countOf(mine.size());
+    MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+    std::size_t total = 0;
+    for (int q = 0; q < size; ++q) {
+        starts[std::size_t(q)] = countOf(total);
+        total += std::size_t(counts[std::size_t(q)]);
+    }
+    std::vector<T> all(total);
+    const RecordType type(sizeof(T));
+    MPI_Allgatherv(mine.data(), count, type, all.data(), counts.data(), starts.data(), type, comm);
+    return all;
+}
+
+// The first cell of each of `domains` domains over `cells` cells, and one past the last.
+std::vector<int> domainStarts(int cells, int domains) {
+    std::vector<int> starts(std::size_t(domains) + 1);
+    for (int d = 0; d <= domains; ++d) starts[std::size_t(d)] = static_cast<int>(std::int64_t(d) * cells / domains);
+    return starts;
+}
+
+// For each cell of a line of `cells`, the domains whose cells widened by
+// `halo` on each side (around the box where it is periodic) hold it.
+std::vector<std::vector<int>> domainsWithin(const std::vector<int>& starts, int halo, bool periodic) {
+    const int cells = starts.back(), domains = static_cast<int>(starts.size()) - 1;
+    std::vector<std::vector<int>> within(std::size_t(cells), std::vector<int>{});
+    for (int d = 0; d < domains; ++d) {
+        int first = starts[std::size_t(d)] - halo, end = starts[std::size_t(d) + 1] + halo;
+        if (!periodic) {  // no cells beyond the walls
+            first = std::max(first, 0);
+            end = std::min(end, cells);
+        } else if (end - first >= cells) {  // around the box: each cell once
+            first = 0;
+            end = cells;
+        }
+        for (int c = first; c < end; ++c) within[std::size_t((c % cells + cells) % cells)].push_back(d);
+    }
+    return within;
+}
+
+// FNV-1a over bytes, continuing from `hash`.
+std::uint64_t hashBytes(const void* data, std::size_t bytes, std::uint64_t hash) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < bytes; ++i) hash = (hash ^ p[i]) * 1099511628211ull;
+    return hash;
+}
+
+}  // namespace
+
+std::shared_ptr<const Decomposition> makeDecomposition(const DecompositionDef& def) {
+    return std::make_shared<const Decomposition>(def);
+}
+
+Decomposition::Decomposition(const DecompositionDef& def) : domainsX_(def.domainsX), domainsY_(def.domainsY) {
+    int initialised = 0;
+    MPI_Initialized(&initialised);
+    if (!initialised) throw Error("a decomposition before MPI_Init; allowed: after MPI_Init, before MPI_Finalize");
+    if (def.communicator == MPI_COMM_NULL) throw Error("DecompositionDef::communicator is MPI_COMM_NULL");
+    int inter = 0;
+    MPI_Comm_test_inter(def.communicator, &inter);
+    if (inter) throw Error("DecompositionDef::communicator is an inter-communicator; allowed: an intra-communicator");
+    MPI_Comm_size(def.communicator, &size_);
+    MPI_Comm_rank(def.communicator, &rank_);
+    const bool chosen = domainsX_ == 0 && domainsY_ == 0;
+    if (!chosen && (domainsX_ < 1 || domainsY_ < 1 || std::int64_t(domainsX_) * domainsY_ != size_))
+        throw Error("domains " + std::to_string(domainsX_) + " x " + std::to_string(domainsY_) + " for " +
+                    std::to_string(size_) + " processes; allowed: two positive numbers whose product is " +
+                    std::to_string(size_) + ", or 0 x 0 (chosen from the box)");
+    MPI_Comm_dup(def.communicator, &communicator_);
+}
+
+Decomposition::~Decomposition() {
+    int finalised = 0;
+    MPI_Finalized(&finalised);
+    if (!finalised) MPI_Comm_free(&communicator_);
+}
+
+std::array<int, 2> Decomposition::domainsFor(float width, float height) const {
+    if (domainsX_ > 0) return {domainsX_, domainsY_};
+    // The domains nearest to squares: the least |log of a domain's aspect|.
+    std::array<int, 2> best{size_, 1};
+    double bestAspect = HUGE_VAL;
+    for (int x = 1; x <= size_; ++x) {
+        if (size_ % x != 0) continue;
+        const double aspect = std::fabs(std::log((double(width) / x) / (double(height) / (size_ / x))));
+        if (aspect < bestAspect) {
+            bestAspect = aspect;
+            best = {x, size_ / x};
+        }
+    }
+    return best;
+}
+
+DecomposedBackend::DecomposedBackend(const WorldDef& world, std::unique_ptr<Backend> engine)
+    : Backend(world),
+      decomposition_(world.decomposition),
+      comm_(decomposition_->communicator()),
+      engine_(std::move(engine)) {}
+
+std::string DecomposedBackend::device() const {
+    return engine_->device() + ", process " + std::to_string(decomposition_->rank()) + " of " +
+           std::to_string(decomposition_->size()) + " (" + std::to_string(domainsX_) + " x " +
+           std::to_string(domainsY_) + " domains)";
+}
+
+void DecomposedBackend::requireSameInput(const std::vector<Particle>& particles) const {
+    std::uint64_t hash = 14695981039346656037ull;
+    const WorldDef& w = world_;
+    for (float value : {w.width, w.height, w.dt, w.gravity.x, w.gravity.y, w.maxTravel, w.skin})
+        hash = hashBytes(&value, sizeof value, hash);
+    for (int value : {int(w.boundary), int(w.collisions), int(w.engine)}) hash = hashBytes(&value, sizeof value, hash);
+    const std::uint64_t count = particles.size();
+    hash = hashBytes(&count, sizeof count, hash);
+    hash = hashBytes(particles.data(), particles.size() * sizeof(Particle), hash);
+    hash = hashBytes(images_.data(), images_.size() * sizeof(Image), hash);
+    std::uint64_t lowest = hash, highest = hash;
+    MPI_Allreduce(&hash, &lowest, 1, MPI_UINT64_T, MPI_MIN, comm_);
+    MPI_Allreduce(&hash, &highest, 1, MPI_UINT64_T, MPI_MAX, comm_);
+    if (lowest != highest)
+        throw Error("the processes were given different worlds or disks (this one " + std::to_string(particles.size()) +
+                    " disks); allowed: the same WorldDef and disks on every process");
+}
+
+int DecomposedBackend::ownerOf(float2 position) const {
+    const GridGeometry& g = grid_.geometry;
+    const int column = carom_cell_coord(position.x, g.cellsPerLengthX, g.cols);
+    const int row = carom_cell_coord(position.y, g.cellsPerLengthY, g.rows);
+    return domainRow_[std::size_t(row)] * domainsX_ + domainColumn_[std::size_t(column)];
+}
+
+void DecomposedBackend::load(const std::vector<Particle>& particles) {
+    requireSameInput(particles);
+    const GridGeometry& g = grid_.geometry;
+    const auto domains = decomposition_->domainsFor(world_.width, world_.height);
+    if (domains[0] > g.cols || domains[1] > g.rows)
+        throw Error("domains " + std::to_string(domains[0]) + " x " + std::to_string(domains[1]) + " on a grid of " +
+                    std::to_string(g.cols) + " x " + std::to_string(g.rows) +
+                    " cells (each at least a disk diameter wide); allowed: at most one domain per cell across and "
+                    "up (fewer processes, or more disks)");
+    domainsX_ = domains[0];
+    domainsY_ = domains[1];
+    columnStarts_ = domainStarts(g.cols, domainsX_);
+    rowStarts_ = domainStarts(g.rows, domainsY_);
+    domainColumn_.assign(std::size_t(g.cols), 0);
+    domainRow_.assign(std::size_t(g.rows), 0);
+    for (int d = 0; d < domainsX_; ++d)
+        for (int c = columnStarts_[std::size_t(d)]; c < columnStarts_[std::size_t(d) + 1]; ++c)
+            domainColumn_[std::size_t(c)] = d;
+    for (int d = 0; d < domainsY_; ++d)
+        for (int r = rowStarts_[std::size_t(d)]; r < rowStarts_[std::size_t(d) + 1]; ++r)
+            domainRow_[std::size_t(r)] = d;
+    own_ = Own{};
+    const int rank = decomposition_->rank();
+    for (std::size_t i = 0; i < particles.size(); ++i)
+        if (ownerOf(particles[i].position) == rank) {
+            own_.ids.push_back(static_cast<std::uint32_t>(i));
+            own_.particles.push_back(particles[i]);
+            own_.images.push_back(images_[i]);
+        }
+    own_.tallies.assign(own_.ids.size(), ContactTally{});
+    halo_ = world_.collisions == CollisionScheme::Pairwise ? kFirstPairwiseHalo : 1;
+    imagesCurrent_ = true;  // images_ holds setParticles' images
+    undrainedCurrent_ = true;
+    undrained_ = TallySums{};
+}
+
+Backend::Share DecomposedBackend::gatherShare(int halo) {
+    const int size = decomposition_->size(), rank = decomposition_->rank();
+    const bool periodic = world_.boundary == Boundary::Periodic;
+    const auto columns = domainsWithin(columnStarts_, halo, periodic);
+    const auto rows = domainsWithin(rowStarts_, halo, periodic);
+    const GridGeometry& g = grid_.geometry;
+    std::vector<std::vector<unsigned char>> out(std::size_t(size), std::vector<unsigned char>{});
+    for (std::size_t k = 0; k < own_.ids.size(); ++k) {
+        const Particle& p = own_.particles[k];
+        const int column = carom_cell_coord(p.position.x, g.cellsPerLengthX, g.cols);
+        const int row = carom_cell_coord(p.position.y, g.cellsPerLengthY, g.rows);
+        for (int dy : rows[std::size_t(row)])
+            for (int dx : columns[std::size_t(column)]) {
+                const int q = dy * domainsX_ + dx;
+                if (q == rank) continue;
+                auto& buffer = out[std::size_t(q)];
+                buffer.resize(buffer.size() + kCopyBytes);
+                put(put(buffer.data() + buffer.size() - kCopyBytes, own_.ids[k]), p);
+            }
+    }
+    std::vector<int> counts;
+    const std::vector<unsigned char> received = exchange(comm_, out, kCopyBytes, counts);
+    const std::size_t copies = received.size() / kCopyBytes, owned = own_.ids.size();
+    std::vector<std::uint32_t> copyIds(copies);
+    std::vector<Particle> copyParticles(copies);
+    const unsigned char* in = received.data();
+    for (std::size_t j = 0; j < copies; ++j) in = take(take(in, copyIds[j]), copyParticles[j]);
+    // Merged by id: the own disks, then each sender's copies, are runs in id
+    // order; a key is an id and where its disk is (own, or owned + copy).
+    std::vector<std::uint64_t> keys(owned + copies);
+    for (std::size_t j = 0; j < owned; ++j) keys[j] = (std::uint64_t(own_.ids[j]) << 32) | j;
+    for (std::size_t j = 0; j < copies; ++j) keys[owned + j] = (std::uint64_t(copyIds[j]) << 32) | (owned + j);
+    std::vector<std::size_t> starts{0, owned};
+    for (int q = 0; q < size; ++q)
+        if (counts[std::size_t(q)] > 0) starts.push_back(starts.back() + std::size_t(counts[std::size_t(q)]));
+    for (std::size_t width = 1; width + 1 < starts.size(); width *= 2)
+        for (std::size_t r = 0; r + width + 1 < starts.size(); r += 2 * width)
+            std::inplace_merge(keys.begin() + std::ptrdiff_t(starts[r]),
+                               keys.begin() + std::ptrdiff_t(starts[r + width]),
+                               keys.begin() + std::ptrdiff_t(starts[std::min(r + 2 * width, starts.size() - 1)]));
+    Share share;
+    share.particles.resize(keys.size());
+    share.tallies.assign(keys.size(), ContactTally{});
+    ownSlots_.resize(owned);
+    for (std::size_t s = 0; s < keys.size(); ++s) {
+        const std::size_t j = keys[s] & 0xffffffffu;
+        if (j < owned) {
+            share.particles[s] = own_.particles[j];
+            share.tallies[s] = own_.tallies[j];
+            ownSlots_[j] = s;
+        } else {
+            share.particles[s] = copyParticles[j - owned];
+        }
+    }
+    return share;
+}
+
+bool DecomposedBackend::substep(std::uint64_t substep, float dt) {
+    const bool pairwise = world_.collisions == CollisionScheme::Pairwise;
+    imagesCurrent_ = undrainedCurrent_ = false;
+    for (;;) {
+        Share share = gatherShare(halo_);
+        unsigned int rounds = engine_->stepShare(share, *this, dt);
+        if (pairwise) {
+            MPI_Allreduce(MPI_IN_PLACE, &rounds, 1, MPI_UNSIGNED, MPI_MAX, comm_);
+            const int needed = std::min(2 * int(rounds) + 3, kMaxPairwiseHalo);
+            if (needed > halo_) {  // not deep enough: again from the same start
+                halo_ = needed;
+                continue;
+            }
+            // One round's slack for the next substep.
+            halo_ = std::min(needed + 2, kMaxPairwiseHalo);
+        }
+        unsigned int lastRound = 0;
+        std::uint32_t nonFinite = std::numeric_limits<std::uint32_t>::max();
+        for (std::size_t k = 0; k < own_.ids.size(); ++k) {
+            const std::size_t s = ownSlots_[k];
+            own_.particles[k] = share.particles[s];
+            own_.tallies[k] = share.tallies[s];
+            if (pairwise) lastRound = std::max(lastRound, share.lastRounds[s]);
+            if (!carom_is_finite(own_.particles[k])) nonFinite = std::min(nonFinite, own_.ids[k]);
+        }
+        if (pairwise) {
+            MPI_Allreduce(MPI_IN_PLACE, &lastRound, 1, MPI_UNSIGNED, MPI_MAX, comm_);
+            recordRounds(lastRound);
+        }
+        MPI_Allreduce(MPI_IN_PLACE, &nonFinite, 1, MPI_UINT32_T, MPI_MIN, comm_);
+        if (nonFinite != std::numeric_limits<std::uint32_t>::max()) {
+            recordNonFinite(substep, nonFinite);
+            return false;
+        }
+        migrate();
+        return true;
+    }
+}
+
+void DecomposedBackend::Own::resize(std::size_t n) {
+    ids.resize(n);
+    particles.resize(n);
+    tallies.resize(n);
+    images.resize(n);
+}
+
+void DecomposedBackend::Own::set(std::size_t to, const Own& from, std::size_t k) {
+    ids[to] = from.ids[k];
+    particles[to] = from.particles[k];
+    tallies[to] = from.tallies[k];
+    images[to] = from.images[k];
+}
+
+void DecomposedBackend::migrate() {
+    const int size = decomposition_->size(), rank = decomposition_->rank();
+    std::vector<std::vector<unsigned char>> out(std::size_t(size), std::vector<unsigned char>{});
+    std::vector<std::size_t> leaving;
+    for (std::size_t k = 0; k < own_.ids.size(); ++k) {
+        const int q = ownerOf(own_.particles[k].position);
+        if (q == rank) continue;
+        leaving.push_back(k);
+        auto& buffer = out[std::size_t(q)];
+        buffer.resize(buffer.size() + kMigrantBytes);
+        put(put(put(put(buffer.data() + buffer.size() - kMigrantBytes, own_.ids[k]), own_.particles[k]),
+                own_.tallies[k]),
+            own_.images[k]);
+    }
+    std::vector<int> counts;
+    const std::vector<unsigned char> received = exchange(comm_, out, kMigrantBytes, counts);
+    const std::size_t arrived = received.size() / kMigrantBytes;
+    if (leaving.empty() && arrived == 0) return;
+    // Those that left go; the others keep their order.
+    if (!leaving.empty()) {
+        std::size_t kept = leaving.front(), next = 0;
+        for (std::size_t k = leaving.front(); k < own_.ids.size(); ++k) {
+            if (next < leaving.size() && leaving[next] == k) {
+                ++next;
+                continue;
+            }
+            own_.set(kept++, own_, k);
+        }
+        own_.resize(kept);
+    }
+    // Those that came, by id, merged in from the back: only the disks of
+    // higher ids move.
+    Own came;
+    came.resize(arrived);
+    const unsigned char* in = received.data();
+    for (std::size_t j = 0; j < arrived; ++j)
+        in = take(take(take(take(in, came.ids[j]), came.particles[j]), came.tallies[j]), came.images[j]);
+    std::vector<std::size_t> order(arrived);
+    for (std::size_t j = 0; j < arrived; ++j) order[j] = j;
+    std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return came.ids[x] < came.ids[y]; });
+    std::size_t a = own_.ids.size(), b = arrived, to = a + arrived;
+    own_.resize(to);
+    while (b > 0) {
+        if (a > 0 && own_.ids[a - 1] > came.ids[order[b - 1]])
+            own_.set(--to, own_, --a);
+        else
+            own_.set(--to, came, order[--b]);
+    }
+}
+
+std::uint64_t DecomposedBackend::advance(std::uint64_t substeps, float dt) {
+    for (std::uint64_t s = 0; s < substeps; ++s) {
+        if (stopHere()) return s;
+        if (!substep(substepsTaken() + s, dt)) return s + 1;
+    }
+    return substeps;
+}
+
+bool DecomposedBackend::agreedStop(bool stop) {
+    int any = stop ? 1 : 0;
+    MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_LOR, comm_);
+    return any != 0;
+}
+
+void DecomposedBackend::keepStepStart() { stepStart_ = own_; }
+
+void DecomposedBackend::returnToStepStart() {
+    own_ = stepStart_;
+    imagesCurrent_ = undrainedCurrent_ = false;
+}
+
+float DecomposedBackend::maxSpeedSquared() {
+    float largest = maxSpeedSquaredOf(own_.particles.data(), own_.particles.size());
+    MPI_Allreduce(MPI_IN_PLACE, &largest, 1, MPI_FLOAT, MPI_MAX, comm_);
+    return largest;
+}
+
+TallySums DecomposedBackend::undrainedSums() {
+    if (!undrainedCurrent_) {
+        undrained_ = TallySums{};
+        const TallySums mine = sumTallies(own_.tallies.data(), own_.tallies.size());
+        for (const TallySums& sums : gatherAll(comm_, std::vector<TallySums>{mine})) undrained_.add(sums);
+        undrainedCurrent_ = true;
+    }
+    return undrained_;
+}
+
+void DecomposedBackend::addUndrained(ContactTotals& totals) { undrainedSums().addTo(totals); }
+
+void DecomposedBackend::drainTallies(ContactTotals& totals) {
+    undrainedSums().addTo(totals);
+    clearTallies(own_.tallies.data(), own_.tallies.size(), own_.images.data());
+    undrained_ = TallySums{};
+    undrainedCurrent_ = true;
+}
+
+void DecomposedBackend::readParticles(std::vector<Particle>& particles) {
+    const std::vector<std::uint32_t> ids = gatherAll(comm_, own_.ids);
+    const std::vector<Particle> all = gatherAll(comm_, own_.particles);
+    particles.resize(all.size());
+    parallelFor(all.size(), [&](std::size_t k) { particles[ids[k]] = all[k]; });
+}
+
+std::vector<Image> DecomposedBackend::images() {
+    if (!imagesCurrent_) {
+        std::vector<Image> mine = own_.images;  // plus the wraps not yet drained
+        for (std::size_t k = 0; k < mine.size(); ++k)
+            for (int axis = 0; axis < 2; ++axis) addToImage(mine[k][axis], own_.tallies[k].image[axis]);
+        const std::vector<std::uint32_t> ids = gatherAll(comm_, own_.ids);
+        const std::vector<Image> all = gatherAll(comm_, mine);
+        parallelFor(all.size(), [&](std::size_t k) { images_[ids[k]] = all[k]; });
+        imagesCurrent_ = true;
+    }
+    return images_;
+}
+
+}  // namespace carom
