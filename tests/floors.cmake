@@ -3,7 +3,8 @@
 #   0  the public definitions every floor speaks (include/carom/types.h, random.h, version.h)
 #   1  kernels/     physics compiled for the host and for OpenCL devices
 #   2  engine/      the core every backend shares (grid builder, checks, placement, observables)
-#   3  backends/    the Backend interface and its implementations (backends/opencl/ included)
+#   3  backends/    the Backend interface and its implementations (backends/opencl/ included;
+#                   include/carom/decomposition.h, whose decomposed world is one)
 #   4  world/       carom::World and the backend factory (include/carom/world.h, carom.h)
 #   5  io/          carom::io, the files (include/carom/io.h, files.h)
 #   6  app/ python/ the carom program and the Python package
@@ -18,7 +19,7 @@ set(floor_patterns
     "^include/carom/(types|random|version)\\.h(\\.in)?$" 0
     "^kernels/" 1
     "^engine/" 2
-    "^backends/" 3
+    "^backends/" 3 "^include/carom/decomposition\\.h$" 3
     "^world/" 4 "^include/carom/(world|carom)\\.h$" 4
     "^io/" 5 "^include/carom/(io|files)\\.h$" 5
     "^(app|python)/" 6
