@@ -26,9 +26,15 @@ endif()
 if(NOT DEFINED EXPECT_STATUS)
     set(EXPECT_STATUS 0)
 endif()
-execute_process(COMMAND ${XVFB_RUN} -a -s "-screen 0 1920x1200x24" ${stop} ${CAROM} ${args}
+# carom's own status, printed inside xvfb-run: xvfb-run exits 5 instead when
+# removing its temporary folder fails as Xvfb shuts down, a race of its own.
+execute_process(COMMAND ${XVFB_RUN} -a -s "-screen 0 1920x1200x24"
+                        sh -c "\"$@\"; echo \"carom exited with status $?\" >&2" sh ${stop} ${CAROM} ${args}
                 WORKING_DIRECTORY "${OUT_DIR}" RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
 message("${out}${err}")
+if(err MATCHES "carom exited with status ([0-9]+)")
+    set(status ${CMAKE_MATCH_1})
+endif()
 if(NOT status EQUAL EXPECT_STATUS)
     message(FATAL_ERROR "carom view ended with status ${status}, expected ${EXPECT_STATUS}")
 endif()
