@@ -229,8 +229,7 @@ unsigned int Backend::stepShare(Share& share, const Backend& whole, float dt) {
     gridTravel_ = whole.gridTravel_;
     minRadius_ = whole.minRadius_;
     maxRadius_ = whole.maxRadius_;
-    particleCount_ = n;
-    images_.assign(n, Image{0, 0});  // the wraps stay in the tallies, for the whole world's drain
+    particleCount_ = n;  // images_ stays unused: the wraps stay in the tallies, for the whole world's drain
     substepsTaken_ = 0;
     batch_ = previousBatch_ = Batch{};
     nonFinite_.reset();  // the whole world's backend looks for non-finite disks among its own
@@ -318,9 +317,7 @@ std::vector<Image> Backend::images() {
     if (substepsSinceDrain_ > 0) {  // plus the wraps not yet drained
         std::vector<ContactTally> tallies;
         readTallies(tallies);
-        parallelFor(images.size(), [&](std::size_t i) {
-            for (int axis = 0; axis < 2; ++axis) addToImage(images[i][axis], tallies[i].image[axis]);
-        });
+        addWraps(images.data(), tallies.data(), images.size());
     }
     return images;
 }
@@ -383,11 +380,15 @@ TallySums sumTallies(const ContactTally* tallies, std::size_t count) {
     return all;
 }
 
-void clearTallies(ContactTally* tallies, std::size_t count, Image* images) {
+void addWraps(Image* images, const ContactTally* tallies, std::size_t count) {
     parallelFor(count, [&](std::size_t i) {
         for (int axis = 0; axis < 2; ++axis) addToImage(images[i][axis], tallies[i].image[axis]);
-        tallies[i] = ContactTally{};
     });
+}
+
+void clearTallies(ContactTally* tallies, std::size_t count, Image* images) {
+    addWraps(images, tallies, count);
+    parallelFor(count, [&](std::size_t i) { tallies[i] = ContactTally{}; });
 }
 
 void drainTallyArray(ContactTally* tallies, std::size_t count, ContactTotals& totals, Image* images) {

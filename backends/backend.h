@@ -308,8 +308,9 @@ struct TallySums {
 
 // For implementations: the sums of tallies[0..count), on the team of threads.
 TallySums sumTallies(const ContactTally* tallies, std::size_t count);
-// For implementations: adds the wraps of tallies[0..count) to
-// images[0..count), and zeroes the tallies.
+// For implementations: adds the wraps of tallies[0..count) to images[0..count).
+void addWraps(Image* images, const ContactTally* tallies, std::size_t count);
+// For implementations: addWraps, then zeroes the tallies.
 void clearTallies(ContactTally* tallies, std::size_t count, Image* images);
 // For implementations: adds tallies[0..count) to `totals` and their wraps
 // to images[0..count), and zeroes them. Each drain's sums are exact

@@ -474,8 +474,7 @@ void DecomposedBackend::readParticles(std::vector<Particle>& particles) {
 std::vector<Image> DecomposedBackend::images() {
     if (!imagesCurrent_) {
         std::vector<Image> mine = own_.images;  // plus the wraps not yet drained
-        for (std::size_t k = 0; k < mine.size(); ++k)
-            for (int axis = 0; axis < 2; ++axis) addToImage(mine[k][axis], own_.tallies[k].image[axis]);
+        addWraps(mine.data(), own_.tallies.data(), mine.size());
         const std::vector<std::uint32_t> ids = gatherAll(comm_, own_.ids);
         const std::vector<Image> all = gatherAll(comm_, mine);
         parallelFor(all.size(), [&](std::size_t k) { images_[ids[k]] = all[k]; });
