@@ -50,7 +50,8 @@ if [ "${1:-}" = "--test" ] && ! python3 -c "import ase" 2>/dev/null; then
 fi
 
 # The Python tests (docs/python.md): pytest, gsd, nbclient and the
-# notebook's kernel and plots, in .venv, where `pip install .` puts carom;
+# notebook's kernel and plots, and mpi4py (its wheel uses Debian's Open MPI)
+# for the tests under mpirun, in .venv, where `pip install .` puts carom;
 # and the documentation's Sphinx, whose build the tests run too.
 if [ "${1:-}" = "--test" ] || [ "${1:-}" = "--docs" ]; then
     [ -x .venv/bin/python ] || python3 -m venv .venv
@@ -58,7 +59,7 @@ if [ "${1:-}" = "--test" ] || [ "${1:-}" = "--docs" ]; then
 fi
 if [ "${1:-}" = "--test" ]; then
     echo "install-deps: the Python test packages in .venv (PyPI)"
-    .venv/bin/python -m pip install --quiet numpy gsd pytest nbclient nbformat ipykernel matplotlib
+    .venv/bin/python -m pip install --quiet numpy gsd pytest nbclient nbformat ipykernel matplotlib mpi4py
 fi
 if [ "${1:-}" = "--test" ] || [ "${1:-}" = "--docs" ]; then
     echo "install-deps: Sphinx and its extensions in .venv (PyPI, docs/requirements.txt)"

@@ -68,6 +68,7 @@ World loadCheckpoint(CheckpointFile checkpoint, const WorldDef& def) {
     WorldDef resumed = onEngine(c.world, EngineDef{def.engine, def.device});
     resumed.maxTravel = def.maxTravel;  // not in a checkpoint
     resumed.skin = def.skin;            // nor this
+    resumed.decomposition = def.decomposition;
     World world(resumed);
     world.restore(c, "checkpoint '" + checkpoint.impl_->path + "'");
     return world;

@@ -35,6 +35,13 @@ function(run_carom tag processes)
     if(NOT status EQUAL 0)
         message(FATAL_ERROR "carom on ${processes} processes (${command} run ${ARGN}) exited ${status}: ${err}")
     endif()
+    # Split, not each process stepping the whole world (that too would match).
+    if(NOT processes STREQUAL "1")
+        file(READ "${out}.json" json)
+        if(NOT json MATCHES "process 0 of ${count} \\(")
+            message(FATAL_ERROR "carom on ${processes} processes did not split the world: ${json}")
+        endif()
+    endif()
 endfunction()
 
 # The JSON summary without what differs between runs of the same world.

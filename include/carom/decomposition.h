@@ -21,8 +21,10 @@
 // observables, the measurements) are each process's own and give the whole
 // world on every process.
 //
-// Only the CPU engine steps a domain so far, with the stepped schemes
-// (CollisionScheme::Pairwise and Simultaneous); the others are refused.
+// Python takes the same path: carom.World(..., comm=MPI.COMM_WORLD) with
+// mpi4py (docs/mpi.md). Only the CPU engine steps a domain so far, with the
+// stepped schemes (CollisionScheme::Pairwise and Simultaneous); the others
+// are refused.
 // This header exists only where carom was built with MPI.
 #pragma once
 

@@ -62,8 +62,8 @@ void writeState(const std::string& path, const World& world);
 /// snapshot (World::snapshot: the box, dt, gravity, boundary, scheme, step,
 /// time, collision count, the disks, and with CollisionScheme::Events the
 /// engine's exact double state), in a versioned binary file with a checksum.
-/// loadCheckpoint takes the engine, the device, maxTravel and skin from `def` (a
-/// checkpoint does not hold them) and everything else from the file, which
+/// loadCheckpoint takes the engine, the device, maxTravel, skin and
+/// decomposition from `def` (a checkpoint does not hold them) and everything else from the file, which
 /// it restores (World::restore); it refuses a file that is damaged, of
 /// another format or out of range, naming what is wrong, and one whose disks
 /// the memory available now cannot hold (requireRoomFor, carom/types.h); so

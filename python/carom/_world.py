@@ -159,6 +159,29 @@ def _path(name: str, value) -> str:
     return path
 
 
+def _split(comm, domains) -> Tuple[Optional[int], Tuple[int, int]]:
+    """The Fortran handle of the mpi4py communicator `comm` (None: none) and the domains across and up."""
+    if comm is None:
+        if domains is not None:
+            raise InputError(f"domains: {domains!r} without comm; allowed: None, or domains with a communicator")
+        return None, (0, 0)
+    if not callable(getattr(comm, "py2f", None)) or not callable(getattr(comm, "Get_size", None)):
+        raise InputError(f"comm: {comm!r}; allowed: an mpi4py communicator (such as mpi4py.MPI.COMM_WORLD) or None")
+    if not _carom.HAVE_MPI:
+        raise InputError("comm: this carom was built without MPI; allowed: None (docs/mpi.md says how to build "
+                         "with it)")
+    if domains is None:
+        return comm.py2f(), (0, 0)
+    _unmasked("domains", domains)
+    try:
+        across, up = domains
+    except (TypeError, ValueError):
+        raise InputError(f"domains: {domains!r} is not a pair of whole numbers; allowed: (across, up), "
+                         "whose product is comm's number of processes") from None
+    size = comm.Get_size()
+    return comm.py2f(), (_whole("domains", across, 1, size), _whole("domains", up, 1, size))
+
+
 def _engine_name(engine: str, device, pipeline: Optional[str], cpu_only: bool = False) -> Tuple[str, str]:
     """The C++ engine name and device selector for `engine`, `device` and `pipeline` (and, for engine="auto",
     whether the world asks for what only the CPU has: the events scheme, a skin)."""
@@ -218,7 +241,16 @@ class World:
         have moved about half of it; 0 = automatic (about the largest radius),
         else at most 8 largest radii. Changes the speed, never a result.
     seed: the random seed of place(); None draws one from the OS, kept in
-        world.seed so that the run can be repeated.
+        world.seed so that the run can be repeated (with comm, process 0's).
+    comm: an mpi4py communicator (run under mpirun): the world is split into
+        rectangular domains, one per process, and every process steps its
+        own; the results are bit for bit those of one process. Every process
+        makes the same world and calls step and the edits in the same order;
+        after each step every process holds the whole world, so the reads
+        (disks, observables, measurements) are the whole world's. The CPU
+        engine with the pairwise or simultaneous scheme; docs/mpi.md.
+    domains: with comm, (across, up), whose product is the number of
+        processes; None: as square as the box allows.
 
     Every refusal of bad input raises carom.InputError (a ValueError) naming
     the value and what is allowed. A World is not thread-safe.
@@ -227,19 +259,27 @@ class World:
     def __init__(self, box: Sequence[float], boundary: str = "walls", dt: float = 0.01,
                  gravity: Sequence[float] = (0.0, 0.0), collisions: str = "pairwise", engine: str = "cpu",
                  device: Union[int, str, None] = None, pipeline: Optional[str] = None, max_travel: float = 0.0,
-                 skin: float = 0.0, seed: Optional[int] = None):
+                 skin: float = 0.0, seed: Optional[int] = None, comm=None,
+                 domains: Optional[Tuple[int, int]] = None):
         width, height = _pair("box", box)
         _choice("boundary", boundary, ("walls", "periodic"))
         _choice("collisions", collisions, ("pairwise", "simultaneous", "events"))
         if collisions == "events" and engine == "opencl":
             raise InputError(f"collisions='events' runs on engine='cpu' only (one thread, in double); got engine={engine!r}")
+        if collisions == "events" and comm is not None:
+            raise InputError("collisions='events' runs in one process; allowed with comm: 'pairwise', 'simultaneous'")
         skin = _number("skin", skin)
-        engine_name, selector = _engine_name(engine, device, pipeline, collisions == "events" or skin > 0)
+        # engine="auto" with comm: the CPU, on which the processes step their domains.
+        engine_name, selector = _engine_name(engine, device, pipeline,
+                                             collisions == "events" or skin > 0 or comm is not None)
         travel = _number("max_travel", max_travel)
         if not travel >= 0:
             raise InputError(f"max_travel: {max_travel!r}; allowed: >= 0 (0 = off)")
+        handle, split = _split(comm, domains)
         core = _carom.World(width, height, _number("dt", dt), _pair("gravity", gravity), boundary, collisions,
-                            engine_name, selector, travel, skin)
+                            engine_name, selector, travel, skin, handle, split)
+        if seed is None and comm is not None:  # place() must draw the same disks on every process
+            seed = comm.bcast(secrets.randbits(63), root=0)
         self._adopt(core, selector, seed)
 
     def _adopt(self, core: "_carom.World", device: str, seed: Optional[int]) -> None:
@@ -312,33 +352,41 @@ class World:
 
     @classmethod
     def from_scene(cls, path: Union[str, os.PathLike], engine: str = "cpu", device: Union[int, str, None] = None,
-                   pipeline: Optional[str] = None, max_travel: Optional[float] = None, skin: float = 0.0) -> "World":
+                   pipeline: Optional[str] = None, max_travel: Optional[float] = None, skin: float = 0.0,
+                   comm=None, domains: Optional[Tuple[int, int]] = None) -> "World":
         """The world of a scene file, its disks placed as `carom run --scene path` places them.
         max_travel: None keeps the file's (its max_travel, or dt = "auto").
+        comm, domains: as World's.
         world.scene_steps is the number of steps `carom run` would take."""
         skin = _number("skin", skin)
         engine_name, selector = _engine_name(engine, device, pipeline, skin > 0)
         travel = None if max_travel is None else _number("max_travel", max_travel)
-        core, steps = _carom.World.from_scene_file(_path("path", path), engine_name, selector, travel, skin)
-        world = cls._from_core(core, selector)
+        handle, split = _split(comm, domains)
+        core, steps = _carom.World.from_scene_file(_path("path", path), engine_name, selector, travel, skin, handle,
+                                                   split)
+        world = cls._from_core(core, selector, None if comm is None else comm.bcast(secrets.randbits(63), root=0))
         world.scene_steps = steps
         return world
 
     @classmethod
     def from_checkpoint(cls, path: Union[str, os.PathLike], engine: str = "cpu", device: Union[int, str, None] = None,
-                        pipeline: Optional[str] = None, max_travel: float = 0.0, skin: float = 0.0) -> "World":
+                        pipeline: Optional[str] = None, max_travel: float = 0.0, skin: float = 0.0,
+                        comm=None, domains: Optional[Tuple[int, int]] = None) -> "World":
         """The world a checkpoint holds (save_checkpoint, `carom run --checkpoint`), continuing bit for bit.
         A checkpoint does not hold max_travel, the skin or the engine: pass the saved world's to continue
-        its substeps alike (copy() and pickle keep them)."""
+        its substeps alike (copy() and pickle keep them). comm, domains: as World's; a checkpoint saved by
+        any number of processes resumes on any other."""
         skin = _number("skin", skin)
         engine_name, selector = _engine_name(engine, device, pipeline, skin > 0)
+        handle, split = _split(comm, domains)
         core = _carom.World.from_checkpoint(_path("path", path), engine_name, selector,
-                                            _number("max_travel", max_travel), skin)
-        return cls._from_core(core, selector)
+                                            _number("max_travel", max_travel), skin, handle, split)
+        return cls._from_core(core, selector, None if comm is None else comm.bcast(secrets.randbits(63), root=0))
 
     def save_checkpoint(self, path: Union[str, os.PathLike]) -> None:
         """Writes everything the world needs to continue bit for bit (`carom run --resume` reads it too);
-        the file is replaced whole or not at all."""
+        the file is replaced whole or not at all. With comm, every process holds the whole world: call it
+        on one process (say rank 0), not on all of them at once."""
         self._core.save_checkpoint(_path("path", path))
 
     # The disks.

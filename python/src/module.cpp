@@ -3,6 +3,9 @@
 // checks, NumPy conversions and the documentation live there.
 #include <carom/carom.h>
 #include <carom/io.h>
+#ifdef CAROM_HAVE_MPI
+#include <carom/decomposition.h>
+#endif
 
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
@@ -203,6 +206,20 @@ WorldDef worldDef(float width, float height, float dt, std::array<float, 2> grav
     return def;
 }
 
+// Splits `def` among the processes of the communicator whose Fortran handle
+// is `comm` (mpi4py's Comm.py2f()), in domains[0] x domains[1] domains (0 x 0:
+// chosen from the box); nothing for no communicator.
+void decompose(WorldDef& def, std::optional<std::int64_t> comm, std::array<int, 2> domains) {
+    if (!comm) return;
+#ifdef CAROM_HAVE_MPI
+    def.decomposition = carom::makeDecomposition({MPI_Comm_f2c(static_cast<MPI_Fint>(*comm)), domains[0], domains[1]});
+#else
+    (void)def;
+    (void)domains;
+    throw carom::Error("comm: this carom was built without MPI; allowed: None (docs/mpi.md says how to build with it)");
+#endif
+}
+
 }  // namespace
 
 NB_MODULE(_carom, m) {
@@ -234,6 +251,11 @@ NB_MODULE(_carom, m) {
         "to_float", [](const std::string& name, double value) { return named(name, carom::io::toFloat, value); },
         "name"_a, "value"_a);
     m.attr("VERSION") = carom::version();
+#ifdef CAROM_HAVE_MPI
+    m.attr("HAVE_MPI") = true;
+#else
+    m.attr("HAVE_MPI") = false;
+#endif
     m.def(
         "engine_available",
         [](const std::string& engine) { return carom::engineAvailable(carom::parseComputeEngine(engine)); },
@@ -297,38 +319,46 @@ NB_MODULE(_carom, m) {
     nb::class_<World>(m, "World")
         .def(nb::new_([](float width, float height, float dt, std::array<float, 2> gravity, const std::string& boundary,
                          const std::string& collisions, const std::string& engine, const std::string& device,
-                         float maxTravel, float skin) {
-                 return World(
-                     worldDef(width, height, dt, gravity, boundary, collisions, engine, device, maxTravel, skin));
+                         float maxTravel, float skin, std::optional<std::int64_t> comm, std::array<int, 2> domains) {
+                 WorldDef def =
+                     worldDef(width, height, dt, gravity, boundary, collisions, engine, device, maxTravel, skin);
+                 decompose(def, comm, domains);
+                 return World(def);
              }),
              "width"_a, "height"_a, "dt"_a, "gravity"_a, "boundary"_a, "collisions"_a, "engine"_a, "device"_a,
-             "max_travel"_a, "skin"_a)
+             "max_travel"_a, "skin"_a, "comm"_a.none() = nb::none(), "domains"_a = std::array<int, 2>{0, 0})
         .def_static(
             "from_scene_file",
             [](const Path& path, const std::string& engine, const std::string& device, std::optional<float> maxTravel,
-               float skin) {
+               float skin, std::optional<std::int64_t> comm, std::array<int, 2> domains) {
                 carom::SceneFileDef file = carom::io::readSceneFile(path.native());
                 file.world.engine = carom::parseComputeEngine(engine);
                 file.world.device = device;
                 if (maxTravel) file.world.maxTravel = *maxTravel;  // else the file's (dt = "auto" sets it)
                 file.world.skin = skin;
+                decompose(file.world, comm, domains);
                 const carom::io::SceneFile scene = carom::io::loadScene(file);
                 World world(scene.world);
                 world.setDisks(scene.disks, path.native());
                 return nb::make_tuple(std::move(world), scene.steps);
             },
-            "path"_a, "engine"_a, "device"_a, "max_travel"_a, "skin"_a)
+            "path"_a, "engine"_a, "device"_a, "max_travel"_a, "skin"_a, "comm"_a.none() = nb::none(),
+            "domains"_a = std::array<int, 2>{0, 0})
         .def_static(
             "from_checkpoint",
-            [](const Path& path, const std::string& engine, const std::string& device, float maxTravel, float skin) {
-                WorldDef def;  // loadCheckpoint takes only the engine, the device, maxTravel and the skin from it
+            [](const Path& path, const std::string& engine, const std::string& device, float maxTravel, float skin,
+               std::optional<std::int64_t> comm, std::array<int, 2> domains) {
+                // loadCheckpoint takes only the engine, the device, maxTravel, the skin and the decomposition from it
+                WorldDef def;
                 def.engine = carom::parseComputeEngine(engine);
                 def.device = device;
                 def.maxTravel = maxTravel;
                 def.skin = skin;
+                decompose(def, comm, domains);
                 return carom::io::loadCheckpoint(path.native(), def);
             },
-            "path"_a, "engine"_a, "device"_a, "max_travel"_a, "skin"_a)
+            "path"_a, "engine"_a, "device"_a, "max_travel"_a, "skin"_a, "comm"_a.none() = nb::none(),
+            "domains"_a = std::array<int, 2>{0, 0})
         .def(
             "save_checkpoint", [](const World& w, const Path& path) { carom::io::saveCheckpoint(path.native(), w); },
             "path"_a)

@@ -36,7 +36,8 @@ NOT_RUN_REASONS = {
     "needs a GPU": "it names an NVIDIA device",
     "opens a window": "it needs a display and a person",
     "runs for minutes": "it takes longer than the docs tests allow",
-    "runs under mpirun": "ctest runs the same under mpirun (tests/mpi_tests.cmake, the examples' tests)",
+    "runs under mpirun": "the tests run the same under mpirun (tests/mpi_tests.cmake, the examples' tests, "
+                         "python/tests/test_mpi.py)",
 }
 RUN = {"sh": "shell", "bash": "shell", "shell": "shell", "console": "console", "python": "python",
        "toml": "scene", "cpp": "example", "c++": "example", "cmake": "example", "text": "output"}

@@ -1,0 +1,78 @@
+"""carom.World(comm=...) under mpirun with mpi4py: every process's measurements
+and process 0's files are bit for bit those of one process without a
+communicator, and checkpoints move between any numbers of processes."""
+import json
+import os
+import pathlib
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+import carom
+
+pytest.importorskip("mpi4py", reason="mpi4py is not installed (./install-deps.sh --test installs it)")
+MPIRUN = shutil.which("mpirun")
+pytestmark = [
+    pytest.mark.skipif(not carom._carom.HAVE_MPI, reason="carom was built without MPI"),
+    pytest.mark.skipif(MPIRUN is None, reason="mpirun is not installed (./install-deps.sh --test installs it)"),
+]
+SCRIPT = pathlib.Path(__file__).with_name("mpi_world.py")
+
+
+def run(tmp_path, tag, processes, arguments, resume=None):
+    """mpi_world.py on `processes` (1: alone, without mpirun); returns what each process measured."""
+    out = str(tmp_path / tag)
+    command = [sys.executable, str(SCRIPT), out, *arguments] + ([resume] if resume else [])
+    if processes > 1:
+        command = [MPIRUN, "--oversubscribe", "-np", str(processes)] + command
+    environment = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+                       OMP_NUM_THREADS="1")
+    result = subprocess.run(command, env=environment, text=True, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                            timeout=300)
+    assert result.returncode == 0, f"{' '.join(command)} exited {result.returncode}:\n{result.stdout}"
+    measured = []
+    for rank in range(processes):
+        written = json.loads((tmp_path / f"{tag}.rank{rank}.json").read_text())
+        if processes > 1:  # split, not each process stepping the whole world (that too would match)
+            assert f"process {rank} of {processes} (" in written["device"], written["device"]
+        measured.append(written["measured"])
+    return measured
+
+
+def same_file(a: pathlib.Path, b: pathlib.Path) -> bool:
+    return a.read_bytes() == b.read_bytes()
+
+
+@pytest.mark.parametrize("collisions, boundary, gravity, processes, domains", [
+    ("pairwise", "walls", -10, 2, "auto"),
+    ("pairwise", "periodic", 0, 3, "3x1"),
+    ("simultaneous", "walls", -10, 4, "2x2"),
+])
+def test_processes_match_one(tmp_path, collisions, boundary, gravity, processes, domains):
+    arguments = [collisions, boundary, str(gravity)]
+    one = run(tmp_path, "one", 1, arguments + ["none"])
+    split = run(tmp_path, "split", processes, arguments + [domains])
+    assert all(measured == one[0] for measured in split), "a process measured other values than one process"
+    for suffix in (".csv", ".ckpt"):
+        assert same_file(tmp_path / f"one{suffix}", tmp_path / f"split{suffix}"), f"the {suffix} files differ"
+    # A checkpoint of one process resumes on several, and theirs on one.
+    resumed = run(tmp_path, "resumed_split", processes, arguments + [domains], str(tmp_path / "one.ckpt"))
+    assert all(measured == one[0] for measured in resumed)
+    assert same_file(tmp_path / "one.csv", tmp_path / "resumed_split.csv")
+    alone = run(tmp_path, "resumed_one", 1, arguments + ["none"], str(tmp_path / "split.ckpt"))
+    assert alone == one
+    assert same_file(tmp_path / "one.csv", tmp_path / "resumed_one.csv")
+
+
+def test_refusals():
+    from mpi4py import MPI
+    with pytest.raises(carom.InputError, match="comm: 3; allowed: an mpi4py communicator"):
+        carom.World((10, 10), comm=3)
+    with pytest.raises(carom.InputError, match="domains: .* without comm"):
+        carom.World((10, 10), domains=(1, 1))
+    with pytest.raises(carom.InputError, match="domains"):
+        carom.World((10, 10), comm=MPI.COMM_WORLD, domains=(2, 1))  # one process here
+    with pytest.raises(carom.InputError, match="collisions=.events. runs in one process"):
+        carom.World((10, 10), collisions="events", comm=MPI.COMM_WORLD)
