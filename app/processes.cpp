@@ -3,12 +3,15 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <thread>
 
 #ifdef CAROM_HAVE_MPI
 #include <mpi.h>
 
 #include <carom/decomposition.h>
+
+#include "backends/decomposed.h"
 #ifndef _WIN32
 #include <unistd.h>
 #endif
@@ -94,6 +97,37 @@ int reportError(const std::string& message) {
     }
 #endif
     return 1;
+}
+
+void everyProcess(const Decomposition* decomposition, const std::function<void()>& work) {
+#ifdef CAROM_HAVE_MPI
+    if (decomposition) {
+        std::string failure;
+        try {
+            work();
+        } catch (const std::exception& e) {
+            failure = e.what();
+        }
+        decomposition->requireEveryone(failure);
+        return;
+    }
+#else
+    (void)decomposition;
+#endif
+    work();
+}
+
+std::vector<DecompositionCosts> processCosts(const DecompositionCosts& mine) {
+    std::vector<DecompositionCosts> all;
+#ifdef CAROM_HAVE_MPI
+    if (count > 1) {
+        if (rank == 0) all.resize(std::size_t(count));
+        MPI_Gather(&mine, sizeof mine, MPI_BYTE, all.data(), sizeof mine, MPI_BYTE, 0, MPI_COMM_WORLD);
+    }
+#else
+    (void)mine;
+#endif
+    return all;
 }
 
 std::shared_ptr<const Decomposition> runDecomposition(int domainsX, int domainsY) {

@@ -6,8 +6,10 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <carom/types.h>
 
@@ -34,6 +36,13 @@ std::uint64_t processZeros(std::uint64_t value);
 // all (MPI_Abort): one that failed alone must not leave the others waiting.
 // Returns the exit status for one process.
 int reportError(const std::string& message);
+// Runs `work` on every process of `decomposition` (alone where it is null);
+// where it throws on any of them, throws on every one the Error of the lowest
+// process that failed, named, so that none goes on alone (collective).
+void everyProcess(const Decomposition* decomposition, const std::function<void()>& work);
+// Every process's decomposition costs, in rank order, on process 0; empty
+// on the others and in one process (collective).
+std::vector<DecompositionCosts> processCosts(const DecompositionCosts& mine);
 // The decomposition of a run of several processes into domainsX x domainsY
 // (0 x 0: chosen from the box); empty in one process, where domains other
 // than 1 x 1 or 0 x 0 are refused.

@@ -131,9 +131,10 @@ Start planRun(const RunOptions& o) {
 // The world the run steps, on the engine the options ask for: the
 // checkpoint's, continuing bit for bit, or the new scene's.
 World startWorld(Start& start, const RunOptions& o) {
-    EngineChoice choice = engineChoiceOf(start.world, o.scene);
     WorldDef def = start.world;
     def.decomposition = runDecomposition(o.domains[0], o.domains[1]);
+    EngineChoice choice;  // every process learns of one that cannot (its node lacks the device)
+    everyProcess(def.decomposition.get(), [&] { choice = engineChoiceOf(start.world, o.scene); });
     if (def.decomposition && o.scene.backend.kind == "auto" && choice.engine.engine != ComputeEngine::Cpu)
         choice = {EngineDef{}, "--backend auto: the processes of mpirun step their domains on the CPU"};
     start.backendReason = choice.reason;
@@ -451,8 +452,9 @@ struct Result {
     Measurements run;         // over this run: collisions, pressure, Z and rates at the mean of the first and last kT
     double initialTemperature = 0.0, finalTemperature = 0.0;
     bool interrupted = false;
-    std::optional<EventsResult> events;  // with the events scheme
-    std::string backendReason;           // Start::backendReason
+    std::optional<EventsResult> events;         // with the events scheme
+    std::string backendReason;                  // Start::backendReason
+    std::vector<DecompositionCosts> processes;  // under mpirun, on process 0: each process's
 };
 
 // The command line's name of the world's backend.
@@ -469,6 +471,48 @@ double energyChange(const Result& r) { return changeFrom(r.initial.totalEnergy()
 // collisions conserve there is the kinetic energy in the centre of mass's
 // (freely falling) frame, (N - 1) kT.
 bool fallsFreely(const WorldDef& w) { return w.boundary == Boundary::Periodic && hasGravity(w); }
+
+// Under mpirun: where the slowest process spent its time in the
+// decomposition's parts, and what all the processes sent a step.
+void printProcesses(const std::vector<DecompositionCosts>& processes, std::uint64_t steps) {
+    const auto total = [](const DecompositionCosts& c) {
+        return c.computeSeconds + c.exchangeSeconds + c.migrationSeconds + c.agreementSeconds + c.gatherSeconds;
+    };
+    const DecompositionCosts& slowest = *std::max_element(
+        processes.begin(), processes.end(), [&](const auto& a, const auto& b) { return total(a) < total(b); });
+    const double seconds = std::max(total(slowest), 1e-300);
+    std::uint64_t bytes = 0, messages = 0;
+    for (const DecompositionCosts& c : processes) {
+        bytes += c.bytes;
+        messages += c.messages;
+    }
+    const double perStep = steps > 0 ? 1.0 / double(steps) : 0.0;
+    std::printf(
+        "  processes    %zu; the slowest spent %.3g s: compute %.0f %%, halo %.0f %%, handing on %.0f %%, "
+        "agreeing %.0f %%, gathering %.0f %%; a step sends %.3g MB in %.3g messages\n",
+        processes.size(), total(slowest), 100 * slowest.computeSeconds / seconds,
+        100 * slowest.exchangeSeconds / seconds, 100 * slowest.migrationSeconds / seconds,
+        100 * slowest.agreementSeconds / seconds, 100 * slowest.gatherSeconds / seconds, double(bytes) * perStep * 1e-6,
+        double(messages) * perStep);
+}
+
+nlohmann::json processesJson(const std::vector<DecompositionCosts>& processes) {
+    nlohmann::json all = nlohmann::json::array();
+    for (const DecompositionCosts& c : processes)
+        all.push_back({{"substeps", c.substeps},
+                       {"retaken_substeps", c.retakenSubsteps},
+                       {"halo_copies", c.haloCopies},
+                       {"migrants", c.migrants},
+                       {"messages", c.messages},
+                       {"bytes", c.bytes},
+                       {"seconds",
+                        {{"compute", c.computeSeconds},
+                         {"exchange", c.exchangeSeconds},
+                         {"migration", c.migrationSeconds},
+                         {"agreement", c.agreementSeconds},
+                         {"gather", c.gatherSeconds}}}});
+    return all;
+}
 
 void printSummary(const World& world, const Result& r, const std::string& resumedFrom, const Outputs& outputs) {
     const WorldDef& w = world.def();
@@ -499,6 +543,7 @@ void printSummary(const World& world, const Result& r, const std::string& resume
         std::printf("  scheme       %s\n", collisionSchemeName(w.collisions));
     std::printf("  wall time    %.3f s, %.3g particle-steps/s\n", r.seconds,
                 r.seconds > 0 ? double(world.diskCount()) * steps / r.seconds : 0.0);
+    if (!r.processes.empty()) printProcesses(r.processes, steps);
     if (hasGravity(w))
         std::printf(
             "  energy       total %.9g -> %.9g (relative change %+.2e)\n"
@@ -584,6 +629,7 @@ void printJson(const World& world, const Result& r) {
         {"collision_rate", r.run.collisionRate},
         {"memory", {{"device_bytes_peak", world.deviceMemory().peakBytes}, {"host_bytes_peak", peakResidentBytes()}}},
     };
+    if (!r.processes.empty()) summary["processes"] = processesJson(r.processes);
     if (r.events) {
         const EventCounts& counts = r.events->counts;
         summary["events"] = {{"collisions", counts.collisions},
@@ -735,6 +781,7 @@ int runCommand(const RunOptions& o) {
     r.escaped = world.escapedCount();
     r.finalTemperature = world.temperature();
     r.run = world.measurements();
+    r.processes = processCosts(world.decompositionCosts());
     if (events) {
         r.events->counts = world.eventCounts();
         r.events->finalEnergy = world.totalEnergy();

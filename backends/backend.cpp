@@ -225,6 +225,10 @@ unsigned int Backend::stepShare(Share& share, const Backend& whole, float dt) {
     if (share.tallies.size() != n)
         throw Error("a share of " + std::to_string(n) + " disks with " + std::to_string(share.tallies.size()) +
                     " tallies; allowed: one per disk");
+    if (n == 0) {  // nothing to step (and an OpenCL buffer cannot be empty)
+        share.lastRounds.clear();
+        return 0;
+    }
     grid_.geometry = whole.grid_.geometry;
     gridTravel_ = whole.gridTravel_;
     minRadius_ = whole.minRadius_;

@@ -67,6 +67,7 @@ public:
     // trajectories are bitwise identical to the CPU backend's.
     virtual bool exactArithmetic() const = 0;
     virtual DeviceMemoryUse deviceMemory() const { return {}; }
+    virtual DecompositionCosts decompositionCosts() const { return {}; }
 
     // Validates the particles against the world, sizes the grid for their
     // largest radius (and the scheme), loads them and resets the contact totals.

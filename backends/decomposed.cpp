@@ -1,6 +1,7 @@
 #include "backends/decomposed.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -60,11 +61,30 @@ int countOf(std::size_t records) {
     return static_cast<int>(records);
 }
 
-// Sends out[q] (records of `bytes` bytes) to process q; returns what every
-// process sent here, in rank order, and in `counts` how many records each.
+// Adds the seconds since it was made to `total` when it ends.
+class Timed {
+public:
+    explicit Timed(double& total) : total_(total), start_(std::chrono::steady_clock::now()) {}
+    ~Timed() { total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+    Timed(const Timed&) = delete;
+    Timed& operator=(const Timed&) = delete;
+
+private:
+    double& total_;
+    std::chrono::steady_clock::time_point start_;
+};
+
+// Sends out[q] (records of `bytes` bytes) to process q, counted in `costs`;
+// returns what every process sent here, in rank order, and in `counts` how
+// many records each.
 std::vector<unsigned char> exchange(MPI_Comm comm, const std::vector<std::vector<unsigned char>>& out,
-                                    std::size_t bytes, std::vector<int>& counts) {
+                                    std::size_t bytes, std::vector<int>& counts, DecompositionCosts& costs) {
     const int size = static_cast<int>(out.size());
+    for (const auto& message : out)  // this process sends itself nothing
+        if (!message.empty()) {
+            ++costs.messages;
+            costs.bytes += message.size();
+        }
     std::vector<int> sendCounts(std::size_t(size), 0), sendStarts(std::size_t(size), 0),
         receiveStarts(std::size_t(size), 0);
     counts.assign(std::size_t(size), 0);
@@ -87,11 +107,14 @@ std::vector<unsigned char> exchange(MPI_Comm comm, const std::vector<std::vector
     return received;
 }
 
-// Gathers every process's `mine` (in rank order) on every process.
+// Gathers every process's `mine` (in rank order) on every process, counted in `costs`.
 template <class T>
-std::vector<T> gatherAll(MPI_Comm comm, const std::vector<T>& mine) {
+std::vector<T> gatherAll(MPI_Comm comm, const std::vector<T>& mine, DecompositionCosts& costs) {
+    Timed timed(costs.gatherSeconds);
     int size = 1;
     MPI_Comm_size(comm, &size);
+    costs.messages += std::uint64_t(size - 1);
+    costs.bytes += std::uint64_t(size - 1) * mine.size() * sizeof(T);
     std::vector<int> counts(std::size_t(size), 0), starts(std::size_t(size), 0);
     const int count = countOf(mine.size());
     MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
@@ -161,6 +184,22 @@ Decomposition::Decomposition(const DecompositionDef& def) : domainsX_(def.domain
                     std::to_string(size_) + " processes; allowed: two positive numbers whose product is " +
                     std::to_string(size_) + ", or 0 x 0 (chosen from the box)");
     MPI_Comm_dup(def.communicator, &communicator_);
+    MPI_Comm node;
+    MPI_Comm_split_type(communicator_, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &node);
+    MPI_Comm_rank(node, &nodeRank_);
+    MPI_Comm_free(&node);
+}
+
+void Decomposition::requireEveryone(const std::string& failure) const {
+    int first = failure.empty() ? size_ : rank_;
+    MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, communicator_);
+    if (first == size_) return;
+    std::string message = failure;
+    unsigned long long length = message.size();
+    MPI_Bcast(&length, 1, MPI_UNSIGNED_LONG_LONG, first, communicator_);
+    message.resize(std::size_t(length));
+    MPI_Bcast(message.data(), int(length), MPI_CHAR, first, communicator_);
+    throw Error("process " + std::to_string(first) + " of " + std::to_string(size_) + ": " + message);
 }
 
 Decomposition::~Decomposition() {
@@ -253,6 +292,7 @@ void DecomposedBackend::load(const std::vector<Particle>& particles) {
         }
     own_.tallies.assign(own_.ids.size(), ContactTally{});
     halo_ = world_.collisions == CollisionScheme::Pairwise ? kFirstPairwiseHalo : 1;
+    costs_ = DecompositionCosts{};
     imagesCurrent_ = true;  // images_ holds setParticles' images
     undrainedCurrent_ = true;
     undrained_ = TallySums{};
@@ -279,8 +319,9 @@ Backend::Share DecomposedBackend::gatherShare(int halo) {
             }
     }
     std::vector<int> counts;
-    const std::vector<unsigned char> received = exchange(comm_, out, kCopyBytes, counts);
+    const std::vector<unsigned char> received = exchange(comm_, out, kCopyBytes, counts, costs_);
     const std::size_t copies = received.size() / kCopyBytes, owned = own_.ids.size();
+    costs_.haloCopies += copies;
     std::vector<std::uint32_t> copyIds(copies);
     std::vector<Particle> copyParticles(copies);
     const unsigned char* in = received.data();
@@ -319,36 +360,54 @@ bool DecomposedBackend::substep(std::uint64_t substep, float dt) {
     const bool pairwise = world_.collisions == CollisionScheme::Pairwise;
     imagesCurrent_ = undrainedCurrent_ = false;
     for (;;) {
-        Share share = gatherShare(halo_);
-        unsigned int rounds = engine_->stepShare(share, *this, dt);
+        Share share;
+        {
+            Timed timed(costs_.exchangeSeconds);
+            share = gatherShare(halo_);
+        }
+        unsigned int rounds = 0;
+        {
+            Timed timed(costs_.computeSeconds);
+            rounds = engine_->stepShare(share, *this, dt);
+        }
         if (pairwise) {
-            MPI_Allreduce(MPI_IN_PLACE, &rounds, 1, MPI_UNSIGNED, MPI_MAX, comm_);
+            {
+                Timed timed(costs_.agreementSeconds);
+                MPI_Allreduce(MPI_IN_PLACE, &rounds, 1, MPI_UNSIGNED, MPI_MAX, comm_);
+            }
             const int needed = std::min(2 * int(rounds) + 3, kMaxPairwiseHalo);
             if (needed > halo_) {  // not deep enough: again from the same start
                 halo_ = needed;
+                ++costs_.retakenSubsteps;
                 continue;
             }
             // One round's slack for the next substep.
             halo_ = std::min(needed + 2, kMaxPairwiseHalo);
         }
+        ++costs_.substeps;
         unsigned int lastRound = 0;
         std::uint32_t nonFinite = std::numeric_limits<std::uint32_t>::max();
-        for (std::size_t k = 0; k < own_.ids.size(); ++k) {
-            const std::size_t s = ownSlots_[k];
-            own_.particles[k] = share.particles[s];
-            own_.tallies[k] = share.tallies[s];
-            if (pairwise) lastRound = std::max(lastRound, share.lastRounds[s]);
-            if (!carom_is_finite(own_.particles[k])) nonFinite = std::min(nonFinite, own_.ids[k]);
+        {
+            Timed timed(costs_.exchangeSeconds);
+            for (std::size_t k = 0; k < own_.ids.size(); ++k) {
+                const std::size_t s = ownSlots_[k];
+                own_.particles[k] = share.particles[s];
+                own_.tallies[k] = share.tallies[s];
+                if (pairwise) lastRound = std::max(lastRound, share.lastRounds[s]);
+                if (!carom_is_finite(own_.particles[k])) nonFinite = std::min(nonFinite, own_.ids[k]);
+            }
         }
-        if (pairwise) {
-            MPI_Allreduce(MPI_IN_PLACE, &lastRound, 1, MPI_UNSIGNED, MPI_MAX, comm_);
-            recordRounds(lastRound);
+        {
+            Timed timed(costs_.agreementSeconds);
+            if (pairwise) MPI_Allreduce(MPI_IN_PLACE, &lastRound, 1, MPI_UNSIGNED, MPI_MAX, comm_);
+            MPI_Allreduce(MPI_IN_PLACE, &nonFinite, 1, MPI_UINT32_T, MPI_MIN, comm_);
         }
-        MPI_Allreduce(MPI_IN_PLACE, &nonFinite, 1, MPI_UINT32_T, MPI_MIN, comm_);
+        if (pairwise) recordRounds(lastRound);
         if (nonFinite != std::numeric_limits<std::uint32_t>::max()) {
             recordNonFinite(substep, nonFinite);
             return false;
         }
+        Timed timed(costs_.migrationSeconds);
         migrate();
         return true;
     }
@@ -382,8 +441,9 @@ void DecomposedBackend::migrate() {
                 own_.tallies[k]),
             own_.images[k]);
     }
+    costs_.migrants += leaving.size();
     std::vector<int> counts;
-    const std::vector<unsigned char> received = exchange(comm_, out, kMigrantBytes, counts);
+    const std::vector<unsigned char> received = exchange(comm_, out, kMigrantBytes, counts, costs_);
     const std::size_t arrived = received.size() / kMigrantBytes;
     if (leaving.empty() && arrived == 0) return;
     // Those that left go; the others keep their order.
@@ -449,7 +509,7 @@ TallySums DecomposedBackend::undrainedSums() {
     if (!undrainedCurrent_) {
         undrained_ = TallySums{};
         const TallySums mine = sumTallies(own_.tallies.data(), own_.tallies.size());
-        for (const TallySums& sums : gatherAll(comm_, std::vector<TallySums>{mine})) undrained_.add(sums);
+        for (const TallySums& sums : gatherAll(comm_, std::vector<TallySums>{mine}, costs_)) undrained_.add(sums);
         undrainedCurrent_ = true;
     }
     return undrained_;
@@ -465,8 +525,8 @@ void DecomposedBackend::drainTallies(ContactTotals& totals) {
 }
 
 void DecomposedBackend::readParticles(std::vector<Particle>& particles) {
-    const std::vector<std::uint32_t> ids = gatherAll(comm_, own_.ids);
-    const std::vector<Particle> all = gatherAll(comm_, own_.particles);
+    const std::vector<std::uint32_t> ids = gatherAll(comm_, own_.ids, costs_);
+    const std::vector<Particle> all = gatherAll(comm_, own_.particles, costs_);
     particles.resize(all.size());
     parallelFor(all.size(), [&](std::size_t k) { particles[ids[k]] = all[k]; });
 }
@@ -475,8 +535,8 @@ std::vector<Image> DecomposedBackend::images() {
     if (!imagesCurrent_) {
         std::vector<Image> mine = own_.images;  // plus the wraps not yet drained
         addWraps(mine.data(), own_.tallies.data(), mine.size());
-        const std::vector<std::uint32_t> ids = gatherAll(comm_, own_.ids);
-        const std::vector<Image> all = gatherAll(comm_, mine);
+        const std::vector<std::uint32_t> ids = gatherAll(comm_, own_.ids, costs_);
+        const std::vector<Image> all = gatherAll(comm_, mine, costs_);
         parallelFor(all.size(), [&](std::size_t k) { images_[ids[k]] = all[k]; });
         imagesCurrent_ = true;
     }

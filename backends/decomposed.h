@@ -48,13 +48,20 @@ public:
     MPI_Comm communicator() const { return communicator_; }
     int rank() const { return rank_; }
     int size() const { return size_; }
+    // This process's rank among the processes of its node (shared memory),
+    // which choose their GPUs by it.
+    int nodeRank() const { return nodeRank_; }
+    // Collective: returns where every process's `failure` is empty, else
+    // throws, on every process, the Error of the lowest process that failed,
+    // named; so that none waits in a collective for one that gave up.
+    void requireEveryone(const std::string& failure) const;
     // The domains across and up for a box of width x height: as given, or
     // the factors of size() nearest the box's aspect.
     std::array<int, 2> domainsFor(float width, float height) const;
 
 private:
     MPI_Comm communicator_ = MPI_COMM_NULL;
-    int rank_ = 0, size_ = 1;
+    int rank_ = 0, size_ = 1, nodeRank_ = 0;
     int domainsX_ = 0, domainsY_ = 0;
 };
 
@@ -66,6 +73,8 @@ public:
 
     std::string device() const override;
     bool exactArithmetic() const override { return engine_->exactArithmetic(); }
+    DeviceMemoryUse deviceMemory() const override { return engine_->deviceMemory(); }  // this process's
+    DecompositionCosts decompositionCosts() const override { return costs_; }
     // The whole world, gathered from every process: collective.
     void readParticles(std::vector<Particle>& particles) override;
     std::vector<Image> images() override;
@@ -126,6 +135,7 @@ private:
     TallySums undrained_;
     bool undrainedCurrent_ = false;
     std::vector<std::size_t> ownSlots_;  // gatherShare's: own disk k is the share's ownSlots_[k]
+    DecompositionCosts costs_;           // since load()
 };
 
 }  // namespace carom

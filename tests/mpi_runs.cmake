@@ -1,6 +1,6 @@
 # carom run under mpirun against one process: what both write must be the
 # same bytes (the final state, statistics, trajectory and checkpoint, and the
-# JSON summary but for its timings, memory and device).
+# JSON summary but for its timings, memory, device and the processes' costs).
 #   -DCAROM=<binary> -DMPIEXEC=<mpiexec;its flags> -DWORK_DIR=<dir> -DMODE=<mode>
 #   -DARGS=<run options, '|'-separated> -DRUNS=<processes[:NX:NY], ';'-separated>
 # MODE identity: a run in one process, then one for each entry of RUNS.
@@ -44,11 +44,14 @@ function(run_carom tag processes)
     endif()
 endfunction()
 
-# The JSON summary without what differs between runs of the same world.
+# The JSON summary without what differs between runs of the same world: the
+# timings, memory, device and the processes' costs.
 function(summary tag result)
-    file(STRINGS "${WORK_DIR}/${tag}.json" lines)
-    list(FILTER lines EXCLUDE REGEX "wall_seconds|particle_steps_per_second|host_bytes_peak|\"device\"")
-    set(${result} "${lines}" PARENT_SCOPE)
+    file(READ "${WORK_DIR}/${tag}.json" json)
+    foreach(key IN ITEMS wall_seconds particle_steps_per_second memory device processes)
+        string(JSON json ERROR_VARIABLE absent REMOVE "${json}" ${key})
+    endforeach()
+    set(${result} "${json}" PARENT_SCOPE)
 endfunction()
 
 # The files of run `tag` against those of run `expected`, and with SUMMARY their summaries.

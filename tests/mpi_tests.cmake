@@ -44,6 +44,19 @@ carom_mpi_test(pulse_across_domains identity "2:2:1;4:4:1"
 # A checkpoint of 4 processes resumed on 2 and in one process.
 carom_mpi_test(checkpoint_resumed resume "4;2;1" "${disks};--boundary;periodic;--gravity;0;-0.05" -DSTEPS=200 -DEVERY=20)
 carom_mpi_test(signal signal "2" "--backend;cpu;--particles;20000")
+# The OpenCL engines step the domains too (on PoCL here): the small system's
+# one work-group and the launches of larger shares, both schemes.
+if(OpenCL_FOUND)
+    set(opencl_disks --backend opencl --packing 0.5 --radius-min 0.5 --radius-max 1 --mass-min 1 --mass-max 3 --every 20)
+    carom_mpi_test(opencl_resident_small identity "2;4:2:2"
+                   "${opencl_disks};--pipeline;resident;--particles;1500;--steps;100;--gravity;0;-0.05")
+    carom_mpi_test(opencl_resident identity "2"
+                   "${opencl_disks};--pipeline;resident;--particles;8000;--steps;60;--boundary;periodic")
+    carom_mpi_test(opencl_host_grid identity "3"
+                   "${opencl_disks};--pipeline;host-grid;--particles;3000;--steps;60;--collisions;simultaneous")
+    carom_mpi_test(opencl_resident_simultaneous identity "2:2:1"
+                   "${opencl_disks};--pipeline;resident;--particles;8000;--steps;60;--collisions;simultaneous;--boundary;periodic")
+endif()
 
 # Refusals: a message on process 0 and a non-zero exit from every process, never a hang.
 function(carom_mpi_refusal name processes regex args)
@@ -70,8 +83,14 @@ carom_mpi_refusal(domains_thinner_than_cells 4 "domains 4 x 1 on a grid of 3 x 3
                   "${refused}/domains_thinner_than_cells.csv;--particles;4;--box;8;8;--domains;4;1")
 carom_mpi_refusal(events_scheme 2 "CollisionScheme::Events runs in one process; allowed in a decomposed world: Pairwise, Simultaneous"
                   "${refused}/events_scheme.csv;--collisions;events")
-carom_mpi_refusal(opencl_engine 2 "does not step a domain of a decomposed world yet; allowed there: ComputeEngine::Cpu|needs OpenCL"
-                  "run|--backend|opencl|--steps|5|--output-state|${CMAKE_CURRENT_BINARY_DIR}/mpi/opencl_engine.csv")
+# A device missing on one process's node: process 0 names it (mpirun's MPMD form gives each its --device).
+list(SUBLIST mpiexec 1 -1 flags)
+string(REPLACE ";" "|" args "${flags};-np;1;$<TARGET_FILE:carom>;run;--backend;opencl;--steps;5;:;-np;1;$<TARGET_FILE:carom>;run;--backend;opencl;--device;99;--steps;5")
+add_test(NAME mpi.device_missing_on_one_process
+         COMMAND ${CMAKE_COMMAND} -DCAROM=${MPIEXEC_EXECUTABLE} "-DARGS=${args}" -DEXPECT=fail
+                 "-DOUTPUT_REGEX=carom: error: process 1 of 2: device 99 .*no such device|needs OpenCL"
+                 -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_cli.cmake)
+set_tests_properties(mpi.device_missing_on_one_process PROPERTIES ENVIRONMENT "${mpi_environment}" TIMEOUT 60 PROCESSORS 2)
 # Processes given different arguments (mpirun's MPMD form) are refused.
 list(SUBLIST mpiexec 1 -1 flags)
 string(REPLACE ";" "|" args "${flags};-np;1;$<TARGET_FILE:carom>;run;--backend;cpu;--steps;5;--seed;1;:;-np;1;$<TARGET_FILE:carom>;run;--backend;cpu;--steps;5;--seed;2")

@@ -1,5 +1,9 @@
 #include "world/make_backend.h"
 
+#include <exception>
+
+#include <carom/world.h>
+
 #include "backends/cpu.h"
 #ifdef CAROM_HAVE_MPI
 #include "backends/decomposed.h"
@@ -20,22 +24,53 @@ std::vector<std::string> availableBackends() {
 #endif
 }
 
+#ifdef CAROM_HAVE_MPI
+namespace {
+
+// The OpenCL device of this process where `world` names none: GPU number r
+// mod the node's GPUs for the node's process r, else the first device.
+std::string deviceOfProcess(const WorldDef& world, const Decomposition& decomposition) {
+    if (world.engine == ComputeEngine::Cpu || !world.device.empty()) return world.device;
+    std::vector<Device> gpus;
+    for (const Device& d : listDevices())
+        if (d.type == "GPU") gpus.push_back(d);
+    if (gpus.empty()) return world.device;
+    return std::to_string(gpus[std::size_t(decomposition.nodeRank()) % gpus.size()].index);
+}
+
+// The engine that steps this process's domain of `world`. Its shares change
+// every substep: neighbour lists would be built anew each one.
+std::unique_ptr<Backend> makeDomainEngine(WorldDef world) {
+    const Decomposition& decomposition = *world.decomposition;
+    world.decomposition.reset();
+    world.device = deviceOfProcess(world, decomposition);
+    std::unique_ptr<Backend> engine = makeBackend(world);
+    if (auto* cpu = dynamic_cast<CpuBackend*>(engine.get())) cpu->useNeighbourLists(false);
+#ifdef CAROM_HAVE_OPENCL
+    if (auto* resident = dynamic_cast<OpenClResidentBackend*>(engine.get())) resident->useNeighbourLists(false);
+#endif
+    return engine;
+}
+
+}  // namespace
+#endif
+
 std::unique_ptr<Backend> makeBackend(const WorldDef& world) {
     if (world.decomposition) {
         if (world.collisions == CollisionScheme::Events)
             throw Error(
                 "CollisionScheme::Events runs in one process; allowed in a decomposed world: Pairwise, "
                 "Simultaneous");
-        if (world.engine != ComputeEngine::Cpu)
-            throw Error(std::string("ComputeEngine ") + computeEngineName(world.engine) +
-                        " does not step a domain of a decomposed world yet; allowed there: ComputeEngine::Cpu "
-                        "(--backend cpu)");
 #ifdef CAROM_HAVE_MPI
-        WorldDef one = world;
-        one.decomposition.reset();
-        auto engine = std::make_unique<CpuBackend>(one);
-        // Its shares change every substep: their lists would be built anew each one.
-        engine->useNeighbourLists(false);
+        // Every process learns whether all made theirs (a device may be missing on one node).
+        std::unique_ptr<Backend> engine;
+        std::string failure;
+        try {
+            engine = makeDomainEngine(world);
+        } catch (const std::exception& e) {
+            failure = e.what();
+        }
+        world.decomposition->requireEveryone(failure);
         return std::make_unique<DecomposedBackend>(world, std::move(engine));
 #endif
     }

@@ -609,4 +609,6 @@ std::string World::deviceName() const { return impl_->backend->device(); }
 
 DeviceMemoryUse World::deviceMemory() const { return impl_->backend->deviceMemory(); }
 
+DecompositionCosts World::decompositionCosts() const { return impl_->backend->decompositionCosts(); }
+
 }  // namespace carom

@@ -189,6 +189,12 @@ void OpenClBackend::readTallies(std::vector<ContactTally>& tallies) {
           "clEnqueueReadBuffer(contact tallies)");
 }
 
+void OpenClBackend::writeTallies(const std::vector<ContactTally>& tallies) {
+    check(clEnqueueWriteBuffer(queue_.get(), tallies_.get(), CL_TRUE, 0, tallies.size() * sizeof(ContactTally),
+                               tallies.data(), 0, nullptr, nullptr),
+          "clEnqueueWriteBuffer(contact tallies)");
+}
+
 void OpenClBackend::drainTallies(ContactTotals& totals) {
     std::vector<ContactTally> tallies;
     readTallies(tallies);

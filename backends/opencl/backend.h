@@ -131,6 +131,7 @@ private:
     std::uint64_t advance(std::uint64_t substeps, float dt) final;
     void drainTallies(ContactTotals& totals) final;
     void readTallies(std::vector<ContactTally>& tallies) final;
+    void writeTallies(const std::vector<ContactTally>& tallies) final;
     // Copies on the device, made each step a stop may cut short (a read to
     // the host would cost more than the step at 10^6 disks); a stop is
     // rare, and a load (the pipeline's buffers afresh) is the one way back

@@ -105,4 +105,12 @@ void OpenClHostGridBackend::stepPairwise(float dt) {
     checkNonFinite();
 }
 
+// The rounds' sorted positions are the host grid's (sortedIndices_).
+void OpenClHostGridBackend::readLastRounds(std::vector<unsigned int>& rounds) {
+    if (world_.collisions == CollisionScheme::Pairwise)
+        pairwise_.readLastRounds(queue_.get(), sortedIndices_.get(), rounds);
+    else
+        rounds.assign(particleCount_, 0u);
+}
+
 }  // namespace carom

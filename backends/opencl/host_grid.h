@@ -24,6 +24,7 @@ private:
     void loadState(const std::vector<Particle>& particles) override;
     void enqueueStep(float dt) override;
     float maxSpeedSquared() override { return maxSpeedSquaredOf(hostState_.data(), hostState_.size()); }
+    void readLastRounds(std::vector<unsigned int>& rounds) override;
     void stepSimultaneous(float dt);
     void stepPairwise(float dt);
     void uploadGrid();  // the host's grid of hostState_

@@ -37,6 +37,7 @@ static_assert(kCountsWithRecord <= CAROM_LIST_HEADER_WORDS, "the lengths and the
 // the events (two), two pending lists, the changed list, then the marks.
 constexpr std::size_t kListWordsPerDisk = 8;
 constexpr std::size_t kMarksWord = 5;  // the first marks' words start at kMarksWord * count
+constexpr std::size_t kChangedMarksWord = 6;
 static_assert(kCountsWithRecord <= CAROM_LISTS_OVERFLOW, "the record must end before the neighbour lists' words");
 // The neighbour lists' buffer (carom_list_origins): words per disk
 // before the entries, and the room for entries a disk to begin with (a
@@ -144,6 +145,7 @@ void DevicePairwise::enqueueStep(cl_command_queue queue, const StepBuffers& buff
     buffers_ = buffers;
     step_ = step;
     const unsigned int epoch = nextEpoch(queue);
+    substepEpoch_ = epoch;
     if (neighbours_.get())
         for (const cl_uint fill : {0u, 1u}) {  // the arguments are taken as each launch is enqueued
             setKernelArgs(buildListsKernel_.get(), buffers.halt, buffers.state, buffers.slots, buffers.cellOf,
@@ -173,6 +175,26 @@ cl_uint DevicePairwise::reserveEpochs(cl_command_queue queue, unsigned int count
     const cl_uint first = epoch_ + 1;
     epoch_ += count;
     return first;
+}
+
+cl_uint DevicePairwise::reserveSubstepEpochs(cl_command_queue queue, unsigned int substeps) {
+    const cl_uint first = reserveEpochs(queue, (kMaxPairwiseRounds + 1) * substeps);
+    substepEpoch_ = first + (kMaxPairwiseRounds + 1) * (substeps - 1);
+    return first;
+}
+
+void DevicePairwise::readLastRounds(cl_command_queue queue, cl_mem ids, std::vector<unsigned int>& rounds) const {
+    const std::size_t n = particleCount_;
+    std::vector<cl_uint> marks(n), idOf(n);
+    check(clEnqueueReadBuffer(queue, lists_.get(), CL_TRUE,
+                              (CAROM_LIST_HEADER_WORDS + kChangedMarksWord * n) * sizeof(cl_uint), n * sizeof(cl_uint),
+                              marks.data(), 0, nullptr, nullptr),
+          "clEnqueueReadBuffer(changed marks)");
+    check(clEnqueueReadBuffer(queue, ids, CL_TRUE, 0, n * sizeof(cl_uint), idOf.data(), 0, nullptr, nullptr),
+          "clEnqueueReadBuffer(particle ids)");
+    rounds.assign(n, 0u);
+    for (std::size_t k = 0; k < n; ++k)
+        if (marks[k] > substepEpoch_) rounds[idOf[k]] = marks[k] - substepEpoch_;
 }
 
 const cl_uint* DevicePairwise::nonFiniteRecord() const { return hostCounts_.data() + kCounts; }

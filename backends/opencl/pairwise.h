@@ -110,14 +110,20 @@ public:
 
     // For a kernel that runs whole steps in one work-group instead of
     // enqueueStep (stepSmallPairwise, kernels/small_system.cl): lists(), the
-    // number of lengths it zeroes, and `count` epochs for its rounds, from
-    // the one returned (the marks are cleared when they would wrap).
+    // number of lengths it zeroes, and the epochs of `substeps` substeps:
+    // substep s's are the one returned + s * (kMaxPairwiseRounds + 1) and
+    // its rounds' after it (the marks are cleared when they would wrap).
     // complete() then reads its record.
     static cl_uint lengthCount();
-    cl_uint reserveEpochs(cl_command_queue queue, unsigned int count);
+    cl_uint reserveSubstepEpochs(cl_command_queue queue, unsigned int substeps);
+    // For a share of a decomposed world (Backend::readLastRounds): the last
+    // round of the last substep enqueued that changed each disk, 0 for none,
+    // by id; `ids` names the disk at each sorted position of that substep.
+    void readLastRounds(cl_command_queue queue, cl_mem ids, std::vector<unsigned int>& rounds) const;
 
 private:
     unsigned int nextEpoch(cl_command_queue queue);
+    cl_uint reserveEpochs(cl_command_queue queue, unsigned int count);  // `count` epochs, from the one returned
     void readLengths(cl_command_queue queue);  // waits for the queue; reads the lengths and the record
     void clearMarks(cl_command_queue queue);   // zeroes the three lists' marks
     void enqueueRound(cl_command_queue queue, unsigned int round);
@@ -137,6 +143,8 @@ private:
     Buffer lists_, neighbours_;
     std::vector<cl_uint> hostCounts_;
     unsigned int epoch_ = 0;
+    // The epoch of the last substep enqueued: its round r marks the disks it changes with this + r.
+    unsigned int substepEpoch_ = 0;
     // Rounds 1 .. this run as launches: set from the step before's lengths;
     // the first step's is a guess.
     unsigned int launchedRounds_ = 4;

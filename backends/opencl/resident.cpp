@@ -73,7 +73,7 @@ void OpenClResidentBackend::loadState(const std::vector<Particle>& particles) {
     // by the pairwise grid's allowance (gridTravel()), so the results are the
     // same; only the searches' candidates and the cells change.
     const float skin = NeighbourLists::skinFor(world_.skin, maxRadius_, gridTravel());
-    bool listed = pairwise && !inOneGroup_ && std::isfinite(skin) && searchesLists();
+    bool listed = pairwise && !inOneGroup_ && std::isfinite(skin) && listsAllowed_ && searchesLists();
     if (listed) {
         const std::optional<GridGeometry> wide = NeighbourLists::gridFor(caromBoxOf(world_), maxRadius_, n, skin);
         listed = wide.has_value();
@@ -251,6 +251,14 @@ void OpenClResidentBackend::swapStepBuffers() {
     std::swap(state_, next_);
     std::swap(ids_, sortedIds_);
     deviceGrid_.advance();
+}
+
+// After a substep, ids_ names the disk at each of its sorted positions (swapStepBuffers).
+void OpenClResidentBackend::readLastRounds(std::vector<unsigned int>& rounds) {
+    if (world_.collisions == CollisionScheme::Pairwise)
+        pairwise_.readLastRounds(queue_.get(), ids_.get(), rounds);
+    else
+        rounds.assign(particleCount_, 0u);
 }
 
 // A pairwise step takes the largest speed as it finishes; otherwise the reduction.

@@ -36,8 +36,12 @@ public:
     std::uint32_t neighbourListBuilds() const { return pairwise_.listBuildsRecord(); }
     std::uint32_t neighbourListUses() const { return pairwise_.listUsesRecord(); }
     std::size_t neighbourListRoom() const { return pairwise_.listRoom(); }  // entries, for all disks
+    // Whether pairwise substeps may search neighbour lists (the default), as
+    // of the next state loaded: the same bits either way.
+    void useNeighbourLists(bool use) { listsAllowed_ = use; }
 
 private:
+    void readLastRounds(std::vector<unsigned int>& rounds) override;
     const char* pipelineName() const override { return "resident"; }
     void releaseState() override;
     void loadState(const std::vector<Particle>& particles) override;
@@ -73,8 +77,9 @@ private:
     opencl::Kernel fusedKernel_;           // resolveIntegrateAndCount
     opencl::Kernel finishAndCountKernel_;  // pairwise: finishPairwiseAndCount
     opencl::DeviceSmallSystem smallSystem_;
-    bool inOneGroup_ = false;  // steps run whole in one work-group (smallSystem_)
-    bool gathered_ = false;    // pairwise steps gather the state into sorted order (kGatherUpTo), never with lists
+    bool inOneGroup_ = false;   // steps run whole in one work-group (smallSystem_)
+    bool gathered_ = false;     // pairwise steps gather the state into sorted order (kGatherUpTo), never with lists
+    bool listsAllowed_ = true;  // useNeighbourLists
     opencl::DeviceGrid deviceGrid_;
     opencl::Buffer ids_;               // the particle id in each slot of state_
     opencl::Buffer sortedIds_;         // sortedIndices, then the ids of next_'s slots

@@ -40,7 +40,7 @@ void DeviceSmallSystem::enqueuePairwiseSteps(cl_command_queue queue, const StepB
                                              DevicePairwise& pairwise, const CaromStepParams& step,
                                              const CaromSubstepRule& rule, cl_uint substeps, cl_uint substepsPerStep,
                                              cl_uint speedParity, cl_uint firstStepIndex) {
-    const cl_uint firstEpoch = pairwise.reserveEpochs(queue, (kMaxPairwiseRounds + 1) * substeps);
+    const cl_uint firstEpoch = pairwise.reserveSubstepEpochs(queue, substeps);
     setKernelArgs(pairwiseKernel_.get(), buffers.state, buffers.next, buffers.ids, buffers.sortedIds, grid.cells(),
                   grid.counts(), grid.nextCounts(), grid.cellOrder(), grid.cellOf(), grid.rankInCell(), step,
                   buffers.tallies, pairwise.lists(), DevicePairwise::lengthCount(), firstEpoch,

@@ -22,9 +22,11 @@
 // world on every process.
 //
 // Python takes the same path: carom.World(..., comm=MPI.COMM_WORLD) with
-// mpi4py (docs/mpi.md). Only the CPU engine steps a domain so far, with the
-// stepped schemes (CollisionScheme::Pairwise and Simultaneous); the others
-// are refused.
+// mpi4py (docs/mpi.md). Every engine steps a domain (an OpenCL one on the
+// node's GPU r mod their count for the node's process r, unless
+// WorldDef::device names one), with the stepped schemes
+// (CollisionScheme::Pairwise and Simultaneous); Events is refused.
+// World::decompositionCosts() says what the split costs.
 // This header exists only where carom was built with MPI.
 #pragma once
 

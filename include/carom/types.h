@@ -250,6 +250,29 @@ struct WorldDef {
     std::shared_ptr<const Decomposition> decomposition;
 };
 
+/// What splitting a world among processes (WorldDef::decomposition) has cost
+/// this process since its disks were set: World::decompositionCosts(), all
+/// zero in one process. The seconds are wall-clock, so a process that waits
+/// for a slower one counts the wait where it waits (in the exchanges and
+/// the agreement).
+struct DecompositionCosts {
+    std::uint64_t substeps = 0;         ///< substeps taken
+    std::uint64_t retakenSubsteps = 0;  ///< pairwise substeps taken again with a deeper halo
+    std::uint64_t haloCopies = 0;       ///< copies of other processes' disks received
+    std::uint64_t migrants = 0;         ///< disks handed on to other processes
+    /// Messages sent to other processes: each non-empty part of an exchange,
+    /// and a part of each gather for every other process.
+    std::uint64_t messages = 0;
+    std::uint64_t bytes = 0;        ///< the bytes those messages held [bytes]
+    double computeSeconds = 0.0;    ///< the engine stepping the process's disks and the copies [s]
+    double exchangeSeconds = 0.0;   ///< the halo's copies: packing, exchanging, merging by id [s]
+    double migrationSeconds = 0.0;  ///< handing disks on and taking them in [s]
+    double agreementSeconds = 0.0;  ///< agreeing on each substep's rounds and non-finite disks [s]
+    /// Gathering the whole world on every process (after each World::step
+    /// call, and for the tallies and images) [s].
+    double gatherSeconds = 0.0;
+};
+
 /// A compute engine and, for OpenCL, its device: WorldDef::engine and
 /// WorldDef::device apart from a world, for code that runs one world on
 /// several engines (tests, `carom validate`).

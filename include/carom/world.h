@@ -303,6 +303,8 @@ public:
     /// The buffers the engine holds on its device (all zero on the CPU
     /// engines, whose memory is the host's: carom/types.h peakResidentBytes).
     DeviceMemoryUse deviceMemory() const;
+    /// This process's costs of a decomposed world (WorldDef::decomposition); all zero otherwise.
+    DecompositionCosts decompositionCosts() const;
 
 private:
     struct Impl;

@@ -247,8 +247,9 @@ class World:
         own; the results are bit for bit those of one process. Every process
         makes the same world and calls step and the edits in the same order;
         after each step every process holds the whole world, so the reads
-        (disks, observables, measurements) are the whole world's. The CPU
-        engine with the pairwise or simultaneous scheme; docs/mpi.md.
+        (disks, observables, measurements) are the whole world's. The
+        pairwise or simultaneous scheme; engine="auto" chooses the CPU;
+        docs/mpi.md.
     domains: with comm, (across, up), whose product is the number of
         processes; None: as square as the box allows.
 
