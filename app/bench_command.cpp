@@ -15,6 +15,7 @@
 #include "app/host_info.h"
 #include "app/number_options.h"
 #include "app/output_plan.h"
+#include "app/processes.h"
 #include "app/renamed_value.h"
 #include "app/stop_signals.h"
 #include "app/bench/report.h"
@@ -65,17 +66,30 @@ std::vector<std::uint32_t> chosenSizes(const BenchOptions& o) {
     return sizes;
 }
 
+// Under mpirun, the methods that step a World: the others run in one process.
+bool splits(const Method& method) { return !method.allPairs && !method.eventDriven; }
+
 std::vector<Method> chosenMethods(const BenchOptions& o) {
-    if (o.methods.empty()) return availableMethods();
-    for (const std::string& name : o.methods) findMethod(name);  // refuses unknown names
+    const bool split = processCount() > 1;
     std::vector<Method> methods;
+    if (o.methods.empty()) {
+        for (const Method& m : availableMethods())
+            if (!split || splits(m)) methods.push_back(m);
+        return methods;
+    }
+    for (const std::string& name : o.methods)
+        if (const Method method = findMethod(name); split && !splits(method))  // findMethod refuses unknown names
+            throw Error("--methods " + name +
+                        ": runs in one process; allowed under mpirun: the methods that step a world (cpu, "
+                        "opencl-host-grid, opencl-resident)");
     for (const Method& m : availableMethods())  // table order, whatever the order given
         if (std::find(o.methods.begin(), o.methods.end(), m.name) != o.methods.end()) methods.push_back(m);
     return methods;
 }
 
 std::vector<CollisionScheme> chosenSchemes(const BenchOptions& o) {
-    if (o.collisions.empty()) return kSchemes;
+    if (o.collisions.empty())
+        return processCount() > 1 ? std::vector<CollisionScheme>{kSchemes[0], kSchemes[1]} : kSchemes;
     std::vector<CollisionScheme> given;
     for (const std::string& name : o.collisions) {
         try {
@@ -144,7 +158,7 @@ SceneDef sceneFor(const BenchOptions& o, std::uint32_t particles) {
 // Measures every method under each of its schemes at one N; adds the rows,
 // and drops the variants whose step went over the budget.
 void benchOneSize(const BenchOptions& o, std::uint32_t particles, bool largerFollow, std::vector<Variant>& variants,
-                  Report& report) {
+                  Report& report, const std::shared_ptr<const Decomposition>& decomposition) {
     const Scene scene = makeScene(sceneFor(o, particles));
     std::vector<Variant> kept;
     for (const Variant& variant : variants) {
@@ -154,6 +168,7 @@ void benchOneSize(const BenchOptions& o, std::uint32_t particles, bool largerFol
         world.dt = o.dt;
         world.collisions = variant.scheme;
         world.device = o.device;
+        world.decomposition = decomposition;
         // The event-driven benchmarks' box (the literature's and issue 12's targets).
         if (variant.method.eventDriven) world.boundary = Boundary::Periodic;
         const double cells = cellsPerParticle(world, o.radius, particles);
@@ -269,6 +284,9 @@ void addBenchOptions(CLI::App& command, BenchOptions& o) {
 
 int benchCommand(const BenchOptions& o) {
     if (o.list) return listMethods();
+    // Under mpirun every process steps its domain of each world; process 0 reports.
+    const std::shared_ptr<const Decomposition> decomposition = runDecomposition(0, 0);
+    if (decomposition && o.profile) throw Error("--profile: profiles one process; allowed under mpirun: leave it out");
     // The results are written at the end: a signal before then ends the
     // bench at once, with no file written (the rows measured so far are on stderr).
     StopSignals stopSignals(StopSignals::FirstSignal::Ends, "carom bench");
@@ -285,15 +303,17 @@ int benchCommand(const BenchOptions& o) {
         throw Error(message.str());
     }
     // Refuse unwritable outputs before the sweep, not after it.
+    // Process 0 writes them.
+    const bool writes = processRank() == 0;
     OutputPlan plan;
     for (const auto& [option, path] :
          {std::pair{"--json", o.json}, std::pair{"--csv", o.csv}, std::pair{"--plot", o.plot}})
-        if (!path.empty()) plan.output(option, path);
+        if (!path.empty() && writes) plan.output(option, path);
     plan.check();
     std::optional<io::AtomicFile> json, csv, plot;
-    if (!o.json.empty()) json.emplace(o.json);
-    if (!o.csv.empty()) csv.emplace(o.csv);
-    if (!o.plot.empty()) plot.emplace(o.plot);
+    if (!o.json.empty() && writes) json.emplace(o.json);
+    if (!o.csv.empty() && writes) csv.emplace(o.csv);
+    if (!o.plot.empty() && writes) plot.emplace(o.plot);
 
     Report report;
     report.date = utcNow();
@@ -303,6 +323,8 @@ int benchCommand(const BenchOptions& o) {
     report.scene = sceneFor(o, 0);
     report.dt = o.dt;
     report.plan = timingPlan(o);
+    report.processes = processCount();
+    if (decomposition) report.plan.agreed = slowestProcess;
     const std::size_t bandwidthBytes =
         o.quick ? kQuickBandwidthBytes
                 : std::clamp(std::size_t(sizes.back()) * 2 * kDiskStateBytes, kMinBandwidthBytes, kMaxBandwidthBytes);
@@ -311,7 +333,7 @@ int benchCommand(const BenchOptions& o) {
         report.device = measureDeviceBandwidth(o.device, bandwidthBytes, 5, report.bandwidth);
 
     for (std::size_t k = 0; k < sizes.size() && !variants.empty(); ++k)
-        benchOneSize(o, sizes[k], k + 1 < sizes.size(), variants, report);
+        benchOneSize(o, sizes[k], k + 1 < sizes.size(), variants, report, decomposition);
 
     stopSignals.setFirstSignal(StopSignals::FirstSignal::Stops);  // each file is written whole
     printTable(std::cout, report);

@@ -10,8 +10,6 @@
 #include <mpi.h>
 
 #include <carom/decomposition.h>
-
-#include "backends/decomposed.h"
 #ifndef _WIN32
 #include <unistd.h>
 #endif
@@ -71,6 +69,13 @@ bool anyProcess(bool yes) {
     return yes;
 }
 
+double slowestProcess(double seconds) {
+#ifdef CAROM_HAVE_MPI
+    if (count > 1) MPI_Allreduce(MPI_IN_PLACE, &seconds, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+#endif
+    return seconds;
+}
+
 std::uint64_t processZeros(std::uint64_t value) {
 #ifdef CAROM_HAVE_MPI
     if (count > 1) MPI_Bcast(&value, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD);
@@ -108,7 +113,7 @@ void everyProcess(const Decomposition* decomposition, const std::function<void()
         } catch (const std::exception& e) {
             failure = e.what();
         }
-        decomposition->requireEveryone(failure);
+        requireEveryProcess(*decomposition, failure);
         return;
     }
 #else

@@ -30,6 +30,8 @@ int processRank();   // 0 in a run of one process
 int processCount();  // 1 without an MPI launcher
 // Whether any process says yes: the same answer on every one (collective).
 bool anyProcess(bool yes);
+// The largest of every process's `seconds`, on every process (collective).
+double slowestProcess(double seconds);
 // Process 0's `value`, on every process (collective).
 std::uint64_t processZeros(std::uint64_t value);
 // Prints `message` as carom's error and, with several processes, ends them

@@ -190,16 +190,18 @@ Decomposition::Decomposition(const DecompositionDef& def) : domainsX_(def.domain
     MPI_Comm_free(&node);
 }
 
-void Decomposition::requireEveryone(const std::string& failure) const {
-    int first = failure.empty() ? size_ : rank_;
-    MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, communicator_);
-    if (first == size_) return;
+void requireEveryProcess(const Decomposition& decomposition, const std::string& failure) {
+    const MPI_Comm comm = decomposition.communicator();
+    const int size = decomposition.size();
+    int first = failure.empty() ? size : decomposition.rank();
+    MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, comm);
+    if (first == size) return;
     std::string message = failure;
     unsigned long long length = message.size();
-    MPI_Bcast(&length, 1, MPI_UNSIGNED_LONG_LONG, first, communicator_);
+    MPI_Bcast(&length, 1, MPI_UNSIGNED_LONG_LONG, first, comm);
     message.resize(std::size_t(length));
-    MPI_Bcast(message.data(), int(length), MPI_CHAR, first, communicator_);
-    throw Error("process " + std::to_string(first) + " of " + std::to_string(size_) + ": " + message);
+    MPI_Bcast(message.data(), int(length), MPI_CHAR, first, comm);
+    throw Error("process " + std::to_string(first) + " of " + std::to_string(size) + ": " + message);
 }
 
 Decomposition::~Decomposition() {

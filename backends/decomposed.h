@@ -51,10 +51,7 @@ public:
     // This process's rank among the processes of its node (shared memory),
     // which choose their GPUs by it.
     int nodeRank() const { return nodeRank_; }
-    // Collective: returns where every process's `failure` is empty, else
-    // throws, on every process, the Error of the lowest process that failed,
-    // named; so that none waits in a collective for one that gave up.
-    void requireEveryone(const std::string& failure) const;
+
     // The domains across and up for a box of width x height: as given, or
     // the factors of size() nearest the box's aspect.
     std::array<int, 2> domainsFor(float width, float height) const;

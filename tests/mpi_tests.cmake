@@ -58,16 +58,25 @@ if(OpenCL_FOUND)
                    "${opencl_disks};--pipeline;resident;--particles;8000;--steps;60;--collisions;simultaneous;--boundary;periodic")
 endif()
 
-# Refusals: a message on process 0 and a non-zero exit from every process, never a hang.
-function(carom_mpi_refusal name processes regex args)
+# carom on `processes` under mpirun: its exit (`expect`: pass or fail) and process 0's output.
+function(carom_mpi_expect name processes expect regex args)
     list(SUBLIST mpiexec 1 -1 flags)
     string(REPLACE ";" "|" args "${flags};-np;${processes};$<TARGET_FILE:carom>;${args}")
     add_test(NAME mpi.${name}
-             COMMAND ${CMAKE_COMMAND} -DCAROM=${MPIEXEC_EXECUTABLE} "-DARGS=${args}" -DEXPECT=fail "-DOUTPUT_REGEX=${regex}"
-                     -DABSENT_FILE=${CMAKE_CURRENT_BINARY_DIR}/mpi/${name}.csv
+             COMMAND ${CMAKE_COMMAND} -DCAROM=${MPIEXEC_EXECUTABLE} "-DARGS=${args}" -DEXPECT=${expect}
+                     "-DOUTPUT_REGEX=${regex}" -DABSENT_FILE=${CMAKE_CURRENT_BINARY_DIR}/mpi/${name}.csv
                      -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_cli.cmake)
     set_tests_properties(mpi.${name} PROPERTIES ENVIRONMENT "${mpi_environment}" TIMEOUT 60 PROCESSORS 2)
 endfunction()
+# Refusals: a message on process 0 and a non-zero exit from every process, never a hang.
+function(carom_mpi_refusal name processes regex args)
+    carom_mpi_expect(${name} ${processes} fail "${regex}" "${args}")
+endfunction()
+# carom bench splits each world of the methods that step one, and refuses the others.
+carom_mpi_expect(bench 2 pass "split  among 2 processes.*cpu +pairwise +4000"
+                 "bench|--quick|--methods|cpu|--collisions|simultaneous,pairwise")
+carom_mpi_refusal(bench_naive 2 "--methods naive-cpu: runs in one process; allowed under mpirun"
+                  "bench|--quick|--methods|naive-cpu")
 # A blow-up (the simultaneous scheme under strong gravity) is reported at the
 # step and particle one process names.
 carom_mpi_refusal(blow_up 2 "steps 501 to 600 failed: the state went non-finite at step 508: particle 312 "

@@ -70,7 +70,7 @@ std::unique_ptr<Backend> makeBackend(const WorldDef& world) {
         } catch (const std::exception& e) {
             failure = e.what();
         }
-        world.decomposition->requireEveryone(failure);
+        requireEveryProcess(*world.decomposition, failure);
         return std::make_unique<DecomposedBackend>(world, std::move(engine));
 #endif
     }

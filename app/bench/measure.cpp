@@ -17,10 +17,11 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-double timedSteps(Stepper& stepper, std::uint64_t steps) {
+double timedSteps(Stepper& stepper, std::uint64_t steps, const TimingPlan& plan) {
     const auto start = Clock::now();
     stepper.step(steps);
-    return secondsSince(start);
+    const double seconds = secondsSince(start);
+    return plan.agreed ? plan.agreed(seconds) : seconds;
 }
 
 double median(std::vector<double> values) {
@@ -56,13 +57,13 @@ Timing timeSteps(Stepper& stepper, const TimingPlan& plan) {
     };
     // Warm-up: one step, then doubling batches until warmupSeconds have
     // passed (and the event-driven gas has left its lattice).
-    double perStep = timedSteps(stepper, 1);
+    double perStep = timedSteps(stepper, 1, plan);
     timing.warmupSteps = 1;
     const bool overBudget = perStep > plan.budgetSeconds;
     const int samples = overBudget ? std::min(plan.samples, plan.samplesOverBudget) : plan.samples;
     double warmed = perStep;
     for (std::uint64_t batch = 1; (!overBudget && warmed < plan.warmupSeconds) || !leftLattice(); batch *= 2) {
-        const double seconds = timedSteps(stepper, batch);
+        const double seconds = timedSteps(stepper, batch, plan);
         warmed += seconds;
         timing.warmupSteps += batch;
         perStep = seconds / double(batch);
@@ -72,7 +73,7 @@ Timing timeSteps(Stepper& stepper, const TimingPlan& plan) {
     std::vector<double> collisionRates, eventRates, particleTimeRates;
     for (int s = 0; s < samples; ++s) {
         const std::optional<EventProgress> before = stepper.events();
-        const double seconds = timedSteps(stepper, timing.stepsPerSample);
+        const double seconds = timedSteps(stepper, timing.stepsPerSample, plan);
         timing.sampleSecondsPerStep.push_back(seconds / double(timing.stepsPerSample));
         if (!before) continue;
         const EventProgress after = *stepper.events();

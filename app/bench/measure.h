@@ -2,6 +2,7 @@
 // against.
 #pragma once
 
+#include <functional>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -21,6 +22,9 @@ struct TimingPlan {
     // The events method also warms up until this many collisions per
     // disk: the gas leaves its starting lattice before it is timed.
     double warmupCollisionsPerDisk = 3;
+    // A timing as every process of a decomposed world takes it (the
+    // slowest's), so that all take the same steps; null in one process.
+    std::function<double(double)> agreed;
 };
 
 // What the events method did per wall-clock second, each the median

@@ -131,6 +131,9 @@ void printTable(std::ostream& out, const Report& report) {
     out << "carom bench, " << report.date << "\n  host   " << report.host << ", " << report.hostThreads
         << " threads, load average " << format("%.2f", report.hostLoad) << " at the start, copy "
         << format("%.1f", report.bandwidth.hostCopy / 1e9) << " GB/s\n";
+    if (report.processes > 1)
+        out << "  split  among " << report.processes
+            << " processes (mpirun), each step timed on the slowest; host and device are process 0's\n";
     if (report.device)
         out << "  device " << report.device->name << " (" << report.device->platform << ", driver "
             << report.device->driver << "), copy " << format("%.1f", report.bandwidth.deviceCopy / 1e9)
@@ -242,6 +245,7 @@ void writeJson(std::ostream& out, const Report& report) {
     const json document = {
         {"date", report.date},
         {"host", {{"cpu", report.host}, {"threads", report.hostThreads}, {"load_average_1min", report.hostLoad}}},
+        {"processes", report.processes},
         {"opencl_device", device},
         {"scene",
          {{"packing", s.packing},

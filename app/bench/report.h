@@ -36,6 +36,7 @@ struct Report {
     std::string date;  // UTC, ISO 8601
     std::string host;  // CPU model
     int hostThreads = 1;
+    int processes = 1;     // under mpirun: each world split among them (each row's time is the slowest's)
     double hostLoad = -1;  // 1-minute load average at the start (Linux), -1 if unknown: others' work skews CPU timings
     std::optional<DeviceDescription> device;
     SceneDef scene;  // particles varies; the rest is the scene of every row

@@ -31,6 +31,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 
 #include <mpi.h>
 
@@ -56,5 +57,12 @@ struct DecompositionDef {
 /// multiply to the number of processes. Collective: every process of the
 /// communicator calls it.
 std::shared_ptr<const Decomposition> makeDecomposition(const DecompositionDef& def);
+
+/// Returns where every process's `failure` is empty; else throws Error, on
+/// every process, with the failure of the lowest process that had one,
+/// named ("process 3 of 8: ..."). Collective: for a program whose processes
+/// may fail apart (a file one node cannot read), so that none goes on to
+/// wait for one that gave up.
+void requireEveryProcess(const Decomposition& decomposition, const std::string& failure);
 
 }  // namespace carom
