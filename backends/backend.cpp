@@ -239,13 +239,21 @@ unsigned int Backend::stepShare(Share& share, const Backend& whole, float dt) {
     nonFinite_.reset();  // the whole world's backend looks for non-finite disks among its own
     totals_ = ContactTotals{};
     substepsSinceDrain_ = 0;
-    load(share.particles);
-    writeTallies(share.tallies);
+    loadShare(share.particles, share.tallies);
     advance(1, dt);
-    readParticles(share.particles);
-    readTallies(share.tallies);
-    readLastRounds(share.lastRounds);
+    readLastRounds(share.lastRounds);  // first: readShare may leave this backend without the share
+    readShare(share.particles, share.tallies);
     return totals_.maxRounds;
+}
+
+void Backend::loadShare(std::vector<Particle>& particles, std::vector<ContactTally>& tallies) {
+    load(particles);
+    writeTallies(tallies);
+}
+
+void Backend::readShare(std::vector<Particle>& particles, std::vector<ContactTally>& tallies) {
+    readParticles(particles);
+    readTallies(tallies);
 }
 
 void Backend::refuseShares() const {

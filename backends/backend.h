@@ -210,6 +210,11 @@ protected:
     // throw Error: this backend takes no shares.
     virtual void writeTallies(const std::vector<ContactTally>& tallies);
     virtual void readLastRounds(std::vector<unsigned int>& rounds);
+    // stepShare's: loads a share's disks and tallies (load, writeTallies),
+    // and reads them back after its substep (readParticles, readTallies); a
+    // backend may take the vectors' contents instead of copying them.
+    virtual void loadShare(std::vector<Particle>& particles, std::vector<ContactTally>& tallies);
+    virtual void readShare(std::vector<Particle>& particles, std::vector<ContactTally>& tallies);
     // Whether the stop check must be asked at every chance (stopHere), not
     // every kStopCheckInterval: a decomposed world's check is collective, and
     // every process must ask it at the same points.

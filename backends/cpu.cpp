@@ -230,13 +230,24 @@ void CpuBackend::TeamChoice::record(bool team, double seconds) {
 
 void CpuBackend::load(const std::vector<Particle>& particles) {
     const std::size_t n = particles.size();
-    if (state_.use_count() > 1 && state_->size() == n)
-        std::copy(particles.begin(), particles.end(), state_->begin());
+    if (state_.use_count() == 1 || (state_.use_count() > 1 && state_->size() == n))
+        state_->assign(particles.begin(), particles.end());  // its buffer again (a view's, where one holds it)
     else
         state_ = std::make_shared<std::vector<Particle>>(particles);
+    tallies_.assign(n, ContactTally{});
+    prepare(n);
+}
+
+void CpuBackend::loadShare(std::vector<Particle>& particles, std::vector<ContactTally>& tallies) {
+    if (state_.use_count() > 1) state_ = std::make_shared<std::vector<Particle>>();  // a view keeps the old one
+    state_->swap(particles);
+    tallies_.swap(tallies);
+    prepare(state_->size());
+}
+
+void CpuBackend::prepare(std::size_t n) {
     speedKnown_ = false;
     teamChoice_ = TeamChoice{};  // measured afresh for these disks
-    tallies_.assign(n, ContactTally{});
     if (world_.collisions == CollisionScheme::Simultaneous) {
         next_->resize(n);
         return;

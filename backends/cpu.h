@@ -46,6 +46,13 @@ protected:
 
 private:
     void load(const std::vector<Particle>& particles) override;
+    // Swaps the share in and out: a copy of each would cost a share's bytes twice a substep.
+    void loadShare(std::vector<Particle>& particles, std::vector<ContactTally>& tallies) override;
+    void readShare(std::vector<Particle>& particles, std::vector<ContactTally>& tallies) override {
+        particles.swap(*state_);
+        tallies.swap(tallies_);
+    }
+    void prepare(std::size_t n);  // load's: the scheme's buffers for n disks, the tallies left alone
     std::uint64_t advance(std::uint64_t substeps, float dt) override;
     void keepStepStart() override;
     void returnToStepStart() override;
@@ -54,7 +61,6 @@ private:
     float maxSpeedSquared() override {
         return speedKnown_ ? maxSpeedSquared_ : maxSpeedSquaredOf(state_->data(), state_->size());
     }
-    void writeTallies(const std::vector<ContactTally>& tallies) override { tallies_ = tallies; }
     void readTallies(std::vector<ContactTally>& tallies) override { tallies = tallies_; }
     void readLastRounds(std::vector<unsigned int>& rounds) override;
     void drainTallies(ContactTotals& totals) override {

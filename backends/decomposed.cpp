@@ -300,7 +300,7 @@ void DecomposedBackend::load(const std::vector<Particle>& particles) {
     undrained_ = TallySums{};
 }
 
-Backend::Share DecomposedBackend::gatherShare(int halo) {
+void DecomposedBackend::gatherShare(int halo) {
     const int size = decomposition_->size(), rank = decomposition_->rank();
     const bool periodic = world_.boundary == Boundary::Periodic;
     const auto columns = domainsWithin(columnStarts_, halo, periodic);
@@ -324,53 +324,42 @@ Backend::Share DecomposedBackend::gatherShare(int halo) {
     const std::vector<unsigned char> received = exchange(comm_, out, kCopyBytes, counts, costs_);
     const std::size_t copies = received.size() / kCopyBytes, owned = own_.ids.size();
     costs_.haloCopies += copies;
+    // The copies (a few, beside the own disks) by id, then merged with the own disks, which are in id order.
     std::vector<std::uint32_t> copyIds(copies);
     std::vector<Particle> copyParticles(copies);
     const unsigned char* in = received.data();
     for (std::size_t j = 0; j < copies; ++j) in = take(take(in, copyIds[j]), copyParticles[j]);
-    // Merged by id: the own disks, then each sender's copies, are runs in id
-    // order; a key is an id and where its disk is (own, or owned + copy).
-    std::vector<std::uint64_t> keys(owned + copies);
-    for (std::size_t j = 0; j < owned; ++j) keys[j] = (std::uint64_t(own_.ids[j]) << 32) | j;
-    for (std::size_t j = 0; j < copies; ++j) keys[owned + j] = (std::uint64_t(copyIds[j]) << 32) | (owned + j);
-    std::vector<std::size_t> starts{0, owned};
-    for (int q = 0; q < size; ++q)
-        if (counts[std::size_t(q)] > 0) starts.push_back(starts.back() + std::size_t(counts[std::size_t(q)]));
-    for (std::size_t width = 1; width + 1 < starts.size(); width *= 2)
-        for (std::size_t r = 0; r + width + 1 < starts.size(); r += 2 * width)
-            std::inplace_merge(keys.begin() + std::ptrdiff_t(starts[r]),
-                               keys.begin() + std::ptrdiff_t(starts[r + width]),
-                               keys.begin() + std::ptrdiff_t(starts[std::min(r + 2 * width, starts.size() - 1)]));
-    Share share;
-    share.particles.resize(keys.size());
-    share.tallies.assign(keys.size(), ContactTally{});
+    std::vector<std::size_t> order(copies);
+    for (std::size_t j = 0; j < copies; ++j) order[j] = j;
+    std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return copyIds[x] < copyIds[y]; });
+    share_.particles.resize(owned + copies);
+    share_.tallies.resize(owned + copies);
     ownSlots_.resize(owned);
-    for (std::size_t s = 0; s < keys.size(); ++s) {
-        const std::size_t j = keys[s] & 0xffffffffu;
-        if (j < owned) {
-            share.particles[s] = own_.particles[j];
-            share.tallies[s] = own_.tallies[j];
-            ownSlots_[j] = s;
+    std::size_t k = 0, c = 0;
+    for (std::size_t s = 0; s < owned + copies; ++s) {
+        if (c == copies || (k < owned && own_.ids[k] < copyIds[order[c]])) {
+            share_.particles[s] = own_.particles[k];
+            share_.tallies[s] = own_.tallies[k];
+            ownSlots_[k++] = s;
         } else {
-            share.particles[s] = copyParticles[j - owned];
+            share_.particles[s] = copyParticles[order[c++]];
+            share_.tallies[s] = ContactTally{};
         }
     }
-    return share;
 }
 
 bool DecomposedBackend::substep(std::uint64_t substep, float dt) {
     const bool pairwise = world_.collisions == CollisionScheme::Pairwise;
     imagesCurrent_ = undrainedCurrent_ = false;
     for (;;) {
-        Share share;
         {
             Timed timed(costs_.exchangeSeconds);
-            share = gatherShare(halo_);
+            gatherShare(halo_);
         }
         unsigned int rounds = 0;
         {
             Timed timed(costs_.computeSeconds);
-            rounds = engine_->stepShare(share, *this, dt);
+            rounds = engine_->stepShare(share_, *this, dt);
         }
         if (pairwise) {
             {
@@ -393,9 +382,9 @@ bool DecomposedBackend::substep(std::uint64_t substep, float dt) {
             Timed timed(costs_.exchangeSeconds);
             for (std::size_t k = 0; k < own_.ids.size(); ++k) {
                 const std::size_t s = ownSlots_[k];
-                own_.particles[k] = share.particles[s];
-                own_.tallies[k] = share.tallies[s];
-                if (pairwise) lastRound = std::max(lastRound, share.lastRounds[s]);
+                own_.particles[k] = share_.particles[s];
+                own_.tallies[k] = share_.tallies[s];
+                if (pairwise) lastRound = std::max(lastRound, share_.lastRounds[s]);
                 if (!carom_is_finite(own_.particles[k])) nonFinite = std::min(nonFinite, own_.ids[k]);
             }
         }

@@ -95,9 +95,9 @@ private:
     // where it left one of the whole world's disks non-finite (recorded), and
     // then hands no disks on.
     bool substep(std::uint64_t substep, float dt);
-    // This process's share for a halo of `halo` cells: its own disks and
-    // copies of the others' within reach, by id; ownSlots_ says where its own are.
-    Backend::Share gatherShare(int halo);
+    // share_ for a halo of `halo` cells: this process's own disks and copies
+    // of the others' within reach, by id; ownSlots_ says where its own are.
+    void gatherShare(int halo);
     // Hands the own disks whose centres left the domain to their domains'
     // processes, and takes those that entered it.
     void migrate();
@@ -131,6 +131,7 @@ private:
     bool imagesCurrent_ = false;  // images_ holds every process's images
     TallySums undrained_;
     bool undrainedCurrent_ = false;
+    Share share_;                        // the substep's; kept for its buffers
     std::vector<std::size_t> ownSlots_;  // gatherShare's: own disk k is the share's ownSlots_[k]
     DecompositionCosts costs_;           // since load()
 };
