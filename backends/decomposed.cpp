@@ -306,8 +306,19 @@ void DecomposedBackend::gatherShare(int halo) {
     const auto columns = domainsWithin(columnStarts_, halo, periodic);
     const auto rows = domainsWithin(rowStarts_, halo, periodic);
     const GridGeometry& g = grid_.geometry;
+    // Whether another domain's halo holds each disk: one or two domains a
+    // cell across and up, so a disk is near others only where its cell has two.
+    const std::size_t owned = own_.ids.size();
+    std::vector<unsigned char> near(owned);
+    parallelFor(owned, [&](std::size_t k) {
+        const Particle& p = own_.particles[k];
+        const int column = carom_cell_coord(p.position.x, g.cellsPerLengthX, g.cols);
+        const int row = carom_cell_coord(p.position.y, g.cellsPerLengthY, g.rows);
+        near[k] = rows[std::size_t(row)].size() > 1 || columns[std::size_t(column)].size() > 1;
+    });
     std::vector<std::vector<unsigned char>> out(std::size_t(size), std::vector<unsigned char>{});
-    for (std::size_t k = 0; k < own_.ids.size(); ++k) {
+    for (std::size_t k = 0; k < owned; ++k) {
+        if (!near[k]) continue;
         const Particle& p = own_.particles[k];
         const int column = carom_cell_coord(p.position.x, g.cellsPerLengthX, g.cols);
         const int row = carom_cell_coord(p.position.y, g.cellsPerLengthY, g.rows);
@@ -322,7 +333,7 @@ void DecomposedBackend::gatherShare(int halo) {
     }
     std::vector<int> counts;
     const std::vector<unsigned char> received = exchange(comm_, out, kCopyBytes, counts, costs_);
-    const std::size_t copies = received.size() / kCopyBytes, owned = own_.ids.size();
+    const std::size_t copies = received.size() / kCopyBytes;
     costs_.haloCopies += copies;
     // The copies (a few, beside the own disks) by id, then merged with the own disks, which are in id order.
     std::vector<std::uint32_t> copyIds(copies);
@@ -332,20 +343,25 @@ void DecomposedBackend::gatherShare(int halo) {
     std::vector<std::size_t> order(copies);
     for (std::size_t j = 0; j < copies; ++j) order[j] = j;
     std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return copyIds[x] < copyIds[y]; });
+    std::vector<std::uint32_t> sortedIds(copies);
+    for (std::size_t c = 0; c < copies; ++c) sortedIds[c] = copyIds[order[c]];
     share_.particles.resize(owned + copies);
     share_.tallies.resize(owned + copies);
     ownSlots_.resize(owned);
-    std::size_t k = 0, c = 0;
-    for (std::size_t s = 0; s < owned + copies; ++s) {
-        if (c == copies || (k < owned && own_.ids[k] < copyIds[order[c]])) {
-            share_.particles[s] = own_.particles[k];
-            share_.tallies[s] = own_.tallies[k];
-            ownSlots_[k++] = s;
-        } else {
-            share_.particles[s] = copyParticles[order[c++]];
-            share_.tallies[s] = ContactTally{};
-        }
-    }
+    // A disk's slot: its place among its own kind plus the disks of the other kind with lower ids.
+    parallelFor(owned, [&](std::size_t k) {
+        const std::size_t s =
+            k + std::size_t(std::lower_bound(sortedIds.begin(), sortedIds.end(), own_.ids[k]) - sortedIds.begin());
+        share_.particles[s] = own_.particles[k];
+        share_.tallies[s] = own_.tallies[k];
+        ownSlots_[k] = s;
+    });
+    parallelFor(copies, [&](std::size_t c) {
+        const std::size_t s =
+            c + std::size_t(std::lower_bound(own_.ids.begin(), own_.ids.end(), sortedIds[c]) - own_.ids.begin());
+        share_.particles[s] = copyParticles[order[c]];
+        share_.tallies[s] = ContactTally{};
+    });
 }
 
 bool DecomposedBackend::substep(std::uint64_t substep, float dt) {
@@ -380,13 +396,18 @@ bool DecomposedBackend::substep(std::uint64_t substep, float dt) {
         std::uint32_t nonFinite = std::numeric_limits<std::uint32_t>::max();
         {
             Timed timed(costs_.exchangeSeconds);
-            for (std::size_t k = 0; k < own_.ids.size(); ++k) {
-                const std::size_t s = ownSlots_[k];
+            // Maxima and minima: exact whichever thread takes which disk.
+            std::vector<unsigned int> lastRounds(std::size_t(parallelThreads()), 0u);
+            std::vector<std::uint32_t> nonFinites(lastRounds.size(), nonFinite);
+            parallelFor(own_.ids.size(), [&](std::size_t k) {
+                const std::size_t s = ownSlots_[k], t = std::size_t(threadNumber());
                 own_.particles[k] = share_.particles[s];
                 own_.tallies[k] = share_.tallies[s];
-                if (pairwise) lastRound = std::max(lastRound, share_.lastRounds[s]);
-                if (!carom_is_finite(own_.particles[k])) nonFinite = std::min(nonFinite, own_.ids[k]);
-            }
+                if (pairwise) lastRounds[t] = std::max(lastRounds[t], share_.lastRounds[s]);
+                if (!carom_is_finite(own_.particles[k])) nonFinites[t] = std::min(nonFinites[t], own_.ids[k]);
+            });
+            lastRound = *std::max_element(lastRounds.begin(), lastRounds.end());
+            nonFinite = *std::min_element(nonFinites.begin(), nonFinites.end());
         }
         {
             Timed timed(costs_.agreementSeconds);
@@ -420,10 +441,12 @@ void DecomposedBackend::Own::set(std::size_t to, const Own& from, std::size_t k)
 
 void DecomposedBackend::migrate() {
     const int size = decomposition_->size(), rank = decomposition_->rank();
+    std::vector<int> owners(own_.ids.size());
+    parallelFor(owners.size(), [&](std::size_t k) { owners[k] = ownerOf(own_.particles[k].position); });
     std::vector<std::vector<unsigned char>> out(std::size_t(size), std::vector<unsigned char>{});
     std::vector<std::size_t> leaving;
     for (std::size_t k = 0; k < own_.ids.size(); ++k) {
-        const int q = ownerOf(own_.particles[k].position);
+        const int q = owners[k];
         if (q == rank) continue;
         leaving.push_back(k);
         auto& buffer = out[std::size_t(q)];
