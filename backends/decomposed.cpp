@@ -284,15 +284,16 @@ void DecomposedBackend::load(const std::vector<Particle>& particles) {
     for (int d = 0; d < domainsY_; ++d)
         for (int r = rowStarts_[std::size_t(d)]; r < rowStarts_[std::size_t(d) + 1]; ++r)
             domainRow_[std::size_t(r)] = d;
-    own_ = Own{};
+    held_ = Held{};
     const int rank = decomposition_->rank();
     for (std::size_t i = 0; i < particles.size(); ++i)
         if (ownerOf(particles[i].position) == rank) {
-            own_.ids.push_back(static_cast<std::uint32_t>(i));
-            own_.particles.push_back(particles[i]);
-            own_.images.push_back(images_[i]);
+            held_.stayed.push_back(held_.ids.size());
+            held_.ids.push_back(static_cast<std::uint32_t>(i));
+            held_.share.particles.push_back(particles[i]);
+            held_.stayedImages.push_back(images_[i]);
         }
-    own_.tallies.assign(own_.ids.size(), ContactTally{});
+    held_.share.tallies.assign(held_.ids.size(), ContactTally{});
     halo_ = world_.collisions == CollisionScheme::Pairwise ? kFirstPairwiseHalo : 1;
     costs_ = DecompositionCosts{};
     imagesCurrent_ = true;  // images_ holds setParticles' images
@@ -306,36 +307,41 @@ void DecomposedBackend::gatherShare(int halo) {
     const auto columns = domainsWithin(columnStarts_, halo, periodic);
     const auto rows = domainsWithin(rowStarts_, halo, periodic);
     const GridGeometry& g = grid_.geometry;
-    // Whether another domain's halo holds each disk: one or two domains a
-    // cell across and up, so a disk is near others only where its cell has two.
-    const std::size_t owned = own_.ids.size();
-    std::vector<unsigned char> near(owned);
-    parallelFor(owned, [&](std::size_t k) {
-        const Particle& p = own_.particles[k];
-        const int column = carom_cell_coord(p.position.x, g.cellsPerLengthX, g.cols);
-        const int row = carom_cell_coord(p.position.y, g.cellsPerLengthY, g.rows);
-        near[k] = rows[std::size_t(row)].size() > 1 || columns[std::size_t(column)].size() > 1;
+    const Held& h = held_;
+    const Own& arrived = h.arrived;
+    const std::size_t stayed = h.stayed.size(), came = arrived.ids.size();
+    // Copies of the own disks within another domain's halo. A cell has one
+    // or two domains within the halo across and up, so a disk is near
+    // another domain only where its cell has two.
+    const auto cellOf = [&](const Particle& p) {
+        return std::array<int, 2>{carom_cell_coord(p.position.x, g.cellsPerLengthX, g.cols),
+                                  carom_cell_coord(p.position.y, g.cellsPerLengthY, g.rows)};
+    };
+    std::vector<unsigned char>& near = near_;
+    near.resize(stayed);
+    parallelFor(stayed, [&](std::size_t k) {
+        const auto cell = cellOf(h.share.particles[h.stayed[k]]);
+        near[k] = columns[std::size_t(cell[0])].size() > 1 || rows[std::size_t(cell[1])].size() > 1;
     });
     std::vector<std::vector<unsigned char>> out(std::size_t(size), std::vector<unsigned char>{});
-    for (std::size_t k = 0; k < owned; ++k) {
-        if (!near[k]) continue;
-        const Particle& p = own_.particles[k];
-        const int column = carom_cell_coord(p.position.x, g.cellsPerLengthX, g.cols);
-        const int row = carom_cell_coord(p.position.y, g.cellsPerLengthY, g.rows);
-        for (int dy : rows[std::size_t(row)])
-            for (int dx : columns[std::size_t(column)]) {
+    const auto copy = [&](std::uint32_t id, const Particle& p) {
+        const auto cell = cellOf(p);
+        for (int dy : rows[std::size_t(cell[1])])
+            for (int dx : columns[std::size_t(cell[0])]) {
                 const int q = dy * domainsX_ + dx;
                 if (q == rank) continue;
                 auto& buffer = out[std::size_t(q)];
                 buffer.resize(buffer.size() + kCopyBytes);
-                put(put(buffer.data() + buffer.size() - kCopyBytes, own_.ids[k]), p);
+                put(put(buffer.data() + buffer.size() - kCopyBytes, id), p);
             }
-    }
+    };
+    for (std::size_t k = 0; k < stayed; ++k)
+        if (near[k]) copy(h.ids[h.stayed[k]], h.share.particles[h.stayed[k]]);
+    for (std::size_t j = 0; j < came; ++j) copy(arrived.ids[j], arrived.particles[j]);
     std::vector<int> counts;
     const std::vector<unsigned char> received = exchange(comm_, out, kCopyBytes, counts, costs_);
     const std::size_t copies = received.size() / kCopyBytes;
     costs_.haloCopies += copies;
-    // The copies (a few, beside the own disks) by id, then merged with the own disks, which are in id order.
     std::vector<std::uint32_t> copyIds(copies);
     std::vector<Particle> copyParticles(copies);
     const unsigned char* in = received.data();
@@ -345,22 +351,63 @@ void DecomposedBackend::gatherShare(int halo) {
     std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return copyIds[x] < copyIds[y]; });
     std::vector<std::uint32_t> sortedIds(copies);
     for (std::size_t c = 0; c < copies; ++c) sortedIds[c] = copyIds[order[c]];
-    share_.particles.resize(owned + copies);
-    share_.tallies.resize(owned + copies);
-    ownSlots_.resize(owned);
-    // A disk's slot: its place among its own kind plus the disks of the other kind with lower ids.
-    parallelFor(owned, [&](std::size_t k) {
-        const std::size_t s =
-            k + std::size_t(std::lower_bound(sortedIds.begin(), sortedIds.end(), own_.ids[k]) - sortedIds.begin());
-        share_.particles[s] = own_.particles[k];
-        share_.tallies[s] = own_.tallies[k];
-        ownSlots_[k] = s;
+
+    // Three runs in id order, merged: the disks that stayed, those that came,
+    // the copies. A disk's slot is its place in its run plus how many disks
+    // of the other two have lower ids (counted by bisection); an own disk's
+    // place among the own ones, its place plus those of the other own run.
+    const auto belowStayed = [&](std::uint32_t id) {
+        std::size_t low = 0, high = stayed;
+        while (low < high) {
+            const std::size_t middle = (low + high) / 2;
+            if (h.ids[h.stayed[middle]] < id)
+                low = middle + 1;
+            else
+                high = middle;
+        }
+        return low;
+    };
+    const auto below = [](const std::vector<std::uint32_t>& ids, std::uint32_t id) {
+        return std::size_t(std::lower_bound(ids.begin(), ids.end(), id) - ids.begin());
+    };
+    const std::size_t total = stayed + came + copies;
+    next_.particles.resize(total);
+    next_.tallies.resize(total);
+    nextIds_.resize(total);
+    nextOwn_.resize(stayed + came);
+    nextImages_.resize(stayed + came);
+    // The stayed disks in blocks, each counting from a bisection onwards.
+    parallelBlocks(stayed, [&](std::size_t first, std::size_t end) {
+        if (first == end) return;
+        std::size_t a = below(arrived.ids, h.ids[h.stayed[first]]), c = below(sortedIds, h.ids[h.stayed[first]]);
+        for (std::size_t k = first; k < end; ++k) {
+            const std::size_t from = h.stayed[k];
+            const std::uint32_t id = h.ids[from];
+            while (a < came && arrived.ids[a] < id) ++a;
+            while (c < copies && sortedIds[c] < id) ++c;
+            const std::size_t own = k + a, s = own + c;
+            next_.particles[s] = h.share.particles[from];
+            next_.tallies[s] = h.share.tallies[from];
+            nextIds_[s] = id;
+            nextOwn_[own] = s;
+            nextImages_[own] = h.stayedImages[k];
+        }
     });
+    for (std::size_t j = 0; j < came; ++j) {
+        const std::uint32_t id = arrived.ids[j];
+        const std::size_t own = j + belowStayed(id), s = own + below(sortedIds, id);
+        next_.particles[s] = arrived.particles[j];
+        next_.tallies[s] = arrived.tallies[j];
+        nextIds_[s] = id;
+        nextOwn_[own] = s;
+        nextImages_[own] = arrived.images[j];
+    }
     parallelFor(copies, [&](std::size_t c) {
-        const std::size_t s =
-            c + std::size_t(std::lower_bound(own_.ids.begin(), own_.ids.end(), sortedIds[c]) - own_.ids.begin());
-        share_.particles[s] = copyParticles[order[c]];
-        share_.tallies[s] = ContactTally{};
+        const std::uint32_t id = sortedIds[c];
+        const std::size_t s = c + belowStayed(id) + below(arrived.ids, id);
+        next_.particles[s] = copyParticles[order[c]];
+        next_.tallies[s] = ContactTally{};
+        nextIds_[s] = id;
     });
 }
 
@@ -375,7 +422,7 @@ bool DecomposedBackend::substep(std::uint64_t substep, float dt) {
         unsigned int rounds = 0;
         {
             Timed timed(costs_.computeSeconds);
-            rounds = engine_->stepShare(share_, *this, dt);
+            rounds = engine_->stepShare(next_, *this, dt);
         }
         if (pairwise) {
             {
@@ -383,7 +430,7 @@ bool DecomposedBackend::substep(std::uint64_t substep, float dt) {
                 MPI_Allreduce(MPI_IN_PLACE, &rounds, 1, MPI_UNSIGNED, MPI_MAX, comm_);
             }
             const int needed = std::min(2 * int(rounds) + 3, kMaxPairwiseHalo);
-            if (needed > halo_) {  // not deep enough: again from the same start
+            if (needed > halo_) {  // not deep enough: again from the same start, which held_ keeps
                 halo_ = needed;
                 ++costs_.retakenSubsteps;
                 continue;
@@ -392,23 +439,23 @@ bool DecomposedBackend::substep(std::uint64_t substep, float dt) {
             halo_ = std::min(needed + 2, kMaxPairwiseHalo);
         }
         ++costs_.substeps;
-        unsigned int lastRound = 0;
-        std::uint32_t nonFinite = std::numeric_limits<std::uint32_t>::max();
-        {
-            Timed timed(costs_.exchangeSeconds);
-            // Maxima and minima: exact whichever thread takes which disk.
-            std::vector<unsigned int> lastRounds(std::size_t(parallelThreads()), 0u);
-            std::vector<std::uint32_t> nonFinites(lastRounds.size(), nonFinite);
-            parallelFor(own_.ids.size(), [&](std::size_t k) {
-                const std::size_t s = ownSlots_[k], t = std::size_t(threadNumber());
-                own_.particles[k] = share_.particles[s];
-                own_.tallies[k] = share_.tallies[s];
-                if (pairwise) lastRounds[t] = std::max(lastRounds[t], share_.lastRounds[s]);
-                if (!carom_is_finite(own_.particles[k])) nonFinites[t] = std::min(nonFinites[t], own_.ids[k]);
-            });
-            lastRound = *std::max_element(lastRounds.begin(), lastRounds.end());
-            nonFinite = *std::min_element(nonFinites.begin(), nonFinites.end());
-        }
+        // The stepped share holds the own disks from now on: nothing is copied back.
+        std::swap(held_.share, next_);
+        held_.ids.swap(nextIds_);
+        held_.stayed.swap(nextOwn_);
+        held_.stayedImages.swap(nextImages_);
+        held_.arrived.resize(0);
+        const Held& h = held_;
+        // Maxima and minima: exact whichever thread takes which disk.
+        std::vector<unsigned int> lastRounds(std::size_t(parallelThreads()), 0u);
+        std::vector<std::uint32_t> nonFinites(lastRounds.size(), std::numeric_limits<std::uint32_t>::max());
+        parallelFor(h.stayed.size(), [&](std::size_t k) {
+            const std::size_t s = h.stayed[k], t = std::size_t(threadNumber());
+            if (pairwise) lastRounds[t] = std::max(lastRounds[t], h.share.lastRounds[s]);
+            if (!carom_is_finite(h.share.particles[s])) nonFinites[t] = std::min(nonFinites[t], h.ids[s]);
+        });
+        unsigned int lastRound = *std::max_element(lastRounds.begin(), lastRounds.end());
+        std::uint32_t nonFinite = *std::min_element(nonFinites.begin(), nonFinites.end());
         {
             Timed timed(costs_.agreementSeconds);
             if (pairwise) MPI_Allreduce(MPI_IN_PLACE, &lastRound, 1, MPI_UNSIGNED, MPI_MAX, comm_);
@@ -432,64 +479,70 @@ void DecomposedBackend::Own::resize(std::size_t n) {
     images.resize(n);
 }
 
-void DecomposedBackend::Own::set(std::size_t to, const Own& from, std::size_t k) {
-    ids[to] = from.ids[k];
-    particles[to] = from.particles[k];
-    tallies[to] = from.tallies[k];
-    images[to] = from.images[k];
-}
-
 void DecomposedBackend::migrate() {
     const int size = decomposition_->size(), rank = decomposition_->rank();
-    std::vector<int> owners(own_.ids.size());
-    parallelFor(owners.size(), [&](std::size_t k) { owners[k] = ownerOf(own_.particles[k].position); });
+    Held& h = held_;
+    const std::size_t stayed = h.stayed.size();
+    std::vector<int>& owners = owners_;
+    owners.resize(stayed);
+    parallelFor(stayed, [&](std::size_t k) { owners[k] = ownerOf(h.share.particles[h.stayed[k]].position); });
     std::vector<std::vector<unsigned char>> out(std::size_t(size), std::vector<unsigned char>{});
-    std::vector<std::size_t> leaving;
-    for (std::size_t k = 0; k < own_.ids.size(); ++k) {
+    std::size_t kept = 0;
+    for (std::size_t k = 0; k < stayed; ++k) {
         const int q = owners[k];
-        if (q == rank) continue;
-        leaving.push_back(k);
+        const std::size_t s = h.stayed[k];
+        if (q == rank) {  // stays: its slot and image move up over those that left
+            h.stayed[kept] = s;
+            h.stayedImages[kept++] = h.stayedImages[k];
+            continue;
+        }
         auto& buffer = out[std::size_t(q)];
         buffer.resize(buffer.size() + kMigrantBytes);
-        put(put(put(put(buffer.data() + buffer.size() - kMigrantBytes, own_.ids[k]), own_.particles[k]),
-                own_.tallies[k]),
-            own_.images[k]);
+        put(put(put(put(buffer.data() + buffer.size() - kMigrantBytes, h.ids[s]), h.share.particles[s]),
+                h.share.tallies[s]),
+            h.stayedImages[k]);
     }
-    costs_.migrants += leaving.size();
+    costs_.migrants += stayed - kept;
+    h.stayed.resize(kept);
+    h.stayedImages.resize(kept);
     std::vector<int> counts;
     const std::vector<unsigned char> received = exchange(comm_, out, kMigrantBytes, counts, costs_);
-    const std::size_t arrived = received.size() / kMigrantBytes;
-    if (leaving.empty() && arrived == 0) return;
-    // Those that left go; the others keep their order.
-    if (!leaving.empty()) {
-        std::size_t kept = leaving.front(), next = 0;
-        for (std::size_t k = leaving.front(); k < own_.ids.size(); ++k) {
-            if (next < leaving.size() && leaving[next] == k) {
-                ++next;
-                continue;
-            }
-            own_.set(kept++, own_, k);
-        }
-        own_.resize(kept);
-    }
-    // Those that came, by id, merged in from the back: only the disks of
-    // higher ids move.
+    const std::size_t arrivals = received.size() / kMigrantBytes;
     Own came;
-    came.resize(arrived);
+    came.resize(arrivals);
     const unsigned char* in = received.data();
-    for (std::size_t j = 0; j < arrived; ++j)
+    for (std::size_t j = 0; j < arrivals; ++j)
         in = take(take(take(take(in, came.ids[j]), came.particles[j]), came.tallies[j]), came.images[j]);
-    std::vector<std::size_t> order(arrived);
-    for (std::size_t j = 0; j < arrived; ++j) order[j] = j;
+    std::vector<std::size_t> order(arrivals);
+    for (std::size_t j = 0; j < arrivals; ++j) order[j] = j;
     std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return came.ids[x] < came.ids[y]; });
-    std::size_t a = own_.ids.size(), b = arrived, to = a + arrived;
-    own_.resize(to);
-    while (b > 0) {
-        if (a > 0 && own_.ids[a - 1] > came.ids[order[b - 1]])
-            own_.set(--to, own_, --a);
-        else
-            own_.set(--to, came, order[--b]);
+    h.arrived.resize(arrivals);
+    for (std::size_t j = 0; j < arrivals; ++j) {
+        const std::size_t k = order[j];
+        h.arrived.ids[j] = came.ids[k];
+        h.arrived.particles[j] = came.particles[k];
+        h.arrived.tallies[j] = came.tallies[k];
+        h.arrived.images[j] = came.images[k];
     }
+}
+
+DecomposedBackend::Own DecomposedBackend::ownDisks() const {
+    const Held& h = held_;
+    const std::size_t stayed = h.stayed.size(), came = h.arrived.ids.size();
+    Own own;
+    own.resize(stayed + came);
+    parallelFor(stayed, [&](std::size_t k) {
+        const std::size_t s = h.stayed[k];
+        own.ids[k] = h.ids[s];
+        own.particles[k] = h.share.particles[s];
+        own.tallies[k] = h.share.tallies[s];
+        own.images[k] = h.stayedImages[k];
+    });
+    std::copy(h.arrived.ids.begin(), h.arrived.ids.end(), own.ids.begin() + std::ptrdiff_t(stayed));
+    std::copy(h.arrived.particles.begin(), h.arrived.particles.end(), own.particles.begin() + std::ptrdiff_t(stayed));
+    std::copy(h.arrived.tallies.begin(), h.arrived.tallies.end(), own.tallies.begin() + std::ptrdiff_t(stayed));
+    std::copy(h.arrived.images.begin(), h.arrived.images.end(), own.images.begin() + std::ptrdiff_t(stayed));
+    return own;
 }
 
 std::uint64_t DecomposedBackend::advance(std::uint64_t substeps, float dt) {
@@ -506,23 +559,32 @@ bool DecomposedBackend::agreedStop(bool stop) {
     return any != 0;
 }
 
-void DecomposedBackend::keepStepStart() { stepStart_ = own_; }
+void DecomposedBackend::keepStepStart() { stepStart_ = held_; }
 
 void DecomposedBackend::returnToStepStart() {
-    own_ = stepStart_;
+    held_ = stepStart_;
     imagesCurrent_ = undrainedCurrent_ = false;
 }
 
 float DecomposedBackend::maxSpeedSquared() {
-    float largest = maxSpeedSquaredOf(own_.particles.data(), own_.particles.size());
-    MPI_Allreduce(MPI_IN_PLACE, &largest, 1, MPI_FLOAT, MPI_MAX, comm_);
-    return largest;
+    const Held& h = held_;
+    std::vector<float> largest(std::size_t(parallelThreads()), 0.0f);
+    parallelFor(h.stayed.size(), [&](std::size_t k) {
+        const float2 v = h.share.particles[h.stayed[k]].velocity;
+        const std::size_t t = std::size_t(threadNumber());
+        largest[t] = std::max(largest[t], v.x * v.x + v.y * v.y);
+    });
+    float all = std::max(*std::max_element(largest.begin(), largest.end()),
+                         maxSpeedSquaredOf(h.arrived.particles.data(), h.arrived.particles.size()));
+    MPI_Allreduce(MPI_IN_PLACE, &all, 1, MPI_FLOAT, MPI_MAX, comm_);
+    return all;
 }
 
 TallySums DecomposedBackend::undrainedSums() {
     if (!undrainedCurrent_) {
         undrained_ = TallySums{};
-        const TallySums mine = sumTallies(own_.tallies.data(), own_.tallies.size());
+        const Own own = ownDisks();
+        const TallySums mine = sumTallies(own.tallies.data(), own.tallies.size());
         for (const TallySums& sums : gatherAll(comm_, std::vector<TallySums>{mine}, costs_)) undrained_.add(sums);
         undrainedCurrent_ = true;
     }
@@ -533,24 +595,28 @@ void DecomposedBackend::addUndrained(ContactTotals& totals) { undrainedSums().ad
 
 void DecomposedBackend::drainTallies(ContactTotals& totals) {
     undrainedSums().addTo(totals);
-    clearTallies(own_.tallies.data(), own_.tallies.size(), own_.images.data());
+    Held& h = held_;
+    parallelFor(h.stayed.size(),
+                [&](std::size_t k) { clearTallies(&h.share.tallies[h.stayed[k]], 1, &h.stayedImages[k]); });
+    clearTallies(h.arrived.tallies.data(), h.arrived.tallies.size(), h.arrived.images.data());
     undrained_ = TallySums{};
     undrainedCurrent_ = true;
 }
 
 void DecomposedBackend::readParticles(std::vector<Particle>& particles) {
-    const std::vector<std::uint32_t> ids = gatherAll(comm_, own_.ids, costs_);
-    const std::vector<Particle> all = gatherAll(comm_, own_.particles, costs_);
+    const Own own = ownDisks();
+    const std::vector<std::uint32_t> ids = gatherAll(comm_, own.ids, costs_);
+    const std::vector<Particle> all = gatherAll(comm_, own.particles, costs_);
     particles.resize(all.size());
     parallelFor(all.size(), [&](std::size_t k) { particles[ids[k]] = all[k]; });
 }
 
 std::vector<Image> DecomposedBackend::images() {
     if (!imagesCurrent_) {
-        std::vector<Image> mine = own_.images;  // plus the wraps not yet drained
-        addWraps(mine.data(), own_.tallies.data(), mine.size());
-        const std::vector<std::uint32_t> ids = gatherAll(comm_, own_.ids, costs_);
-        const std::vector<Image> all = gatherAll(comm_, mine, costs_);
+        Own own = ownDisks();
+        addWraps(own.images.data(), own.tallies.data(), own.images.size());  // the wraps not yet drained
+        const std::vector<std::uint32_t> ids = gatherAll(comm_, own.ids, costs_);
+        const std::vector<Image> all = gatherAll(comm_, own.images, costs_);
         parallelFor(all.size(), [&](std::size_t k) { images_[ids[k]] = all[k]; });
         imagesCurrent_ = true;
     }

@@ -95,8 +95,8 @@ private:
     // where it left one of the whole world's disks non-finite (recorded), and
     // then hands no disks on.
     bool substep(std::uint64_t substep, float dt);
-    // share_ for a halo of `halo` cells: this process's own disks and copies
-    // of the others' within reach, by id; ownSlots_ says where its own are.
+    // next_ for a halo of `halo` cells: this process's own disks and copies
+    // of the others' within reach, by id.
     void gatherShare(int halo);
     // Hands the own disks whose centres left the domain to their domains'
     // processes, and takes those that entered it.
@@ -115,25 +115,45 @@ private:
     std::vector<int> domainColumn_, domainRow_;  // by cell column (row)
     int halo_ = 1;                               // cells, the next substep's first try
 
-    // This process's own disks, by id.
+    // Disks with their ids, tallies and images.
     struct Own {
         std::vector<std::uint32_t> ids;
         std::vector<Particle> particles;
         std::vector<ContactTally> tallies;
         std::vector<Image> images;
         void resize(std::size_t n);
-        void set(std::size_t to, const Own& from, std::size_t k);  // disk `to` becomes from's disk k
     };
-    Own own_, stepStart_;
+    // This process's own disks between substeps: those of the last share
+    // that stayed in the domain, where the share holds them, and those handed
+    // on to it since. They are not copied out of the share and back: the
+    // next share is merged from them and the new copies.
+    struct Held {
+        Share share;                      // by id: the own disks and the copies of the last substep
+        std::vector<std::uint32_t> ids;   // the id in each slot of share
+        std::vector<std::size_t> stayed;  // the own disks' slots, in id order
+        std::vector<Image> stayedImages;  // by stayed index
+        Own arrived;                      // by id
+    };
+    Held held_, stepStart_;
+    // The own disks in one run, in any order (for the gathers and sums).
+    Own ownDisks() const;
     // What images() and undrainedSums() gathered, while it holds: until the
     // next substep, drain or load. World takes both after each step() call,
     // on every process, so that a read between steps is each process's own.
     bool imagesCurrent_ = false;  // images_ holds every process's images
     TallySums undrained_;
     bool undrainedCurrent_ = false;
-    Share share_;                        // the substep's; kept for its buffers
-    std::vector<std::size_t> ownSlots_;  // gatherShare's: own disk k is the share's ownSlots_[k]
-    DecompositionCosts costs_;           // since load()
+    // gatherShare's: the next share, its ids, the own disks' slots (in id
+    // order) and their images; held_ until the substep is kept.
+    Share next_;
+    std::vector<std::uint32_t> nextIds_;
+    std::vector<std::size_t> nextOwn_;
+    std::vector<Image> nextImages_;
+    // Scratch of gatherShare (whether an own disk is near another domain)
+    // and migrate (each one's domain), kept so that no substep allocates them.
+    std::vector<unsigned char> near_;
+    std::vector<int> owners_;
+    DecompositionCosts costs_;  // since load()
 };
 
 }  // namespace carom

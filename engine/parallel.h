@@ -48,6 +48,17 @@ void parallelFor(std::size_t n, Body&& body) {
     for (std::int64_t i = 0; i < count; ++i) body(std::size_t(i));
 }
 
+// body(first, end) over [0, n) cut into one block per thread (one block
+// below kParallelLength), for passes that carry state from one element to
+// the next.
+template <class Body>
+void parallelBlocks(std::size_t n, Body&& body) {
+    const auto blocks = static_cast<std::int64_t>(n) >= kParallelLength ? std::int64_t(parallelThreads()) : 1;
+#pragma omp parallel for schedule(static) if (blocks > 1)
+    for (std::int64_t b = 0; b < blocks; ++b)
+        body(n * std::size_t(b) / std::size_t(blocks), n * std::size_t(b + 1) / std::size_t(blocks));
+}
+
 // An allocator whose resize leaves the new elements default-initialised
 // (not zeroed) where they have a trivial constructor, so that the parallel
 // loop that writes them is the first to touch their pages.
