@@ -1,6 +1,7 @@
 #include "world/make_backend.h"
 
 #include <exception>
+#include <utility>
 
 #include <carom/world.h>
 
@@ -41,9 +42,9 @@ std::string deviceOfProcess(const WorldDef& world, const Decomposition& decompos
 // The engine that steps this process's domain of `world`. Its shares change
 // every substep: neighbour lists would be built anew each one.
 std::unique_ptr<Backend> makeDomainEngine(WorldDef world) {
-    const Decomposition& decomposition = *world.decomposition;
+    const std::shared_ptr<const Decomposition> decomposition = std::move(world.decomposition);
     world.decomposition.reset();
-    world.device = deviceOfProcess(world, decomposition);
+    world.device = deviceOfProcess(world, *decomposition);
     std::unique_ptr<Backend> engine = makeBackend(world);
     if (auto* cpu = dynamic_cast<CpuBackend*>(engine.get())) cpu->useNeighbourLists(false);
 #ifdef CAROM_HAVE_OPENCL
