@@ -92,19 +92,19 @@ carom_mpi_refusal(domains_thinner_than_cells 4 "domains 4 x 1 on a grid of 3 x 3
                   "${refused}/domains_thinner_than_cells.csv;--particles;4;--box;8;8;--domains;4;1")
 carom_mpi_refusal(events_scheme 2 "CollisionScheme::Events runs in one process; allowed in a decomposed world: Pairwise, Simultaneous"
                   "${refused}/events_scheme.csv;--collisions;events")
-# A device missing on one process's node: process 0 names it (mpirun's MPMD form gives each its --device).
-list(SUBLIST mpiexec 1 -1 flags)
-string(REPLACE ";" "|" args "${flags};-np;1;$<TARGET_FILE:carom>;run;--backend;opencl;--steps;5;:;-np;1;$<TARGET_FILE:carom>;run;--backend;opencl;--device;99;--steps;5")
-add_test(NAME mpi.device_missing_on_one_process
-         COMMAND ${CMAKE_COMMAND} -DCAROM=${MPIEXEC_EXECUTABLE} "-DARGS=${args}" -DEXPECT=fail
-                 "-DOUTPUT_REGEX=carom: error: process 1 of 2: device 99 .*no such device|needs OpenCL"
-                 -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_cli.cmake)
-set_tests_properties(mpi.device_missing_on_one_process PROPERTIES ENVIRONMENT "${mpi_environment}" TIMEOUT 60 PROCESSORS 2)
-# Processes given different arguments (mpirun's MPMD form) are refused.
-list(SUBLIST mpiexec 1 -1 flags)
-string(REPLACE ";" "|" args "${flags};-np;1;$<TARGET_FILE:carom>;run;--backend;cpu;--steps;5;--seed;1;:;-np;1;$<TARGET_FILE:carom>;run;--backend;cpu;--steps;5;--seed;2")
-add_test(NAME mpi.different_arguments
-         COMMAND ${CMAKE_COMMAND} -DCAROM=${MPIEXEC_EXECUTABLE} "-DARGS=${args}" -DEXPECT=fail
-                 "-DOUTPUT_REGEX=the processes were given different worlds or disks"
-                 -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_cli.cmake)
-set_tests_properties(mpi.different_arguments PROPERTIES ENVIRONMENT "${mpi_environment}" TIMEOUT 60 PROCESSORS 2)
+# Two processes given their own arguments (mpirun's MPMD form, `first` and
+# `second`, each '|'-separated), refused with process 0's message.
+function(carom_mpi_two_refusal name regex first second)
+    list(SUBLIST mpiexec 1 -1 flags)
+    string(REPLACE ";" "|" flags "${flags}")
+    set(args "${flags}|-np|1|$<TARGET_FILE:carom>|${first}|:|-np|1|$<TARGET_FILE:carom>|${second}")
+    add_test(NAME mpi.${name}
+             COMMAND ${CMAKE_COMMAND} -DCAROM=${MPIEXEC_EXECUTABLE} "-DARGS=${args}" -DEXPECT=fail
+                     "-DOUTPUT_REGEX=${regex}" -P ${CMAKE_CURRENT_SOURCE_DIR}/expect_cli.cmake)
+    set_tests_properties(mpi.${name} PROPERTIES ENVIRONMENT "${mpi_environment}" TIMEOUT 60 PROCESSORS 2)
+endfunction()
+# A device missing on one process's node: process 0 names it.
+carom_mpi_two_refusal(device_missing_on_one_process "carom: error: process 1 of 2: device 99 .*no such device|needs OpenCL"
+                      "run|--backend|opencl|--steps|5" "run|--backend|opencl|--device|99|--steps|5")
+carom_mpi_two_refusal(different_arguments "the processes were given different worlds or disks"
+                      "run|--backend|cpu|--steps|5|--seed|1" "run|--backend|cpu|--steps|5|--seed|2")
