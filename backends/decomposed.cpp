@@ -310,9 +310,8 @@ void DecomposedBackend::gatherShare(int halo) {
     const Held& h = held_;
     const Own& arrived = h.arrived;
     const std::size_t stayed = h.stayed.size(), came = arrived.ids.size();
-    // Copies of the own disks within another domain's halo. A cell has one
-    // or two domains within the halo across and up, so a disk is near
-    // another domain only where its cell has two.
+    // Copies of the own disks within another domain's halo: those whose
+    // cell's column or row lies within more domains' halos than their own.
     const auto cellOf = [&](const Particle& p) {
         return std::array<int, 2>{carom_cell_coord(p.position.x, g.cellsPerLengthX, g.cols),
                                   carom_cell_coord(p.position.y, g.cellsPerLengthY, g.rows)};
