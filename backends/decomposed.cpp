@@ -356,15 +356,9 @@ void DecomposedBackend::gatherShare(int halo) {
     // of the other two have lower ids (counted by bisection); an own disk's
     // place among the own ones, its place plus those of the other own run.
     const auto belowStayed = [&](std::uint32_t id) {
-        std::size_t low = 0, high = stayed;
-        while (low < high) {
-            const std::size_t middle = (low + high) / 2;
-            if (h.ids[h.stayed[middle]] < id)
-                low = middle + 1;
-            else
-                high = middle;
-        }
-        return low;
+        return std::size_t(
+            std::partition_point(h.stayed.begin(), h.stayed.end(), [&](std::size_t s) { return h.ids[s] < id; }) -
+            h.stayed.begin());
     };
     const auto below = [](const std::vector<std::uint32_t>& ids, std::uint32_t id) {
         return std::size_t(std::lower_bound(ids.begin(), ids.end(), id) - ids.begin());
