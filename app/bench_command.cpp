@@ -39,21 +39,16 @@ constexpr std::size_t kMinBandwidthBytes = std::size_t(64) << 20;
 constexpr std::size_t kMaxBandwidthBytes = std::size_t(512) << 20;
 constexpr std::size_t kQuickBandwidthBytes = std::size_t(16) << 20;
 
-// "1000", "1e6" and "1.6e7" are whole numbers of particles; refused above
-// kMaxParticles and above what `availableBytes` of memory hold.
+// Refused above what `availableBytes` of memory hold.
 std::uint32_t parseSize(const std::string& text, std::uint64_t availableBytes) {
-    double value = NAN;
+    std::uint64_t count = 0;
     try {
-        value = io::parseRealNumber(text);
-    } catch (const Error&) {  // refused below, with the range
+        count = parseParticleCount(text, 1, kMaxParticles);
+    } catch (const Error& e) {
+        throw Error(std::string("--sizes: ") + e.what());
     }
-    const std::string allowed = io::wholeNumbersAllowed(1, kMaxParticles) + ", such as 1000 or 1.6e7";
-    if (!(value >= 1) || value != std::floor(value))
-        throw Error("--sizes: '" + io::printable(text) + "' is not a number of particles; " + allowed);
-    if (value > double(kMaxParticles))
-        throw Error("--sizes: '" + io::printable(text) + "' is too many particles; " + allowed);
-    requireRoomFor(std::uint64_t(value), "--sizes " + text, availableBytes);
-    return static_cast<std::uint32_t>(value);
+    requireRoomFor(count, "--sizes " + text, availableBytes);
+    return static_cast<std::uint32_t>(count);
 }
 
 std::vector<std::uint32_t> chosenSizes(const BenchOptions& o) {

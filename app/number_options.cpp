@@ -1,5 +1,7 @@
 #include "app/number_options.h"
 
+#include <cmath>
+
 #include <carom/io.h>
 
 #include <carom/types.h>
@@ -29,6 +31,24 @@ CLI::Validator wholeNumber(std::uint64_t min, std::uint64_t max) {
     return refusingErrors([min, max](std::string& text) {
         text = std::to_string(io::parseWholeNumber(text, min, max));  // no leading 0 for CLI11 to read as octal
     });
+}
+
+std::uint64_t parseParticleCount(const std::string& text, std::uint64_t min, std::uint64_t max) {
+    double value = NAN;
+    try {
+        value = io::parseRealNumber(text);
+    } catch (const Error&) {  // refused below, with the range
+    }
+    const std::string allowed = io::wholeNumbersAllowed(min, max) + ", such as 1000 or 1.6e7";
+    if (!std::isfinite(value) || value != std::floor(value))
+        throw Error("'" + io::printable(text) + "' is not a number of particles; " + allowed);
+    if (value < double(min) || value > double(max))
+        throw Error("'" + io::printable(text) + "' is out of range; " + allowed);
+    return std::uint64_t(value);
+}
+
+CLI::Validator particleCount(std::uint64_t min, std::uint64_t max) {
+    return refusingErrors([min, max](std::string& text) { text = std::to_string(parseParticleCount(text, min, max)); });
 }
 
 CLI::Validator realNumber() {

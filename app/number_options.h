@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -13,6 +14,12 @@ namespace carom::app {
 // A whole number in [min, max] (io::parseWholeNumber, carom/io.h), handed on to CLI11
 // as plain decimal digits; its refusal names the value and the range.
 CLI::Validator wholeNumber(std::uint64_t min, std::uint64_t max = std::numeric_limits<std::uint64_t>::max());
+
+// A number of disks in [min, max], whole, written in digits or with an
+// exponent ("1000", "1e6", "1.6e7"); throws Error naming the text and the range.
+std::uint64_t parseParticleCount(const std::string& text, std::uint64_t min, std::uint64_t max);
+// The same, handed on to CLI11 as plain decimal digits.
+CLI::Validator particleCount(std::uint64_t min, std::uint64_t max);
 
 // A real number, all of the text, as the 32-bit float carom computes with
 // (io::parseFloat, carom/io.h); the option's own checks judge its range.

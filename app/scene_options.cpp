@@ -140,7 +140,7 @@ void addSceneOptions(CLI::App& command, SceneOptions& o) {
         ->check(forOpenCL("one pipeline"));
 
     auto* particles = command.add_option("--particles", o.scene.particles, "Number of disks")
-                          ->transform(wholeNumber(1, kMaxParticles))
+                          ->transform(particleCount(1, kMaxParticles))
                           ->capture_default_str();
     auto* packing = command.add_option("--packing", o.scene.packing, "Area fraction of the disks; sizes a square box")
                         ->transform(realNumber())

@@ -75,7 +75,7 @@ void addValidateOptions(CLI::App& command, ValidateOptions& o) {
                         std::to_string(validation::kEosParticles(false)) + ", " +
                         std::to_string(validation::kEosParticles(true)) + " with --quick; the event-driven runs use " +
                         std::to_string(validation::kEventsParticles) + ")")
-        ->transform(wholeNumber(validation::kMinEosParticles, validation::kMaxEosParticles));
+        ->transform(particleCount(validation::kMinEosParticles, validation::kMaxEosParticles));
 }
 
 int validateCommand(const ValidateOptions& o) {

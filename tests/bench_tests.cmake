@@ -25,7 +25,7 @@ carom_cli_test(bench_collisions_unknown fail "--collisions: unknown collision sc
                "${bench}|--collisions|sideways")
 carom_cli_test(bench_pairwise_naive_only fail "--collisions pairwise: none of the methods chosen runs the pairwise scheme"
                "${bench}|--methods|naive-cpu|--collisions|pairwise")
-carom_cli_test(bench_size_zero fail "--sizes: '0' is not a number of particles" "${bench}|--sizes|0")
+carom_cli_test(bench_size_zero fail "--sizes: '0' is out of range" "${bench}|--sizes|0")
 carom_cli_test(bench_size_fraction fail "--sizes: '1.5' is not a number of particles" "${bench}|--sizes|1.5")
 carom_cli_test(bench_size_text fail "--sizes: 'many' is not a number of particles" "${bench}|--sizes|many")
 carom_cli_test(bench_unknown_method fail "--methods: unknown method 'warp'; allowed: naive-cpu" "${bench}|--methods|warp")

@@ -41,6 +41,10 @@ carom_cli_test(resume_with_collisions fail "--collisions excludes --resume"
 carom_cli_test(resume_version1 pass "\"scheme\": \"simultaneous\",.*\"step\": 20,"
                "run|--backend|cpu|--resume|${data}/version1.ckpt|--steps|10|--json")
 carom_cli_test(every_zero fail "--every: '0' is out of range; allowed: whole numbers from 1 to" "${run}|--every|0")
+# Counts read as bench --sizes reads them: with an exponent, whole.
+carom_cli_test(particles_exponent pass "\"particles\": 10000," "run|--backend|cpu|--steps|1|--particles|1e4|--json")
+carom_cli_test(particles_fraction fail "--particles: '2.5e0' is not a number of particles; allowed: whole numbers from 1 to"
+               "${run}|--particles|2.5e0")
 carom_cli_test(too_many_particles fail "--particles: '1000000001' is out of range; allowed: whole numbers from 1 to 1000000000"
                "${run}|--particles|1000000001")
 carom_cli_test(unwritable_trajectory fail "--trajectory '/nonexistent-dir/t.xyz': the folder '/nonexistent-dir' does not exist"

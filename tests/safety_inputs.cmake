@@ -54,9 +54,9 @@ carom_input_test(cpu_with_pipeline "--pipeline: 'host-grid' needs --backend open
 
 # Counts checked against carom's limit before anything is allocated.
 carom_input_test(bench_size_past_limit
-                 "--sizes: '1000000001' is too many particles; allowed: whole numbers from 1 to 1000000000"
+                 "--sizes: '1000000001' is out of range; allowed: whole numbers from 1 to 1000000000"
                  "bench|--methods|cpu|--sizes|1000000001")
-carom_input_test(bench_size_4e9 "--sizes: '4e9' is too many particles; allowed: whole numbers from 1 to 1000000000"
+carom_input_test(bench_size_4e9 "--sizes: '4e9' is out of range; allowed: whole numbers from 1 to 1000000000"
                  "bench|--methods|cpu|--sizes|4e9")
 carom_input_test(validate_particles_cap
                  "--particles: '100000000' is out of range; allowed: whole numbers from 256 to 1000000"
