@@ -324,6 +324,14 @@ void Backend::addUndrained(ContactTotals& totals) {
     sumTallies(tallies.data(), tallies.size()).addTo(totals);
 }
 
+void Backend::readOwnDisks(std::vector<std::uint32_t>& ids, std::vector<Particle>& particles,
+                           std::vector<Image>& images) {
+    readParticles(particles);
+    images = this->images();
+    ids.resize(particles.size());
+    parallelFor(ids.size(), [&](std::size_t i) { ids[i] = std::uint32_t(i); });
+}
+
 std::vector<Image> Backend::images() {
     std::vector<Image> images = images_;
     if (substepsSinceDrain_ > 0) {  // plus the wraps not yet drained

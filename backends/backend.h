@@ -125,6 +125,13 @@ public:
     // Each disk's periodic image (carom/types.h Image), in id order, for the
     // state readParticles gives: setParticles' images plus the wraps since.
     virtual std::vector<Image> images();
+    // The disks this process steps, by id, with their ids and images
+    // (World::ownDisks): every disk here, a decomposed world's own there.
+    virtual void readOwnDisks(std::vector<std::uint32_t>& ids, std::vector<Particle>& particles,
+                              std::vector<Image>& images);
+    // Whether the whole world reaches this process only when World::gather()
+    // asks (Gather::OnRequest); its reads of the whole world are collective.
+    virtual bool gathersOnRequest() const { return false; }
     // Collisions, virial and wall impulses since setParticles or the last
     // resetContacts(). Reading them changes nothing: the per-disk tallies are
     // drained into the totals every kTallySubsteps substeps (counted from

@@ -1,6 +1,7 @@
 #include "backends/decomposed.h"
 
 #include <algorithm>
+#include <numeric>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -168,7 +169,8 @@ std::shared_ptr<const Decomposition> makeDecomposition(const DecompositionDef& d
     return std::make_shared<const Decomposition>(def);
 }
 
-Decomposition::Decomposition(const DecompositionDef& def) : domainsX_(def.domainsX), domainsY_(def.domainsY) {
+Decomposition::Decomposition(const DecompositionDef& def)
+    : domainsX_(def.domainsX), domainsY_(def.domainsY), gather_(def.gather) {
     int initialised = 0;
     MPI_Initialized(&initialised);
     if (!initialised) throw Error("a decomposition before MPI_Init; allowed: after MPI_Init, before MPI_Finalize");
@@ -602,6 +604,23 @@ void DecomposedBackend::readParticles(std::vector<Particle>& particles) {
     const std::vector<Particle> all = gatherAll(comm_, own.particles, costs_);
     particles.resize(all.size());
     parallelFor(all.size(), [&](std::size_t k) { particles[ids[k]] = all[k]; });
+}
+
+void DecomposedBackend::readOwnDisks(std::vector<std::uint32_t>& ids, std::vector<Particle>& particles,
+                                     std::vector<Image>& images) {
+    Own own = ownDisks();
+    addWraps(own.images.data(), own.tallies.data(), own.images.size());  // the wraps not yet drained
+    std::vector<std::size_t> order(own.ids.size());
+    std::iota(order.begin(), order.end(), std::size_t(0));
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return own.ids[a] < own.ids[b]; });
+    ids.resize(order.size());
+    particles.resize(order.size());
+    images.resize(order.size());
+    parallelFor(order.size(), [&](std::size_t k) {
+        ids[k] = own.ids[order[k]];
+        particles[k] = own.particles[order[k]];
+        images[k] = own.images[order[k]];
+    });
 }
 
 std::vector<Image> DecomposedBackend::images() {

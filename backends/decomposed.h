@@ -51,6 +51,7 @@ public:
     // This process's rank among the processes of its node (shared memory),
     // which choose their GPUs by it.
     int nodeRank() const { return nodeRank_; }
+    Gather gather() const { return gather_; }
 
     // The domains across and up for a box of width x height: as given, or
     // the factors of size() nearest the box's aspect.
@@ -60,6 +61,7 @@ private:
     MPI_Comm communicator_ = MPI_COMM_NULL;
     int rank_ = 0, size_ = 1, nodeRank_ = 0;
     int domainsX_ = 0, domainsY_ = 0;
+    Gather gather_ = Gather::EachStep;
 };
 
 class DecomposedBackend : public Backend {
@@ -75,6 +77,9 @@ public:
     // The whole world, gathered from every process: collective.
     void readParticles(std::vector<Particle>& particles) override;
     std::vector<Image> images() override;
+    void readOwnDisks(std::vector<std::uint32_t>& ids, std::vector<Particle>& particles,
+                      std::vector<Image>& images) override;
+    bool gathersOnRequest() const override { return decomposition_->gather() == Gather::OnRequest; }
 
 private:
     void load(const std::vector<Particle>& particles) override;

@@ -245,6 +245,27 @@ CAROM_BACKEND_TEST_CASE("world: disk memory follows the steps and outlives a new
     }
 }
 
+// One process owns every disk: ownDisks() is the world's disks and images,
+// with ids 0..N-1, and gather() has nothing to do.
+CAROM_BACKEND_TEST_CASE("world: one process's own disks are every disk") {
+    const Scene scene = gas(300, 0.3f);
+    World world(worldFor(scene, def.engine, Boundary::Periodic));
+    world.setDisks(scene.disks);
+    world.step(20);
+    const OwnDisks own = world.ownDisks();
+    const std::vector<Disk> disks = world.disks();
+    const std::vector<Image> images = world.images();
+    REQUIRE(own.ids.size() == disks.size());
+    REQUIRE(own.disks.size() == disks.size());
+    for (std::size_t i = 0; i < disks.size(); ++i) {
+        REQUIRE(own.ids[i] == i);
+        REQUIRE(std::memcmp(&own.disks[i], &disks[i], sizeof(Disk)) == 0);
+    }
+    CHECK(own.images == images);
+    world.gather();
+    CHECK(world.disks().size() == disks.size());
+}
+
 // The device's buffers, counted as they are made and freed: on OpenCL at
 // least the two states and the tallies of every disk, more for more disks,
 // less again once fewer replace them; nothing on the CPU.

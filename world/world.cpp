@@ -148,15 +148,35 @@ struct World::Impl {
 
     double time() const { return motionTime + double(step - motionStep) * def.dt; }
     // A decomposed world's reads gather from every process, so every process
-    // takes them here, after each step() call, where all of them are: the
-    // reads between steps are then each process's own.
+    // takes them here, after each step() call (or at gather(), with
+    // Gather::OnRequest), where all of them are: the reads between steps are
+    // then each process's own.
     void gatherDecomposed() {
         if (!def.decomposition) return;
+        whole = true;
         current();
         backend->contacts();
         backend->images();
     }
+    // False from a step of a world that gathers on request until gather():
+    // the whole world's reads would wait for processes that do not read.
+    bool whole = true;
+    void requireWhole() const {
+        if (!whole)
+            throw Error(
+                "this process holds only its own disks since the last step (its decomposition gathers on "
+                "request): gather the whole world first, on every process, or read the own disks");
+    }
+    const ContactTotals& contacts() {
+        requireWhole();
+        return backend->contacts();
+    }
+    std::vector<Image> images() {
+        requireWhole();
+        return backend->images();
+    }
     const std::vector<Particle>& current() {
+        requireWhole();
         if (!stateCurrent && backend->particleCount() > 0) {
             backend->readParticles(state);
             stateCurrent = true;
@@ -324,9 +344,9 @@ void World::Impl::start(std::vector<Particle> particles, std::uint64_t startStep
 void World::Impl::edit(std::vector<Particle> particles, std::size_t first, std::size_t last, const char* what) {
     requireDistinctCentres(particles, first, last, what);
     // Counted before setParticles resets the backend's.
-    const std::uint64_t collisions = collisionsBefore + backend->contacts().collisions;
+    const std::uint64_t collisions = collisionsBefore + contacts().collisions;
     // Edited disks keep their images (a drag is a move within the image); added ones start at {0, 0}.
-    std::vector<Image> images = backend->images();
+    std::vector<Image> images = this->images();
     images.resize(particles.size(), Image{0, 0});
     backend->setParticles(particles, step, images);
     loaded(std::move(particles), step, collisions);
@@ -337,6 +357,7 @@ void World::Impl::loaded(std::vector<Particle> particles, std::uint64_t atStep, 
     collisionsBefore = collisions;
     state = std::move(particles);
     stateCurrent = true;
+    whole = true;
     // kT, and the energies and momentum a run reports at its start: each an
     // ordered pass over every disk on one thread (sums in double, in id
     // order), so the two side by side.
@@ -509,16 +530,17 @@ void World::step(std::uint64_t steps) {
                     " would take the step count past 2^64 - 1; allowed: at most " +
                     std::to_string(std::numeric_limits<std::uint64_t>::max() - impl_->step));
     impl_->stateCurrent = false;
+    impl_->whole = !impl_->backend->gathersOnRequest();
     try {
         impl_->backend->step(steps);
     } catch (const Error&) {
         const auto& stopped = impl_->backend->nonFinite();
         impl_->step = stopped ? stopped->step : impl_->backend->stepNumber();
-        impl_->gatherDecomposed();
+        if (impl_->whole) impl_->gatherDecomposed();
         throw;
     }
     impl_->step = impl_->backend->stepNumber();
-    impl_->gatherDecomposed();
+    if (impl_->whole) impl_->gatherDecomposed();
 }
 
 void World::setStopCheck(std::function<bool()> check) {
@@ -569,13 +591,13 @@ std::vector<std::array<double, 2>> World::exactPositions() const { return impl_-
 
 std::vector<Image> World::images() const {
     if (diskCount() == 0) return {};
-    return impl_->backend->images();
+    return impl_->images();
 }
 
 double World::temperature() const { return impl_->temperature(); }
 
 Measurements World::measurements() const {
-    const ContactTotals& contacts = impl_->backend->contacts();
+    const ContactTotals& contacts = impl_->contacts();
     const double kT = 0.5 * (impl_->intervalStartTemperature + temperature());
     const Thermodynamics t = thermodynamics(contacts, kT, diskCount(), impl_->def);
     Measurements m;
@@ -595,7 +617,7 @@ Measurements World::measurements() const {
     return m;
 }
 
-std::uint64_t World::collisionCount() const { return impl_->collisionsBefore + impl_->backend->contacts().collisions; }
+std::uint64_t World::collisionCount() const { return impl_->collisionsBefore + impl_->contacts().collisions; }
 
 void World::resetMeasurements() {
     impl_->collisionsBefore = collisionCount();
@@ -610,5 +632,18 @@ std::string World::deviceName() const { return impl_->backend->device(); }
 DeviceMemoryUse World::deviceMemory() const { return impl_->backend->deviceMemory(); }
 
 DecompositionCosts World::decompositionCosts() const { return impl_->backend->decompositionCosts(); }
+
+OwnDisks World::ownDisks() const {
+    OwnDisks own;
+    if (diskCount() == 0) return own;
+    std::vector<Particle> particles;
+    impl_->backend->readOwnDisks(own.ids, particles, own.images);
+    own.disks = disksOf(particles);
+    return own;
+}
+
+void World::gather() {
+    if (!impl_->whole) impl_->gatherDecomposed();
+}
 
 }  // namespace carom

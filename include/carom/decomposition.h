@@ -19,7 +19,8 @@
 // them, in the same order. At the end of each step call every process
 // gathers the whole world, so the reads between steps (getDisks, the
 // observables, the measurements) are each process's own and give the whole
-// world on every process.
+// world on every process. With Gather::OnRequest the whole world comes only
+// at World::gather(), and World::ownDisks() reads a process's own disks.
 //
 // Python takes the same path: carom.World(..., comm=MPI.COMM_WORLD) with
 // mpi4py (docs/mpi.md). Every engine steps a domain (an OpenCL one on the
@@ -39,6 +40,18 @@
 
 namespace carom {
 
+/// When every process receives the whole world (DecompositionDef::gather).
+enum class Gather {
+    /// After every World::step call: every read between steps is the whole
+    /// world's, on every process.
+    EachStep,
+    /// Only at World::gather(): between steps a process reads its own disks
+    /// (World::ownDisks) and pays nothing for the others'. The reads of the
+    /// whole world (the disks, the observables, the measurements, snapshots)
+    /// and the edits throw Error until every process has called gather().
+    OnRequest,
+};
+
 /// How a world is split among the processes of a communicator.
 struct DecompositionDef {
     /// The processes: each takes one domain, rank r the r-th in rows from
@@ -51,6 +64,7 @@ struct DecompositionDef {
     /// least one grid cell wide and high (World::setDisks refuses others).
     int domainsX = 0;
     int domainsY = 0;
+    Gather gather = Gather::EachStep;
 };
 
 /// Splits worlds as `def` says; throws Error for domains that do not

@@ -136,6 +136,15 @@ struct DiskMemory {
     static constexpr std::size_t kRadius = 5;
 };
 
+/// The disks one process steps (World::ownDisks), in id order: position,
+/// velocity, mass and radius as disks() gives them, and each disk's id and
+/// periodic image (World::images).
+struct OwnDisks {
+    std::vector<std::uint32_t> ids;
+    std::vector<Disk> disks;
+    std::vector<Image> images;
+};
+
 class World {
 public:
     /// Checks every field of `def` (finite, in range, an engine this build
@@ -305,6 +314,14 @@ public:
     DeviceMemoryUse deviceMemory() const;
     /// This process's costs of a decomposed world (WorldDef::decomposition); all zero otherwise.
     DecompositionCosts decompositionCosts() const;
+    /// The disks this process steps: in a decomposed world those whose
+    /// centres lie in its domain (each disk on exactly one process), every
+    /// disk otherwise. Not collective: it reads no other process's disks.
+    OwnDisks ownDisks() const;
+    /// Collective in a decomposed world whose DecompositionDef::gather is
+    /// Gather::OnRequest: brings the whole world to every process, for the
+    /// reads until the next step. Nothing to do in other worlds.
+    void gather();
 
 private:
     struct Impl;

@@ -23,11 +23,11 @@ import numpy as np
 from . import _carom
 from ._carom import Error, InputError
 from ._gsd import GSDWriter
-from ._world import _PIPELINES, World, _choice, _number, _pair, _path, _range, _whole
+from ._world import _PIPELINES, OwnDisks, World, _choice, _number, _pair, _path, _range, _whole
 
 __version__ = _carom.VERSION
-__all__ = ["World", "Scene", "make_scene", "devices", "choose_engine", "engines", "read_state", "write_state", "write_xyz",
-           "GSDWriter", "Error", "InputError", "__version__"]
+__all__ = ["World", "OwnDisks", "Scene", "make_scene", "devices", "choose_engine", "engines", "read_state",
+           "write_state", "write_xyz", "GSDWriter", "Error", "InputError", "__version__"]
 
 
 @dataclass(frozen=True, eq=False)

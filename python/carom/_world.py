@@ -7,7 +7,7 @@ import secrets
 import tempfile
 import threading
 import warnings
-from typing import Optional, Sequence, Tuple, Union
+from typing import NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -19,6 +19,17 @@ Range = Union[float, Tuple[float, float]]
 
 _FLOAT32_MAX = float(np.finfo(np.float32).max)
 _PIPELINES = {"host-grid": "opencl-host-grid", "resident": "opencl-resident"}
+
+
+class OwnDisks(NamedTuple):
+    """The disks one process steps (World.own_disks), in id order: ids uint32 (n,), positions and velocities
+    float32 (n, 2), masses and radii float32 (n,), images int32 (n, 2)."""
+    ids: np.ndarray
+    positions: np.ndarray
+    velocities: np.ndarray
+    masses: np.ndarray
+    radii: np.ndarray
+    images: np.ndarray
 
 
 class _Serialized:
@@ -159,19 +170,23 @@ def _path(name: str, value) -> str:
     return path
 
 
-def _split(comm, domains) -> Tuple[Optional[int], Tuple[int, int]]:
-    """The Fortran handle of the mpi4py communicator `comm` (None: none) and the domains across and up."""
+def _split(comm, domains, gather: str) -> Tuple[Optional[int], Tuple[int, int], str]:
+    """The Fortran handle of the mpi4py communicator `comm` (None: none), the domains across and up, and `gather`."""
+    _choice("gather", gather, ("each_step", "on_request"))
     if comm is None:
         if domains is not None:
             raise InputError(f"domains: {domains!r} without comm; allowed: None, or domains with a communicator")
-        return None, (0, 0)
+        if gather != "each_step":
+            raise InputError(f"gather: {gather!r} without comm; allowed: 'each_step', or 'on_request' with a "
+                             "communicator")
+        return None, (0, 0), gather
     if not callable(getattr(comm, "py2f", None)) or not callable(getattr(comm, "Get_size", None)):
         raise InputError(f"comm: {comm!r}; allowed: an mpi4py communicator (such as mpi4py.MPI.COMM_WORLD) or None")
     if not _carom.HAVE_MPI:
         raise InputError("comm: this carom was built without MPI; allowed: None (docs/mpi.md says how to build "
                          "with it)")
     if domains is None:
-        return comm.py2f(), (0, 0)
+        return comm.py2f(), (0, 0), gather
     _unmasked("domains", domains)
     try:
         across, up = domains
@@ -179,7 +194,7 @@ def _split(comm, domains) -> Tuple[Optional[int], Tuple[int, int]]:
         raise InputError(f"domains: {domains!r} is not a pair of whole numbers; allowed: (across, up), "
                          "whose product is comm's number of processes") from None
     size = comm.Get_size()
-    return comm.py2f(), (_whole("domains", across, 1, size), _whole("domains", up, 1, size))
+    return comm.py2f(), (_whole("domains", across, 1, size), _whole("domains", up, 1, size)), gather
 
 
 def _engine_name(engine: str, device, pipeline: Optional[str], cpu_only: bool = False) -> Tuple[str, str]:
@@ -252,6 +267,11 @@ class World:
         docs/mpi.md.
     domains: with comm, (across, up), whose product is the number of
         processes; None: as square as the box allows.
+    gather: with comm, when every process receives the whole world:
+        "each_step" (after every step call), or "on_request": only at
+        gather(), so that a process that reads its own disks between steps
+        (own_disks()) pays nothing for the others'; the whole world's reads
+        and the edits raise carom.Error until every process calls gather().
 
     Every refusal of bad input raises carom.InputError (a ValueError) naming
     the value and what is allowed. A World is not thread-safe.
@@ -261,7 +281,7 @@ class World:
                  gravity: Sequence[float] = (0.0, 0.0), collisions: str = "pairwise", engine: str = "cpu",
                  device: Union[int, str, None] = None, pipeline: Optional[str] = None, max_travel: float = 0.0,
                  skin: float = 0.0, seed: Optional[int] = None, comm=None,
-                 domains: Optional[Tuple[int, int]] = None):
+                 domains: Optional[Tuple[int, int]] = None, gather: str = "each_step"):
         width, height = _pair("box", box)
         _choice("boundary", boundary, ("walls", "periodic"))
         _choice("collisions", collisions, ("pairwise", "simultaneous", "events"))
@@ -276,9 +296,9 @@ class World:
         travel = _number("max_travel", max_travel)
         if not travel >= 0:
             raise InputError(f"max_travel: {max_travel!r}; allowed: >= 0 (0 = off)")
-        handle, split = _split(comm, domains)
+        handle, split, gather = _split(comm, domains, gather)
         core = _carom.World(width, height, _number("dt", dt), _pair("gravity", gravity), boundary, collisions,
-                            engine_name, selector, travel, skin, handle, split)
+                            engine_name, selector, travel, skin, handle, split, gather)
         if seed is None and comm is not None:  # place() must draw the same disks on every process
             seed = comm.bcast(secrets.randbits(63), root=0)
         self._adopt(core, selector, seed)
@@ -354,17 +374,17 @@ class World:
     @classmethod
     def from_scene(cls, path: Union[str, os.PathLike], engine: str = "cpu", device: Union[int, str, None] = None,
                    pipeline: Optional[str] = None, max_travel: Optional[float] = None, skin: float = 0.0,
-                   comm=None, domains: Optional[Tuple[int, int]] = None) -> "World":
+                   comm=None, domains: Optional[Tuple[int, int]] = None, gather: str = "each_step") -> "World":
         """The world of a scene file, its disks placed as `carom run --scene path` places them.
         max_travel: None keeps the file's (its max_travel, or dt = "auto").
-        comm, domains: as World's.
+        comm, domains, gather: as World's.
         world.scene_steps is the number of steps `carom run` would take."""
         skin = _number("skin", skin)
         engine_name, selector = _engine_name(engine, device, pipeline, skin > 0)
         travel = None if max_travel is None else _number("max_travel", max_travel)
-        handle, split = _split(comm, domains)
+        handle, split, gather = _split(comm, domains, gather)
         core, steps = _carom.World.from_scene_file(_path("path", path), engine_name, selector, travel, skin, handle,
-                                                   split)
+                                                   split, gather)
         world = cls._from_core(core, selector, None if comm is None else comm.bcast(secrets.randbits(63), root=0))
         world.scene_steps = steps
         return world
@@ -372,16 +392,16 @@ class World:
     @classmethod
     def from_checkpoint(cls, path: Union[str, os.PathLike], engine: str = "cpu", device: Union[int, str, None] = None,
                         pipeline: Optional[str] = None, max_travel: float = 0.0, skin: float = 0.0,
-                        comm=None, domains: Optional[Tuple[int, int]] = None) -> "World":
+                        comm=None, domains: Optional[Tuple[int, int]] = None, gather: str = "each_step") -> "World":
         """The world a checkpoint holds (save_checkpoint, `carom run --checkpoint`), continuing bit for bit.
         A checkpoint does not hold max_travel, the skin or the engine: pass the saved world's to continue
-        its substeps alike (copy() and pickle keep them). comm, domains: as World's; a checkpoint saved by
+        its substeps alike (copy() and pickle keep them). comm, domains, gather: as World's; a checkpoint saved by
         any number of processes resumes on any other."""
         skin = _number("skin", skin)
         engine_name, selector = _engine_name(engine, device, pipeline, skin > 0)
-        handle, split = _split(comm, domains)
+        handle, split, gather = _split(comm, domains, gather)
         core = _carom.World.from_checkpoint(_path("path", path), engine_name, selector,
-                                            _number("max_travel", max_travel), skin, handle, split)
+                                            _number("max_travel", max_travel), skin, handle, split, gather)
         return cls._from_core(core, selector, None if comm is None else comm.bcast(secrets.randbits(63), root=0))
 
     def save_checkpoint(self, path: Union[str, os.PathLike]) -> None:
@@ -489,6 +509,18 @@ class World:
             self._ids = np.arange(self.n, dtype=np.uint32)
             self._ids.flags.writeable = False
         return self._ids
+
+    def own_disks(self) -> OwnDisks:
+        """The disks this process steps, in id order, as an OwnDisks (ids, positions, velocities, masses,
+        radii, images; read-only copies): with comm, those whose centres lie in its domain (each disk on
+        exactly one process), every disk otherwise. Not collective: it reads no other process's disks."""
+        ids, (positions, velocities, masses, radii), images = self._core.own_disks()
+        return OwnDisks(ids, positions, velocities, masses, radii, images)
+
+    def gather(self) -> None:
+        """With comm and gather="on_request", collective: brings the whole world to every process, for the
+        reads until the next step. Nothing to do otherwise."""
+        self._core.gather()
 
     @property
     def images(self) -> np.ndarray:

@@ -75,13 +75,18 @@ void editWith(World& world, const Pairs& positions, const Pairs& velocities, con
     (world.*edit)(disks.data(), disks.size());
 }
 
+// A capsule that keeps `owner` alive as long as the arrays over its memory.
+nb::capsule keeping(std::shared_ptr<const void> owner) {
+    return nb::capsule(new std::shared_ptr<const void>(std::move(owner)),
+                       [](void* p) noexcept { delete static_cast<std::shared_ptr<const void>*>(p); });
+}
+
 // positions, velocities, masses and radii over `count` records of `stride`
 // floats from `base`; `owner` keeps them alive as long as any of the arrays.
 nb::tuple arraysOver(const float* base, std::size_t count, std::size_t stride, std::shared_ptr<const void> owner) {
     static const float kNoDisks[DiskMemory::kRadius + 1] = {};
     if (count == 0) base = kNoDisks;
-    nb::capsule keep(new std::shared_ptr<const void>(std::move(owner)),
-                     [](void* p) noexcept { delete static_cast<std::shared_ptr<const void>*>(p); });
+    nb::capsule keep = keeping(std::move(owner));
     const auto s = static_cast<std::int64_t>(stride);
     return nb::make_tuple(ReadPairs(base + DiskMemory::kPosition, {count, 2}, keep, {s, 1}),
                           ReadPairs(base + DiskMemory::kVelocity, {count, 2}, keep, {s, 1}),
@@ -96,9 +101,7 @@ nb::ndarray<nb::numpy, const T, nb::ndim<2>> pairArray(std::vector<std::array<T,
     static const T kNone[2] = {};
     const T* data = owned->empty() ? kNone : owned->front().data();
     const std::size_t count = owned->size();
-    nb::capsule keep(new std::shared_ptr<const void>(std::move(owned)),
-                     [](void* p) noexcept { delete static_cast<std::shared_ptr<const void>*>(p); });
-    return nb::ndarray<nb::numpy, const T, nb::ndim<2>>(data, {count, 2}, keep);
+    return nb::ndarray<nb::numpy, const T, nb::ndim<2>>(data, {count, 2}, keeping(std::move(owned)));
 }
 
 nb::tuple arraysOf(std::vector<Disk> disks) {
@@ -208,14 +211,18 @@ WorldDef worldDef(float width, float height, float dt, std::array<float, 2> grav
 
 // Splits `def` among the processes of the communicator whose Fortran handle
 // is `comm` (mpi4py's Comm.py2f()), in domains[0] x domains[1] domains (0 x 0:
-// chosen from the box); nothing for no communicator.
-void decompose(WorldDef& def, std::optional<std::int64_t> comm, std::array<int, 2> domains) {
+// chosen from the box), gathering the whole world each step or on request
+// (python/carom/_world.py checked `gather`); nothing for no communicator.
+void decompose(WorldDef& def, std::optional<std::int64_t> comm, std::array<int, 2> domains, const std::string& gather) {
     if (!comm) return;
 #ifdef CAROM_HAVE_MPI
-    def.decomposition = carom::makeDecomposition({MPI_Comm_f2c(static_cast<MPI_Fint>(*comm)), domains[0], domains[1]});
+    def.decomposition =
+        carom::makeDecomposition({MPI_Comm_f2c(static_cast<MPI_Fint>(*comm)), domains[0], domains[1],
+                                  gather == "on_request" ? carom::Gather::OnRequest : carom::Gather::EachStep});
 #else
     (void)def;
     (void)domains;
+    (void)gather;
     throw carom::Error("comm: this carom was built without MPI; allowed: None (docs/mpi.md says how to build with it)");
 #endif
 }
@@ -319,46 +326,48 @@ NB_MODULE(_carom, m) {
     nb::class_<World>(m, "World")
         .def(nb::new_([](float width, float height, float dt, std::array<float, 2> gravity, const std::string& boundary,
                          const std::string& collisions, const std::string& engine, const std::string& device,
-                         float maxTravel, float skin, std::optional<std::int64_t> comm, std::array<int, 2> domains) {
+                         float maxTravel, float skin, std::optional<std::int64_t> comm, std::array<int, 2> domains,
+                         const std::string& gather) {
                  WorldDef def =
                      worldDef(width, height, dt, gravity, boundary, collisions, engine, device, maxTravel, skin);
-                 decompose(def, comm, domains);
+                 decompose(def, comm, domains, gather);
                  return World(def);
              }),
              "width"_a, "height"_a, "dt"_a, "gravity"_a, "boundary"_a, "collisions"_a, "engine"_a, "device"_a,
-             "max_travel"_a, "skin"_a, "comm"_a.none() = nb::none(), "domains"_a = std::array<int, 2>{0, 0})
+             "max_travel"_a, "skin"_a, "comm"_a.none() = nb::none(), "domains"_a = std::array<int, 2>{0, 0},
+             "gather"_a = "each_step")
         .def_static(
             "from_scene_file",
             [](const Path& path, const std::string& engine, const std::string& device, std::optional<float> maxTravel,
-               float skin, std::optional<std::int64_t> comm, std::array<int, 2> domains) {
+               float skin, std::optional<std::int64_t> comm, std::array<int, 2> domains, const std::string& gather) {
                 carom::SceneFileDef file = carom::io::readSceneFile(path.native());
                 file.world.engine = carom::parseComputeEngine(engine);
                 file.world.device = device;
                 if (maxTravel) file.world.maxTravel = *maxTravel;  // else the file's (dt = "auto" sets it)
                 file.world.skin = skin;
-                decompose(file.world, comm, domains);
+                decompose(file.world, comm, domains, gather);
                 const carom::io::SceneFile scene = carom::io::loadScene(file);
                 World world(scene.world);
                 world.setDisks(scene.disks, path.native());
                 return nb::make_tuple(std::move(world), scene.steps);
             },
             "path"_a, "engine"_a, "device"_a, "max_travel"_a, "skin"_a, "comm"_a.none() = nb::none(),
-            "domains"_a = std::array<int, 2>{0, 0})
+            "domains"_a = std::array<int, 2>{0, 0}, "gather"_a = "each_step")
         .def_static(
             "from_checkpoint",
             [](const Path& path, const std::string& engine, const std::string& device, float maxTravel, float skin,
-               std::optional<std::int64_t> comm, std::array<int, 2> domains) {
+               std::optional<std::int64_t> comm, std::array<int, 2> domains, const std::string& gather) {
                 // loadCheckpoint takes only the engine, the device, maxTravel, the skin and the decomposition from it
                 WorldDef def;
                 def.engine = carom::parseComputeEngine(engine);
                 def.device = device;
                 def.maxTravel = maxTravel;
                 def.skin = skin;
-                decompose(def, comm, domains);
+                decompose(def, comm, domains, gather);
                 return carom::io::loadCheckpoint(path.native(), def);
             },
             "path"_a, "engine"_a, "device"_a, "max_travel"_a, "skin"_a, "comm"_a.none() = nb::none(),
-            "domains"_a = std::array<int, 2>{0, 0})
+            "domains"_a = std::array<int, 2>{0, 0}, "gather"_a = "each_step")
         .def(
             "save_checkpoint", [](const World& w, const Path& path) { carom::io::saveCheckpoint(path.native(), w); },
             "path"_a)
@@ -419,6 +428,18 @@ NB_MODULE(_carom, m) {
         .def("disk_arrays", &diskArrays)
         .def("exact_positions", [](const World& w) { return pairArray(w.exactPositions()); })
         .def("images", [](const World& w) { return pairArray(w.images()); })
+        .def("own_disks",
+             [](const World& w) {
+                 carom::OwnDisks own = w.ownDisks();
+                 auto ids = std::make_shared<std::vector<std::uint32_t>>(std::move(own.ids));
+                 static const std::uint32_t kNone = 0;
+                 const std::uint32_t* data = ids->empty() ? &kNone : ids->data();
+                 const std::size_t count = ids->size();
+                 return nb::make_tuple(
+                     nb::ndarray<nb::numpy, const std::uint32_t, nb::ndim<1>>(data, {count}, keeping(std::move(ids))),
+                     arraysOf(std::move(own.disks)), pairArray(std::move(own.images)));
+             })
+        .def("gather", &World::gather)
         .def(
             "set_motion",
             [](World& w, float dt, std::array<float, 2> g) {

@@ -66,6 +66,40 @@ def test_processes_match_one(tmp_path, collisions, boundary, gravity, processes,
     assert same_file(tmp_path / "one.csv", tmp_path / "resumed_one.csv")
 
 
+def test_own_disks_and_gathers_on_request(tmp_path):
+    """With gather="on_request" each process reads its own disks between steps (each disk on exactly one
+    process, as one process has it), the whole world's reads are refused until gather(), and after it are
+    one process's."""
+    processes = 3
+    command = [MPIRUN, "--oversubscribe", "-np", str(processes), sys.executable,
+               str(SCRIPT.with_name("mpi_own_disks.py")), str(tmp_path / "own")]
+    environment = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+                       OMP_NUM_THREADS="1")
+    result = subprocess.run(command, env=environment, text=True, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                            timeout=300)
+    assert result.returncode == 0, result.stdout
+    read = [json.loads((tmp_path / f"own.rank{rank}.json").read_text()) for rank in range(processes)]
+    one = carom.World((40.0, 30.0), boundary="periodic", dt=0.01, seed=5)
+    one.place(600, radius=(0.25, 0.5), mass=(1.0, 3.0), speed=2.0)
+    one.step(100)
+    first = {"positions": one.positions.tobytes().hex(), "images": one.images.tobytes().hex(),
+             "kinetic_energy": one.kinetic_energy, "collisions": one.collisions}
+    ids = sorted(i for r in read for i in r["ids"])
+    assert ids == list(range(one.n)), "the own disks are not each disk on exactly one process"
+    for rank, r in enumerate(read):
+        assert f"process {rank} of {processes} (" in r["device"]
+        assert r["ids"] == sorted(r["ids"]) and len(r["ids"]) > 0
+        assert bytes.fromhex(r["positions"]) == one.positions[r["ids"]].tobytes()
+        assert bytes.fromhex(r["velocities"]) == one.velocities[r["ids"]].tobytes()
+        assert bytes.fromhex(r["images"]) == one.images[r["ids"]].tobytes()
+        assert "gather the whole world first" in r["refused"]
+        assert r["first"] == first
+    one.step(100)
+    second = {"positions": one.positions.tobytes().hex(), "images": one.images.tobytes().hex(),
+              "kinetic_energy": one.kinetic_energy, "collisions": one.collisions}
+    assert all(r["second"] == second for r in read)
+
+
 def test_refusals():
     from mpi4py import MPI
     with pytest.raises(carom.InputError, match="comm: 3; allowed: an mpi4py communicator"):
@@ -74,5 +108,7 @@ def test_refusals():
         carom.World((10, 10), domains=(1, 1))
     with pytest.raises(carom.InputError, match="domains"):
         carom.World((10, 10), comm=MPI.COMM_WORLD, domains=(2, 1))  # one process here
+    with pytest.raises(carom.InputError, match="gather: 'sometimes'"):
+        carom.World((10, 10), comm=MPI.COMM_WORLD, gather="sometimes")
     with pytest.raises(carom.InputError, match="collisions=.events. runs in one process"):
         carom.World((10, 10), collisions="events", comm=MPI.COMM_WORLD)

@@ -175,6 +175,17 @@ def test_opencl_and_events_arrays_are_fresh_copies(engine):
         assert not np.array_equal(first, world.positions)
 
 
+def test_one_process_owns_every_disk(engine):
+    for world in (gas(engine=engine), gas(collisions="events")):
+        world.step(20)
+        own = world.own_disks()
+        assert np.array_equal(own.ids, np.arange(world.n, dtype=np.uint32))
+        for name in ("positions", "velocities", "masses", "radii", "images"):
+            assert np.array_equal(getattr(own, name), getattr(world, name)), name
+        world.gather()  # nothing to gather in one process
+        assert np.array_equal(own.positions, world.positions)
+
+
 def test_the_opencl_pipelines_agree_bit_for_bit(engine):
     if engine == "cpu":
         pytest.skip("OpenCL only")
@@ -333,6 +344,7 @@ REFUSALS = [
     (lambda: carom.GSDWriter("t.gsd", mode="x"), "mode: 'x'; allowed: 'w', 'a'"),
     (lambda: gas().step(2.5), "n: 2.5 is not a whole number"),
     (lambda: gas().place(0), "count: 0 is out of range"),
+    (lambda: carom.World((10, 10), gather="on_request"), "gather: 'on_request' without comm"),
     (lambda: carom.World.from_scene("no/such/scene.toml"), "no/such/scene.toml"),
     (lambda: carom.make_scene(particles=10, packing=0.95), "0.95"),
     (lambda: carom.World(box=("100", "100")), "box: '100' is not a number; allowed: a finite number"),
