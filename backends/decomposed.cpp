@@ -612,7 +612,9 @@ void DecomposedBackend::readOwnDisks(std::vector<std::uint32_t>& ids, std::vecto
     addWraps(own.images.data(), own.tallies.data(), own.images.size());  // the wraps not yet drained
     std::vector<std::size_t> order(own.ids.size());
     std::iota(order.begin(), order.end(), std::size_t(0));
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return own.ids[a] < own.ids[b]; });
+    // Two runs in id order: the disks that stayed, then those that came.
+    std::inplace_merge(order.begin(), order.begin() + std::ptrdiff_t(held_.stayed.size()), order.end(),
+                       [&](std::size_t a, std::size_t b) { return own.ids[a] < own.ids[b]; });
     ids.resize(order.size());
     particles.resize(order.size());
     images.resize(order.size());
