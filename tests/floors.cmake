@@ -7,7 +7,7 @@
 #                   include/carom/decomposition.h, whose decomposed world is one)
 #   4  world/       carom::World and the backend factory (include/carom/world.h, carom.h)
 #   5  io/          carom::io, the files (include/carom/io.h, files.h)
-#   6  app/ python/ the carom program and the Python package
+#   6  app/ python/ web/  the carom program, the Python package and the browser page
 #   7  tests/ examples/ bench/ docs/
 # A file of a folder not listed fails the test: a new floor is placed here first.
 # Beyond the floors, carom::io is a client of the public API: files of io/
@@ -22,7 +22,7 @@ set(floor_patterns
     "^backends/" 3 "^include/carom/decomposition\\.h$" 3
     "^world/" 4 "^include/carom/(world|carom)\\.h$" 4
     "^io/" 5 "^include/carom/(io|files)\\.h$" 5
-    "^(app|python)/" 6
+    "^(app|python|web)/" 6
     "^(tests|examples|bench|docs)/" 7)
 # Pairs of a folder and the folders below it that its files must not include.
 set(excluded_patterns "^io/" "^(world|backends)/")

@@ -79,7 +79,7 @@ std::vector<Device> listDevices() {
 #endif
 }
 
-Device findDevice(const std::string& selector) {
+Device findDevice([[maybe_unused]] const std::string& selector) {
 #ifdef CAROM_HAVE_OPENCL
     return deviceOf(opencl::selectDevice(selector));
 #else
