@@ -9,6 +9,7 @@
 #   ./install-deps.sh --docs   the build dependencies, Python's, Doxygen, and .venv with
 #                              Sphinx and its extensions (docs/requirements.txt), to build
 #                              the documentation (docs/building.md)
+#   ./install-deps.sh --web    the build dependencies and emscripten, for the browser page (docs/web.md)
 set -eu
 packages="cmake g++ make ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
           libcli11-dev nlohmann-json3-dev libtomlplusplus-dev
@@ -23,9 +24,13 @@ test_packages="$test_packages clang clang-format libclang-rt-14-dev python3 pyth
 python_packages="python3-dev python3-venv python3-pip"
 # The documentation: Doxygen reads the public headers for the C++ reference.
 docs_packages="doxygen"
+# The browser page: emscripten builds it; its tests drive Debian's headless Chromium.
+web_packages="emscripten"
+test_packages="$test_packages $web_packages chromium chromium-driver"
 [ "${1:-}" = "--test" ] && packages="$packages $test_packages $python_packages $docs_packages"
 [ "${1:-}" = "--python" ] && packages="$packages $python_packages"
 [ "${1:-}" = "--docs" ] && packages="$packages $python_packages $docs_packages"
+[ "${1:-}" = "--web" ] && packages="$packages $web_packages"
 
 sudo=""
 [ "$(id -u)" -eq 0 ] || sudo="sudo"
@@ -50,8 +55,9 @@ if [ "${1:-}" = "--test" ] && ! python3 -c "import ase" 2>/dev/null; then
 fi
 
 # The Python tests (docs/python.md): pytest, gsd, nbclient and the
-# notebook's kernel and plots, and mpi4py (its wheel uses Debian's Open MPI)
-# for the tests under mpirun, in .venv, where `pip install .` puts carom;
+# notebook's kernel and plots, mpi4py (its wheel uses Debian's Open MPI)
+# for the tests under mpirun, and Selenium for the browser tests (it drives
+# Debian's Chromium: no browser is downloaded), in .venv, where `pip install .` puts carom;
 # and the documentation's Sphinx, whose build the tests run too.
 if [ "${1:-}" = "--test" ] || [ "${1:-}" = "--docs" ]; then
     [ -x .venv/bin/python ] || python3 -m venv .venv
@@ -59,7 +65,7 @@ if [ "${1:-}" = "--test" ] || [ "${1:-}" = "--docs" ]; then
 fi
 if [ "${1:-}" = "--test" ]; then
     echo "install-deps: the Python test packages in .venv (PyPI)"
-    .venv/bin/python -m pip install --quiet numpy gsd pytest nbclient nbformat ipykernel matplotlib mpi4py
+    .venv/bin/python -m pip install --quiet numpy gsd pytest nbclient nbformat ipykernel matplotlib mpi4py selenium
 fi
 if [ "${1:-}" = "--test" ] || [ "${1:-}" = "--docs" ]; then
     echo "install-deps: Sphinx and its extensions in .venv (PyPI, docs/requirements.txt)"
