@@ -36,6 +36,7 @@ NOT_RUN_REASONS = {
     "needs a GPU": "it names an NVIDIA device",
     "opens a window": "it needs a display and a person",
     "runs for minutes": "it takes longer than the docs tests allow",
+    "serves until stopped": "a web server runs until it is stopped (tests/web serves the page itself)",
     "runs under mpirun": "the tests run the same under mpirun (tests/mpi_tests.cmake, the examples' tests, "
                          "python/tests/test_mpi.py)",
 }
