@@ -629,7 +629,7 @@ function createPlots() {
   return {
     speeds: new Plot($('plot-speeds'), { xLabel: 'speed |v|', yLabel: 'probability density' }),
     energy: new Plot($('plot-energy'), { xLabel: 'simulated time t', yLabel: 'energy', includeZero: true }),
-    drift: new Plot($('plot-drift'), { xLabel: 'simulated time t', yLabel: '(E − E₀)/|E₀|', empty: 'since the last edit' }),
+    drift: new Plot($('plot-drift'), { xLabel: 'simulated time t', yLabel: 'ΔE/|E₀|', empty: 'since the last edit' }),
     z: new Plot($('plot-z'), { xLabel: 'simulated time t', yLabel: 'Z = PA/NkT' }),
   };
 }

@@ -59,7 +59,12 @@ public:
         return attempt([&] {
             if (!(steps >= 0 && steps <= 1e6 && steps == std::floor(steps)))
                 throw carom::Error("steps = " + text(steps) + "; allowed: whole numbers from 0 to 1000000");
-            world().step(std::uint64_t(steps));
+            try {
+                world().step(std::uint64_t(steps));
+            } catch (const carom::Error&) {
+                refresh();  // the world holds the last step it completed: show that one
+                throw;
+            }
             refresh();
         });
     }
