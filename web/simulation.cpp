@@ -183,7 +183,11 @@ private:
         if (!world_) throw carom::Error("no scene is loaded");
         return *world_;
     }
-    void refresh() { disks_ = world_->disks(); }
+    // Into the same buffer each time: no allocation a frame.
+    void refresh() {
+        disks_.resize(world_->diskCount());
+        world_->getDisks(disks_.data(), disks_.size());
+    }
 
     std::unique_ptr<carom::World> world_;
     std::vector<Disk> disks_;
