@@ -229,20 +229,26 @@ unsigned int Backend::stepShare(Share& share, const Backend& whole, float dt) {
         share.lastRounds.clear();
         return 0;
     }
+    const unsigned int rounds = stepLoadedShare(n, whole, dt, [&] { loadShare(share.particles, share.tallies); });
+    readLastRounds(share.lastRounds);  // first: readShare may leave this backend without the share
+    readShare(share.particles, share.tallies);
+    return rounds;
+}
+
+unsigned int Backend::stepLoadedShare(std::size_t count, const Backend& whole, float dt,
+                                      const std::function<void()>& load) {
     grid_.geometry = whole.grid_.geometry;
     gridTravel_ = whole.gridTravel_;
     minRadius_ = whole.minRadius_;
     maxRadius_ = whole.maxRadius_;
-    particleCount_ = n;  // images_ stays unused: the wraps stay in the tallies, for the whole world's drain
+    particleCount_ = count;  // images_ stays unused: the wraps stay in the tallies, for the whole world's drain
     substepsTaken_ = 0;
     batch_ = previousBatch_ = Batch{};
     nonFinite_.reset();  // the whole world's backend looks for non-finite disks among its own
     totals_ = ContactTotals{};
     substepsSinceDrain_ = 0;
-    loadShare(share.particles, share.tallies);
+    load();
     advance(1, dt);
-    readLastRounds(share.lastRounds);  // first: readShare may leave this backend without the share
-    readShare(share.particles, share.tallies);
     return totals_.maxRounds;
 }
 

@@ -222,6 +222,11 @@ protected:
     // backend may take the vectors' contents instead of copying them.
     virtual void loadShare(std::vector<Particle>& particles, std::vector<ContactTally>& tallies);
     virtual void readShare(std::vector<Particle>& particles, std::vector<ContactTally>& tallies);
+    // stepShare without the copies: takes `whole`'s grid, radii and substep
+    // allowance for a share of `count` (> 0) disks, which `load` loads into
+    // this backend, and steps it by one substep of dt; returns the last
+    // round that changed one of its disks. The result stays here.
+    unsigned int stepLoadedShare(std::size_t count, const Backend& whole, float dt, const std::function<void()>& load);
     // Whether the stop check must be asked at every chance (stopHere), not
     // every kStopCheckInterval: a decomposed world's check is collective, and
     // every process must ask it at the same points.

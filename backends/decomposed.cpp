@@ -228,15 +228,17 @@ std::array<int, 2> Decomposition::domainsFor(float width, float height) const {
     return best;
 }
 
-DecomposedBackend::DecomposedBackend(const WorldDef& world, std::unique_ptr<Backend> engine)
+DecomposedBackend::DecomposedBackend(const WorldDef& world, std::unique_ptr<Backend> engine,
+                                     std::unique_ptr<DomainShare> share)
     : Backend(world),
       decomposition_(world.decomposition),
       comm_(decomposition_->communicator()),
-      engine_(std::move(engine)) {}
+      engine_(std::move(engine)),
+      held_(std::move(share)) {}
 
 std::string DecomposedBackend::device() const {
     return engine_->device() + ", process " + std::to_string(decomposition_->rank()) + " of " +
-           std::to_string(decomposition_->size()) + " (" + std::to_string(domainsX_) + " x " +
+           std::to_string(decomposition_->size()) + " (" + std::to_string(map_.domainsX) + " x " +
            std::to_string(domainsY_) + " domains)";
 }
 
@@ -258,13 +260,6 @@ void DecomposedBackend::requireSameInput(const std::vector<Particle>& particles)
                     " disks); allowed: the same WorldDef and disks on every process");
 }
 
-int DecomposedBackend::ownerOf(float2 position) const {
-    const GridGeometry& g = grid_.geometry;
-    const int column = carom_cell_coord(position.x, g.cellsPerLengthX, g.cols);
-    const int row = carom_cell_coord(position.y, g.cellsPerLengthY, g.rows);
-    return domainRow_[std::size_t(row)] * domainsX_ + domainColumn_[std::size_t(column)];
-}
-
 void DecomposedBackend::load(const std::vector<Particle>& particles) {
     requireSameInput(particles);
     const GridGeometry& g = grid_.geometry;
@@ -274,28 +269,31 @@ void DecomposedBackend::load(const std::vector<Particle>& particles) {
                     std::to_string(g.cols) + " x " + std::to_string(g.rows) +
                     " cells (each at least a disk diameter wide); allowed: at most one domain per cell across and "
                     "up (fewer processes, or more disks)");
-    domainsX_ = domains[0];
+    map_.grid = g;
+    map_.domainsX = domains[0];
     domainsY_ = domains[1];
-    columnStarts_ = domainStarts(g.cols, domainsX_);
+    columnStarts_ = domainStarts(g.cols, map_.domainsX);
     rowStarts_ = domainStarts(g.rows, domainsY_);
-    domainColumn_.assign(std::size_t(g.cols), 0);
-    domainRow_.assign(std::size_t(g.rows), 0);
-    for (int d = 0; d < domainsX_; ++d)
+    map_.domainOfColumn.assign(std::size_t(g.cols), 0);
+    map_.domainOfRow.assign(std::size_t(g.rows), 0);
+    for (int d = 0; d < map_.domainsX; ++d)
         for (int c = columnStarts_[std::size_t(d)]; c < columnStarts_[std::size_t(d) + 1]; ++c)
-            domainColumn_[std::size_t(c)] = d;
+            map_.domainOfColumn[std::size_t(c)] = d;
     for (int d = 0; d < domainsY_; ++d)
         for (int r = rowStarts_[std::size_t(d)]; r < rowStarts_[std::size_t(d) + 1]; ++r)
-            domainRow_[std::size_t(r)] = d;
-    held_ = Held{};
+            map_.domainOfRow[std::size_t(r)] = d;
     const int rank = decomposition_->rank();
+    DomainDisks own;
     for (std::size_t i = 0; i < particles.size(); ++i)
-        if (ownerOf(particles[i].position) == rank) {
-            held_.stayed.push_back(held_.ids.size());
-            held_.ids.push_back(static_cast<std::uint32_t>(i));
-            held_.share.particles.push_back(particles[i]);
-            held_.stayedImages.push_back(images_[i]);
+        if (map_.ownerOf(particles[i].position) == rank) {
+            own.ids.push_back(static_cast<std::uint32_t>(i));
+            own.particles.push_back(particles[i]);
+            own.images.push_back(images_[i]);
         }
-    held_.share.tallies.assign(held_.ids.size(), ContactTally{});
+    own.tallies.assign(own.ids.size(), ContactTally{});
+    held_->load(own, map_, rank);
+    arrived_.resize(0);
+    stepStart_.reset();
     halo_ = world_.collisions == CollisionScheme::Pairwise ? kFirstPairwiseHalo : 1;
     costs_ = DecompositionCosts{};
     imagesCurrent_ = true;  // images_ holds setParticles' images
@@ -303,42 +301,35 @@ void DecomposedBackend::load(const std::vector<Particle>& particles) {
     undrained_ = TallySums{};
 }
 
-void DecomposedBackend::gatherShare(int halo) {
+void DecomposedBackend::mergeShare(int halo) {
     const int size = decomposition_->size(), rank = decomposition_->rank();
     const bool periodic = world_.boundary == Boundary::Periodic;
     const auto columns = domainsWithin(columnStarts_, halo, periodic);
     const auto rows = domainsWithin(rowStarts_, halo, periodic);
     const GridGeometry& g = grid_.geometry;
-    const Held& h = held_;
-    const Own& arrived = h.arrived;
-    const std::size_t stayed = h.stayed.size(), came = arrived.ids.size();
     // Copies of the own disks within another domain's halo: those whose
     // cell's column or row lies within more domains' halos than their own.
-    const auto cellOf = [&](const Particle& p) {
-        return std::array<int, 2>{carom_cell_coord(p.position.x, g.cellsPerLengthX, g.cols),
-                                  carom_cell_coord(p.position.y, g.cellsPerLengthY, g.rows)};
-    };
-    std::vector<unsigned char>& near = near_;
-    near.resize(stayed);
-    parallelFor(stayed, [&](std::size_t k) {
-        const auto cell = cellOf(h.share.particles[h.stayed[k]]);
-        near[k] = columns[std::size_t(cell[0])].size() > 1 || rows[std::size_t(cell[1])].size() > 1;
-    });
+    std::vector<unsigned char> nearColumns(columns.size()), nearRows(rows.size());
+    for (std::size_t c = 0; c < columns.size(); ++c) nearColumns[c] = columns[c].size() > 1;
+    for (std::size_t r = 0; r < rows.size(); ++r) nearRows[r] = rows[r].size() > 1;
+    std::vector<std::uint32_t> nearIds;
+    std::vector<Particle> nearParticles;
+    held_->near(nearColumns, nearRows, nearIds, nearParticles);
     std::vector<std::vector<unsigned char>> out(std::size_t(size), std::vector<unsigned char>{});
     const auto copy = [&](std::uint32_t id, const Particle& p) {
-        const auto cell = cellOf(p);
-        for (int dy : rows[std::size_t(cell[1])])
-            for (int dx : columns[std::size_t(cell[0])]) {
-                const int q = dy * domainsX_ + dx;
+        const int column = carom_cell_coord(p.position.x, g.cellsPerLengthX, g.cols);
+        const int row = carom_cell_coord(p.position.y, g.cellsPerLengthY, g.rows);
+        for (int dy : rows[std::size_t(row)])
+            for (int dx : columns[std::size_t(column)]) {
+                const int q = dy * map_.domainsX + dx;
                 if (q == rank) continue;
                 auto& buffer = out[std::size_t(q)];
                 buffer.resize(buffer.size() + kCopyBytes);
                 put(put(buffer.data() + buffer.size() - kCopyBytes, id), p);
             }
     };
-    for (std::size_t k = 0; k < stayed; ++k)
-        if (near[k]) copy(h.ids[h.stayed[k]], h.share.particles[h.stayed[k]]);
-    for (std::size_t j = 0; j < came; ++j) copy(arrived.ids[j], arrived.particles[j]);
+    for (std::size_t k = 0; k < nearIds.size(); ++k) copy(nearIds[k], nearParticles[k]);
+    for (std::size_t j = 0; j < arrived_.ids.size(); ++j) copy(arrived_.ids[j], arrived_.particles[j]);
     std::vector<int> counts;
     const std::vector<unsigned char> received = exchange(comm_, out, kCopyBytes, counts, costs_);
     const std::size_t copies = received.size() / kCopyBytes;
@@ -348,62 +339,15 @@ void DecomposedBackend::gatherShare(int halo) {
     const unsigned char* in = received.data();
     for (std::size_t j = 0; j < copies; ++j) in = take(take(in, copyIds[j]), copyParticles[j]);
     std::vector<std::size_t> order(copies);
-    for (std::size_t j = 0; j < copies; ++j) order[j] = j;
+    std::iota(order.begin(), order.end(), std::size_t(0));
     std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return copyIds[x] < copyIds[y]; });
     std::vector<std::uint32_t> sortedIds(copies);
-    for (std::size_t c = 0; c < copies; ++c) sortedIds[c] = copyIds[order[c]];
-
-    // Three runs in id order, merged: the disks that stayed, those that came,
-    // the copies. A disk's slot is its place in its run plus how many disks
-    // of the other two have lower ids (counted by bisection); an own disk's
-    // place among the own ones, its place plus those of the other own run.
-    const auto belowStayed = [&](std::uint32_t id) {
-        return std::size_t(
-            std::partition_point(h.stayed.begin(), h.stayed.end(), [&](std::size_t s) { return h.ids[s] < id; }) -
-            h.stayed.begin());
-    };
-    const auto below = [](const std::vector<std::uint32_t>& ids, std::uint32_t id) {
-        return std::size_t(std::lower_bound(ids.begin(), ids.end(), id) - ids.begin());
-    };
-    const std::size_t total = stayed + came + copies;
-    next_.particles.resize(total);
-    next_.tallies.resize(total);
-    nextIds_.resize(total);
-    nextOwn_.resize(stayed + came);
-    nextImages_.resize(stayed + came);
-    // The stayed disks in blocks, each counting from a bisection onwards.
-    parallelBlocks(stayed, [&](std::size_t first, std::size_t end) {
-        if (first == end) return;
-        std::size_t a = below(arrived.ids, h.ids[h.stayed[first]]), c = below(sortedIds, h.ids[h.stayed[first]]);
-        for (std::size_t k = first; k < end; ++k) {
-            const std::size_t from = h.stayed[k];
-            const std::uint32_t id = h.ids[from];
-            while (a < came && arrived.ids[a] < id) ++a;
-            while (c < copies && sortedIds[c] < id) ++c;
-            const std::size_t own = k + a, s = own + c;
-            next_.particles[s] = h.share.particles[from];
-            next_.tallies[s] = h.share.tallies[from];
-            nextIds_[s] = id;
-            nextOwn_[own] = s;
-            nextImages_[own] = h.stayedImages[k];
-        }
-    });
-    for (std::size_t j = 0; j < came; ++j) {
-        const std::uint32_t id = arrived.ids[j];
-        const std::size_t own = j + belowStayed(id), s = own + below(sortedIds, id);
-        next_.particles[s] = arrived.particles[j];
-        next_.tallies[s] = arrived.tallies[j];
-        nextIds_[s] = id;
-        nextOwn_[own] = s;
-        nextImages_[own] = arrived.images[j];
+    std::vector<Particle> sortedCopies(copies);
+    for (std::size_t c = 0; c < copies; ++c) {
+        sortedIds[c] = copyIds[order[c]];
+        sortedCopies[c] = copyParticles[order[c]];
     }
-    parallelFor(copies, [&](std::size_t c) {
-        const std::uint32_t id = sortedIds[c];
-        const std::size_t s = c + belowStayed(id) + below(arrived.ids, id);
-        next_.particles[s] = copyParticles[order[c]];
-        next_.tallies[s] = ContactTally{};
-        nextIds_[s] = id;
-    });
+    held_->mergeNext(arrived_, sortedIds, sortedCopies);
 }
 
 bool DecomposedBackend::substep(std::uint64_t substep, float dt) {
@@ -412,12 +356,12 @@ bool DecomposedBackend::substep(std::uint64_t substep, float dt) {
     for (;;) {
         {
             Timed timed(costs_.exchangeSeconds);
-            gatherShare(halo_);
+            mergeShare(halo_);
         }
         unsigned int rounds = 0;
         {
             Timed timed(costs_.computeSeconds);
-            rounds = engine_->stepShare(next_, *this, dt);
+            rounds = held_->stepNext(*this, dt);
         }
         if (pairwise) {
             {
@@ -434,31 +378,20 @@ bool DecomposedBackend::substep(std::uint64_t substep, float dt) {
             halo_ = std::min(needed + 2, kMaxPairwiseHalo);
         }
         ++costs_.substeps;
-        // The stepped share holds the own disks from now on: nothing is copied back.
-        std::swap(held_.share, next_);
-        held_.ids.swap(nextIds_);
-        held_.stayed.swap(nextOwn_);
-        held_.stayedImages.swap(nextImages_);
-        held_.arrived.resize(0);
-        const Held& h = held_;
-        // Maxima and minima: exact whichever thread takes which disk.
-        std::vector<unsigned int> lastRounds(std::size_t(parallelThreads()), 0u);
-        std::vector<std::uint32_t> nonFinites(lastRounds.size(), std::numeric_limits<std::uint32_t>::max());
-        parallelFor(h.stayed.size(), [&](std::size_t k) {
-            const std::size_t s = h.stayed[k], t = std::size_t(threadNumber());
-            if (pairwise) lastRounds[t] = std::max(lastRounds[t], h.share.lastRounds[s]);
-            if (!carom_is_finite(h.share.particles[s])) nonFinites[t] = std::min(nonFinites[t], h.ids[s]);
-        });
-        unsigned int lastRound = *std::max_element(lastRounds.begin(), lastRounds.end());
-        std::uint32_t nonFinite = *std::min_element(nonFinites.begin(), nonFinites.end());
+        DomainShare::Kept kept;
+        {
+            Timed timed(costs_.computeSeconds);
+            kept = held_->keepNext();
+        }
+        arrived_.resize(0);
         {
             Timed timed(costs_.agreementSeconds);
-            if (pairwise) MPI_Allreduce(MPI_IN_PLACE, &lastRound, 1, MPI_UNSIGNED, MPI_MAX, comm_);
-            MPI_Allreduce(MPI_IN_PLACE, &nonFinite, 1, MPI_UINT32_T, MPI_MIN, comm_);
+            if (pairwise) MPI_Allreduce(MPI_IN_PLACE, &kept.lastRound, 1, MPI_UNSIGNED, MPI_MAX, comm_);
+            MPI_Allreduce(MPI_IN_PLACE, &kept.nonFinite, 1, MPI_UINT32_T, MPI_MIN, comm_);
         }
-        if (pairwise) recordRounds(lastRound);
-        if (nonFinite != std::numeric_limits<std::uint32_t>::max()) {
-            recordNonFinite(substep, nonFinite);
+        if (pairwise) recordRounds(kept.lastRound);
+        if (kept.nonFinite != std::numeric_limits<std::uint32_t>::max()) {
+            recordNonFinite(substep, kept.nonFinite);
             return false;
         }
         Timed timed(costs_.migrationSeconds);
@@ -467,76 +400,48 @@ bool DecomposedBackend::substep(std::uint64_t substep, float dt) {
     }
 }
 
-void DecomposedBackend::Own::resize(std::size_t n) {
-    ids.resize(n);
-    particles.resize(n);
-    tallies.resize(n);
-    images.resize(n);
-}
-
 void DecomposedBackend::migrate() {
-    const int size = decomposition_->size(), rank = decomposition_->rank();
-    Held& h = held_;
-    const std::size_t stayed = h.stayed.size();
-    std::vector<int>& owners = owners_;
-    owners.resize(stayed);
-    parallelFor(stayed, [&](std::size_t k) { owners[k] = ownerOf(h.share.particles[h.stayed[k]].position); });
+    const int size = decomposition_->size();
+    DomainDisks leavers;
+    held_->takeLeavers(leavers);
     std::vector<std::vector<unsigned char>> out(std::size_t(size), std::vector<unsigned char>{});
-    std::size_t kept = 0;
-    for (std::size_t k = 0; k < stayed; ++k) {
-        const int q = owners[k];
-        const std::size_t s = h.stayed[k];
-        if (q == rank) {  // stays: its slot and image move up over those that left
-            h.stayed[kept] = s;
-            h.stayedImages[kept++] = h.stayedImages[k];
-            continue;
-        }
-        auto& buffer = out[std::size_t(q)];
+    for (std::size_t j = 0; j < leavers.ids.size(); ++j) {
+        auto& buffer = out[std::size_t(map_.ownerOf(leavers.particles[j].position))];
         buffer.resize(buffer.size() + kMigrantBytes);
-        put(put(put(put(buffer.data() + buffer.size() - kMigrantBytes, h.ids[s]), h.share.particles[s]),
-                h.share.tallies[s]),
-            h.stayedImages[k]);
+        put(put(put(put(buffer.data() + buffer.size() - kMigrantBytes, leavers.ids[j]), leavers.particles[j]),
+                leavers.tallies[j]),
+            leavers.images[j]);
     }
-    costs_.migrants += stayed - kept;
-    h.stayed.resize(kept);
-    h.stayedImages.resize(kept);
+    costs_.migrants += leavers.ids.size();
     std::vector<int> counts;
     const std::vector<unsigned char> received = exchange(comm_, out, kMigrantBytes, counts, costs_);
     const std::size_t arrivals = received.size() / kMigrantBytes;
-    Own came;
+    DomainDisks came;
     came.resize(arrivals);
     const unsigned char* in = received.data();
     for (std::size_t j = 0; j < arrivals; ++j)
         in = take(take(take(take(in, came.ids[j]), came.particles[j]), came.tallies[j]), came.images[j]);
     std::vector<std::size_t> order(arrivals);
-    for (std::size_t j = 0; j < arrivals; ++j) order[j] = j;
+    std::iota(order.begin(), order.end(), std::size_t(0));
     std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return came.ids[x] < came.ids[y]; });
-    h.arrived.resize(arrivals);
+    arrived_.resize(arrivals);
     for (std::size_t j = 0; j < arrivals; ++j) {
         const std::size_t k = order[j];
-        h.arrived.ids[j] = came.ids[k];
-        h.arrived.particles[j] = came.particles[k];
-        h.arrived.tallies[j] = came.tallies[k];
-        h.arrived.images[j] = came.images[k];
+        arrived_.ids[j] = came.ids[k];
+        arrived_.particles[j] = came.particles[k];
+        arrived_.tallies[j] = came.tallies[k];
+        arrived_.images[j] = came.images[k];
     }
 }
 
-DecomposedBackend::Own DecomposedBackend::ownDisks() const {
-    const Held& h = held_;
-    const std::size_t stayed = h.stayed.size(), came = h.arrived.ids.size();
-    Own own;
-    own.resize(stayed + came);
-    parallelFor(stayed, [&](std::size_t k) {
-        const std::size_t s = h.stayed[k];
-        own.ids[k] = h.ids[s];
-        own.particles[k] = h.share.particles[s];
-        own.tallies[k] = h.share.tallies[s];
-        own.images[k] = h.stayedImages[k];
-    });
-    std::copy(h.arrived.ids.begin(), h.arrived.ids.end(), own.ids.begin() + std::ptrdiff_t(stayed));
-    std::copy(h.arrived.particles.begin(), h.arrived.particles.end(), own.particles.begin() + std::ptrdiff_t(stayed));
-    std::copy(h.arrived.tallies.begin(), h.arrived.tallies.end(), own.tallies.begin() + std::ptrdiff_t(stayed));
-    std::copy(h.arrived.images.begin(), h.arrived.images.end(), own.images.begin() + std::ptrdiff_t(stayed));
+DomainDisks DecomposedBackend::ownDisks() const {
+    DomainDisks own = held_->own();
+    const std::size_t held = own.ids.size();
+    own.resize(held + arrived_.ids.size());
+    std::copy(arrived_.ids.begin(), arrived_.ids.end(), own.ids.begin() + std::ptrdiff_t(held));
+    std::copy(arrived_.particles.begin(), arrived_.particles.end(), own.particles.begin() + std::ptrdiff_t(held));
+    std::copy(arrived_.tallies.begin(), arrived_.tallies.end(), own.tallies.begin() + std::ptrdiff_t(held));
+    std::copy(arrived_.images.begin(), arrived_.images.end(), own.images.begin() + std::ptrdiff_t(held));
     return own;
 }
 
@@ -554,23 +459,20 @@ bool DecomposedBackend::agreedStop(bool stop) {
     return any != 0;
 }
 
-void DecomposedBackend::keepStepStart() { stepStart_ = held_; }
+void DecomposedBackend::keepStepStart() {
+    stepStart_ = held_->clone();
+    stepStartArrived_ = arrived_;
+}
 
 void DecomposedBackend::returnToStepStart() {
-    held_ = stepStart_;
+    held_ = stepStart_->clone();
+    arrived_ = stepStartArrived_;
     imagesCurrent_ = undrainedCurrent_ = false;
 }
 
 float DecomposedBackend::maxSpeedSquared() {
-    const Held& h = held_;
-    std::vector<float> largest(std::size_t(parallelThreads()), 0.0f);
-    parallelFor(h.stayed.size(), [&](std::size_t k) {
-        const float2 v = h.share.particles[h.stayed[k]].velocity;
-        const std::size_t t = std::size_t(threadNumber());
-        largest[t] = std::max(largest[t], v.x * v.x + v.y * v.y);
-    });
-    float all = std::max(*std::max_element(largest.begin(), largest.end()),
-                         maxSpeedSquaredOf(h.arrived.particles.data(), h.arrived.particles.size()));
+    float all =
+        std::max(held_->maxSpeedSquared(), maxSpeedSquaredOf(arrived_.particles.data(), arrived_.particles.size()));
     MPI_Allreduce(MPI_IN_PLACE, &all, 1, MPI_FLOAT, MPI_MAX, comm_);
     return all;
 }
@@ -578,7 +480,7 @@ float DecomposedBackend::maxSpeedSquared() {
 TallySums DecomposedBackend::undrainedSums() {
     if (!undrainedCurrent_) {
         undrained_ = TallySums{};
-        const Own own = ownDisks();
+        const DomainDisks own = ownDisks();
         const TallySums mine = sumTallies(own.tallies.data(), own.tallies.size());
         for (const TallySums& sums : gatherAll(comm_, std::vector<TallySums>{mine}, costs_)) undrained_.add(sums);
         undrainedCurrent_ = true;
@@ -590,16 +492,14 @@ void DecomposedBackend::addUndrained(ContactTotals& totals) { undrainedSums().ad
 
 void DecomposedBackend::drainTallies(ContactTotals& totals) {
     undrainedSums().addTo(totals);
-    Held& h = held_;
-    parallelFor(h.stayed.size(),
-                [&](std::size_t k) { clearTallies(&h.share.tallies[h.stayed[k]], 1, &h.stayedImages[k]); });
-    clearTallies(h.arrived.tallies.data(), h.arrived.tallies.size(), h.arrived.images.data());
+    held_->clearTallies();
+    clearTallies(arrived_.tallies.data(), arrived_.tallies.size(), arrived_.images.data());
     undrained_ = TallySums{};
     undrainedCurrent_ = true;
 }
 
 void DecomposedBackend::readParticles(std::vector<Particle>& particles) {
-    const Own own = ownDisks();
+    const DomainDisks own = ownDisks();
     const std::vector<std::uint32_t> ids = gatherAll(comm_, own.ids, costs_);
     const std::vector<Particle> all = gatherAll(comm_, own.particles, costs_);
     particles.resize(all.size());
@@ -608,12 +508,12 @@ void DecomposedBackend::readParticles(std::vector<Particle>& particles) {
 
 void DecomposedBackend::readOwnDisks(std::vector<std::uint32_t>& ids, std::vector<Particle>& particles,
                                      std::vector<Image>& images) {
-    Own own = ownDisks();
+    DomainDisks own = ownDisks();
     addWraps(own.images.data(), own.tallies.data(), own.images.size());  // the wraps not yet drained
     std::vector<std::size_t> order(own.ids.size());
     std::iota(order.begin(), order.end(), std::size_t(0));
     // Two runs in id order: the disks that stayed, then those that came.
-    std::inplace_merge(order.begin(), order.begin() + std::ptrdiff_t(held_.stayed.size()), order.end(),
+    std::inplace_merge(order.begin(), order.begin() + std::ptrdiff_t(held_->ownCount()), order.end(),
                        [&](std::size_t a, std::size_t b) { return own.ids[a] < own.ids[b]; });
     ids.resize(order.size());
     particles.resize(order.size());
@@ -627,7 +527,7 @@ void DecomposedBackend::readOwnDisks(std::vector<std::uint32_t>& ids, std::vecto
 
 std::vector<Image> DecomposedBackend::images() {
     if (!imagesCurrent_) {
-        Own own = ownDisks();
+        DomainDisks own = ownDisks();
         addWraps(own.images.data(), own.tallies.data(), own.images.size());  // the wraps not yet drained
         const std::vector<std::uint32_t> ids = gatherAll(comm_, own.ids, costs_);
         const std::vector<Image> all = gatherAll(comm_, own.images, costs_);

@@ -4,8 +4,8 @@
 //
 // Each substep, every process hands its neighbours copies of its disks near
 // their domains (the halo), steps its own disks and the copies together on
-// the whole world's grid (Backend::stepShare), keeps its own, and hands on
-// those that crossed into another domain. Its own disks then move exactly as
+// the whole world's grid (a DomainShare, backends/domain_share.h), keeps
+// its own, and hands on those that crossed into another domain. Its own disks then move exactly as
 // among all the disks, bit for bit:
 //   - the share is in the order of the disks' ids, and every choice of both
 //     schemes (neighbour order, ties, sums) follows the ids;
@@ -35,6 +35,7 @@
 #include <carom/decomposition.h>
 
 #include "backends/backend.h"
+#include "backends/domain_share.h"
 
 namespace carom {
 
@@ -67,8 +68,9 @@ private:
 class DecomposedBackend : public Backend {
 public:
     // Steps this process's domain of `world` on `engine`, a backend of the
-    // same world without the decomposition.
-    DecomposedBackend(const WorldDef& world, std::unique_ptr<Backend> engine);
+    // same world without the decomposition, holding its disks in `share`
+    // (which steps its shares on `engine`).
+    DecomposedBackend(const WorldDef& world, std::unique_ptr<Backend> engine, std::unique_ptr<DomainShare> share);
 
     std::string device() const override;
     bool exactArithmetic() const override { return engine_->exactArithmetic(); }
@@ -100,64 +102,38 @@ private:
     // where it left one of the whole world's disks non-finite (recorded), and
     // then hands no disks on.
     bool substep(std::uint64_t substep, float dt);
-    // next_ for a halo of `halo` cells: this process's own disks and copies
-    // of the others' within reach, by id.
-    void gatherShare(int halo);
+    // The next share for a halo of `halo` cells: this process's own disks,
+    // those handed to it and copies of the others' within reach, by id.
+    void mergeShare(int halo);
     // Hands the own disks whose centres left the domain to their domains'
     // processes, and takes those that entered it.
     void migrate();
-    // The process whose domain holds `position`.
-    int ownerOf(float2 position) const;
     // Refuses processes that were given different worlds or disks.
     void requireSameInput(const std::vector<Particle>& particles) const;
 
     std::shared_ptr<const Decomposition> decomposition_;
     MPI_Comm comm_;
     std::unique_ptr<Backend> engine_;
-    int domainsX_ = 1, domainsY_ = 1;
+    // This process's own disks between substeps, where the last share holds
+    // them, and the disks handed to it since (by id), not yet in a share.
+    std::unique_ptr<DomainShare> held_;
+    DomainDisks arrived_;
+    std::unique_ptr<DomainShare> stepStart_;  // keepStepStart's copies
+    DomainDisks stepStartArrived_;
+    DomainMap map_;
+    int domainsY_ = 1;
     // The first cell column (row) of each domain column (row), and one past the last.
     std::vector<int> columnStarts_, rowStarts_;
-    std::vector<int> domainColumn_, domainRow_;  // by cell column (row)
-    int halo_ = 1;                               // cells, the next substep's first try
+    int halo_ = 1;  // cells, the next substep's first try
 
-    // Disks with their ids, tallies and images.
-    struct Own {
-        std::vector<std::uint32_t> ids;
-        std::vector<Particle> particles;
-        std::vector<ContactTally> tallies;
-        std::vector<Image> images;
-        void resize(std::size_t n);
-    };
-    // This process's own disks between substeps: those of the last share
-    // that stayed in the domain, where the share holds them, and those handed
-    // on to it since. They are not copied out of the share and back: the
-    // next share is merged from them and the new copies.
-    struct Held {
-        Share share;                      // by id: the own disks and the copies of the last substep
-        std::vector<std::uint32_t> ids;   // the id in each slot of share
-        std::vector<std::size_t> stayed;  // the own disks' slots, in id order
-        std::vector<Image> stayedImages;  // by stayed index
-        Own arrived;                      // by id
-    };
-    Held held_, stepStart_;
     // The own disks in one run, in any order (for the gathers and sums).
-    Own ownDisks() const;
+    DomainDisks ownDisks() const;
     // What images() and undrainedSums() gathered, while it holds: until the
     // next substep, drain or load. World takes both after each step() call,
     // on every process, so that a read between steps is each process's own.
     bool imagesCurrent_ = false;  // images_ holds every process's images
     TallySums undrained_;
     bool undrainedCurrent_ = false;
-    // gatherShare's: the next share, its ids, the own disks' slots (in id
-    // order) and their images; held_ until the substep is kept.
-    Share next_;
-    std::vector<std::uint32_t> nextIds_;
-    std::vector<std::size_t> nextOwn_;
-    std::vector<Image> nextImages_;
-    // Scratch of gatherShare (whether an own disk is near another domain)
-    // and migrate (each one's domain), kept so that no substep allocates them.
-    std::vector<unsigned char> near_;
-    std::vector<int> owners_;
     DecompositionCosts costs_;  // since load()
 };
 

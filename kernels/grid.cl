@@ -25,6 +25,8 @@
  * scatter.
  * Only OpenCL C 1.2 core features: 32-bit global atomics, local memory,
  * barriers. */
+#ifndef CAROM_GRID_CL
+#define CAROM_GRID_CL
 #include "physics.h"
 
 /* Values each work-item scans in a tile of the grid build's scan kernels; a
@@ -319,3 +321,4 @@ __kernel void sortCellSegments(__global const uint* halt,
         cellOf[k] = c;
     }
 }
+#endif /* CAROM_GRID_CL */

@@ -45,7 +45,9 @@ carom_mpi_test(pulse_across_domains identity "2:2:1;4:4:1"
 carom_mpi_test(checkpoint_resumed resume "4;2;1" "${disks};--boundary;periodic;--gravity;0;-0.05" -DSTEPS=200 -DEVERY=20)
 carom_mpi_test(signal signal "2" "--backend;cpu;--particles;20000")
 # The OpenCL engines step the domains too (on PoCL here): the small system's
-# one work-group and the launches of larger shares, both schemes.
+# one work-group and the launches of larger shares, both schemes; the
+# resident engine keeps its disks on the device (OpenClDomainShare), the
+# host-grid one on the host.
 if(OpenCL_FOUND)
     set(opencl_disks --backend opencl --packing 0.5 --radius-min 0.5 --radius-max 1 --mass-min 1 --mass-max 3 --every 20)
     carom_mpi_test(opencl_resident_small identity "2;4:2:2"
@@ -54,6 +56,8 @@ if(OpenCL_FOUND)
                    "${opencl_disks};--pipeline;resident;--particles;8000;--steps;60;--boundary;periodic")
     carom_mpi_test(opencl_host_grid identity "3"
                    "${opencl_disks};--pipeline;host-grid;--particles;3000;--steps;60;--collisions;simultaneous")
+    carom_mpi_test(opencl_migration identity "4:2:2"
+                   "--backend;opencl;--pipeline;resident;--particles;12000;--packing;0.3;--speed;20;--steps;40;--boundary;periodic;--every;20")
     carom_mpi_test(opencl_resident_simultaneous identity "2:2:1"
                    "${opencl_disks};--pipeline;resident;--particles;8000;--steps;60;--collisions;simultaneous;--boundary;periodic")
 endif()

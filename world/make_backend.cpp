@@ -11,6 +11,9 @@
 #endif
 #include "backends/event_driven.h"
 #ifdef CAROM_HAVE_OPENCL
+#if defined(CAROM_HAVE_MPI)
+#include "backends/opencl/domain_share.h"
+#endif
 #include "backends/opencl/host_grid.h"
 #include "backends/opencl/resident.h"
 #endif
@@ -53,6 +56,16 @@ std::unique_ptr<Backend> makeDomainEngine(WorldDef world) {
     return engine;
 }
 
+// Where a process keeps its disks between substeps: on the device of a
+// resident OpenCL engine, else on the host.
+std::unique_ptr<DomainShare> domainShareOn(Backend& engine) {
+#ifdef CAROM_HAVE_OPENCL
+    if (auto* resident = dynamic_cast<OpenClResidentBackend*>(&engine))
+        return std::make_unique<OpenClDomainShare>(*resident);
+#endif
+    return std::make_unique<HostDomainShare>(engine);
+}
+
 }  // namespace
 #endif
 
@@ -65,14 +78,16 @@ std::unique_ptr<Backend> makeBackend(const WorldDef& world) {
 #ifdef CAROM_HAVE_MPI
         // Every process learns whether all made theirs (a device may be missing on one node).
         std::unique_ptr<Backend> engine;
+        std::unique_ptr<DomainShare> share;
         std::string failure;
         try {
             engine = makeDomainEngine(world);
+            share = domainShareOn(*engine);
         } catch (const std::exception& e) {
             failure = e.what();
         }
         requireEveryProcess(*world.decomposition, failure);
-        return std::make_unique<DecomposedBackend>(world, std::move(engine));
+        return std::make_unique<DecomposedBackend>(world, std::move(engine), std::move(share));
 #endif
     }
     if (world.engine != ComputeEngine::Cpu && world.collisions == CollisionScheme::Events)

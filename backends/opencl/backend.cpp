@@ -62,6 +62,16 @@ void OpenClBackend::fitWorkGroups(std::initializer_list<cl_kernel> perParticle,
 
 void OpenClBackend::load(const std::vector<Particle>& particles) {
     const std::size_t n = particles.size();
+    createState(n);
+    check(clEnqueueWriteBuffer(queue_.get(), state_.get(), CL_TRUE, 0, n * sizeof(Particle), particles.data(), 0,
+                               nullptr, nullptr),
+          "clEnqueueWriteBuffer(particle state)");
+    loadState(particles);
+    finish();
+    if (profiler_) profiler_->clear();  // the profile covers steps only
+}
+
+void OpenClBackend::createState(std::size_t n) {
     // Free the previous state's buffers first: a state may fill the device.
     releaseState();
     state_.reset();
@@ -75,17 +85,11 @@ void OpenClBackend::load(const std::vector<Particle>& particles) {
     state_ = createBuffer(context_.get(), n * sizeof(Particle), "particle state");
     next_ = createBuffer(context_.get(), n * sizeof(Particle), "next particle state");
     tallies_ = createBuffer(context_.get(), n * sizeof(ContactTally), "contact tallies");
-    check(clEnqueueWriteBuffer(queue_.get(), state_.get(), CL_TRUE, 0, n * sizeof(Particle), particles.data(), 0,
-                               nullptr, nullptr),
-          "clEnqueueWriteBuffer(particle state)");
     enqueueZero(queue_.get(), tallies_.get(), n * sizeof(ContactTally), "contact tallies");
     check(clEnqueueWriteBuffer(queue_.get(), firstNonFinite_.get(), CL_TRUE, 0, sizeof(kNoneNonFinite), kNoneNonFinite,
                                0, nullptr, nullptr),
           "clEnqueueWriteBuffer(first non-finite step and particle)");
     substep_ = nonFiniteBase_ = substepsTaken();  // 0 but where a step returns to its start
-    loadState(particles);
-    finish();
-    if (profiler_) profiler_->clear();  // the profile covers steps only
 }
 
 void OpenClBackend::finish() {

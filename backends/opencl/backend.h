@@ -54,6 +54,9 @@ protected:
     virtual void releaseState() = 0;
     // Makes the pipeline's buffers for `particles`, which state_ holds by id.
     virtual void loadState(const std::vector<Particle>& particles) = 0;
+    // load()'s start: state_, next_ and tallies_ (zeroed) for n disks, the
+    // pipeline's buffers released and no disk non-finite; state_ is to be filled.
+    void createState(std::size_t n);
     // Enqueues one substep of dt.
     virtual void enqueueStep(float dt) = 0;
     // Enqueues up to `steps` (>= 1) substeps of dt and returns how many: one

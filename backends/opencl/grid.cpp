@@ -8,9 +8,6 @@
 namespace carom::opencl {
 namespace {
 
-// Values per work-item in a scan tile: CAROM_SCAN_ITEMS in kernels/grid.cl.
-constexpr std::size_t kScanItems = 16;
-
 // The work-group of the kernels that take one particle or one cell per
 // work-item (at most; the kernels' own limit may be lower). Each work-item
 // does a few loads and stores; on an H200, 256 rather than 64 made a

@@ -73,6 +73,7 @@ public:
     // device's local memory; and the local memory its scan takes: the tile
     // (padded by one word in 32: carom_padded) and a run sum per work-item
     // (kernels/grid.cl, carom_scan_tile).
+    static constexpr std::size_t kScanItems = 16;  // values per work-item in a tile: CAROM_SCAN_ITEMS
     static std::size_t scanGroupSize(const DeviceInfo& device, std::size_t kernelLimit, std::size_t maxGroupSize,
                                      std::size_t items, std::size_t otherBytesPerItem = 0);
     static std::size_t scanTileBytes(std::size_t groupSize, std::size_t items);

@@ -183,11 +183,14 @@ cl_uint DevicePairwise::reserveSubstepEpochs(cl_command_queue queue, unsigned in
     return first;
 }
 
+cl_uint DevicePairwise::changedMarksWord() const {
+    return cl_uint(CAROM_LIST_HEADER_WORDS + kChangedMarksWord * particleCount_);
+}
+
 void DevicePairwise::readLastRounds(cl_command_queue queue, cl_mem ids, std::vector<unsigned int>& rounds) const {
     const std::size_t n = particleCount_;
     std::vector<cl_uint> marks(n), idOf(n);
-    check(clEnqueueReadBuffer(queue, lists_.get(), CL_TRUE,
-                              (CAROM_LIST_HEADER_WORDS + kChangedMarksWord * n) * sizeof(cl_uint), n * sizeof(cl_uint),
+    check(clEnqueueReadBuffer(queue, lists_.get(), CL_TRUE, changedMarksWord() * sizeof(cl_uint), n * sizeof(cl_uint),
                               marks.data(), 0, nullptr, nullptr),
           "clEnqueueReadBuffer(changed marks)");
     check(clEnqueueReadBuffer(queue, ids, CL_TRUE, 0, n * sizeof(cl_uint), idOf.data(), 0, nullptr, nullptr),

@@ -120,6 +120,10 @@ public:
     // round of the last substep enqueued that changed each disk, 0 for none,
     // by id; `ids` names the disk at each sorted position of that substep.
     void readLastRounds(cl_command_queue queue, cl_mem ids, std::vector<unsigned int>& rounds) const;
+    // Where those marks are: the word of lists() with the first sorted
+    // position's; a mark above substepEpoch() is that epoch plus the round.
+    cl_uint changedMarksWord() const;
+    unsigned int substepEpoch() const { return substepEpoch_; }
 
 private:
     unsigned int nextEpoch(cl_command_queue queue);

@@ -63,9 +63,10 @@ void OpenClResidentBackend::releaseState() {
     sortedIds_.reset();
 }
 
+void OpenClResidentBackend::loadState(const std::vector<Particle>& particles) { startState(particles.size()); }
+
 // Slot s holds particle s to begin with; the first step writes them in cell order.
-void OpenClResidentBackend::loadState(const std::vector<Particle>& particles) {
-    const std::size_t n = particles.size();
+void OpenClResidentBackend::startState(std::size_t n) {
     inOneGroup_ = n <= kSmallSystemParticles;
     const bool pairwise = world_.collisions == CollisionScheme::Pairwise;
     // The lists take the skin the CPU engine's would, and are built from the
@@ -251,6 +252,26 @@ void OpenClResidentBackend::swapStepBuffers() {
     std::swap(state_, next_);
     std::swap(ids_, sortedIds_);
     deviceGrid_.advance();
+}
+
+unsigned int OpenClResidentBackend::stepDeviceShare(cl_mem particles, cl_mem tallies, std::size_t count,
+                                                    const Backend& whole, float dt) {
+    return stepLoadedShare(count, whole, dt, [&] {
+        createState(count);
+        enqueueCopy(queue_.get(), particles, state_.get(), count * sizeof(Particle), "a share's disks");
+        enqueueCopy(queue_.get(), tallies, tallies_.get(), count * sizeof(ContactTally), "a share's tallies");
+        startState(count);
+    });
+}
+
+OpenClResidentBackend::SteppedShare OpenClResidentBackend::steppedShare() const {
+    SteppedShare stepped{state_.get(), ids_.get(), tallies_.get(), nullptr, 0, 0};
+    if (world_.collisions == CollisionScheme::Pairwise) {
+        stepped.lists = pairwise_.lists();
+        stepped.marksWord = pairwise_.changedMarksWord();
+        stepped.epoch = pairwise_.substepEpoch();
+    }
+    return stepped;
 }
 
 // After a substep, ids_ names the disk at each of its sorted positions (swapStepBuffers).

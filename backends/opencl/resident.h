@@ -40,11 +40,31 @@ public:
     // of the next state loaded: the same bits either way.
     void useNeighbourLists(bool use) { listsAllowed_ = use; }
 
+    // For a share of a decomposed world kept on this device
+    // (OpenClDomainShare): steps the `count` (> 0) disks and tallies that
+    // `particles` and `tallies` hold in id order by one substep of dt with
+    // the grid of `whole`, as Backend::stepShare does without the copies to
+    // and from the host; the result stays here (steppedShare).
+    unsigned int stepDeviceShare(cl_mem particles, cl_mem tallies, std::size_t count, const Backend& whole, float dt);
+    // Where the last substep left the share: the disks in slot order, the
+    // share's index of the disk in each slot, the tallies by that index and,
+    // pairwise, the marks of the rounds that changed each slot's disk:
+    // lists[marksWord + slot] above epoch (lists null otherwise).
+    struct SteppedShare {
+        cl_mem state, slotIds, tallies, lists;
+        cl_uint marksWord, epoch;
+    };
+    SteppedShare steppedShare() const;
+    cl_context context() const { return context_.get(); }
+    cl_command_queue queue() const { return queue_.get(); }
+    cl_program program() const { return program_.get(); }
+
 private:
     void readLastRounds(std::vector<unsigned int>& rounds) override;
     const char* pipelineName() const override { return "resident"; }
     void releaseState() override;
     void loadState(const std::vector<Particle>& particles) override;
+    void startState(std::size_t n);  // loadState for n disks that state_ holds
     void enqueueStep(float dt) override;
     std::uint64_t enqueueSteps(std::uint64_t steps, float dt) override;
     cl_mem slotIds() const override { return ids_.get(); }
