@@ -13,6 +13,13 @@
 #include "grid.cl"
 #include "pairwise.h"
 
+/* ids[s] = s: slot s holds particle s, as a load leaves the state. */
+__kernel void numberSlots(__global uint* ids, uint count)
+{
+    const uint s = get_global_id(0);
+    if (s < count) ids[s] = s;
+}
+
 /* One particle's step: particle sortedIds[k], in slot cellOrder[k] of
  * `state`, resolved, integrated, written to slot k of `next` and counted
  * into the next grid's `counts`. */

@@ -10,7 +10,6 @@
 
 #include "backends/opencl/program.h"
 #include "engine/neighbour_lists.h"
-#include "engine/parallel.h"
 
 namespace carom {
 
@@ -51,8 +50,10 @@ OpenClResidentBackend::OpenClResidentBackend(const WorldDef& world, const std::s
     : OpenClBackend(world, device, kernelSource(), profiling) {
     fusedKernel_ = createKernel(program_.get(), "resolveIntegrateAndCount");
     finishAndCountKernel_ = createKernel(program_.get(), "finishPairwiseAndCount");
+    numberSlotsKernel_ = createKernel(program_.get(), "numberSlots");
     // finishPairwiseAndCount reduces in a work-group too.
-    fitWorkGroups({fusedKernel_.get(), finishAndCountKernel_.get()}, {finishAndCountKernel_.get()});
+    fitWorkGroups({fusedKernel_.get(), finishAndCountKernel_.get(), numberSlotsKernel_.get()},
+                  {finishAndCountKernel_.get()});
     smallSystem_ = DeviceSmallSystem(device_, program_.get(), profiler_.get());
 }
 
@@ -83,11 +84,8 @@ void OpenClResidentBackend::startState(std::size_t n) {
     gathered_ = !listed && gathers(n);
     ids_ = createBuffer(context_.get(), n * sizeof(cl_uint), "particle ids");
     sortedIds_ = createBuffer(context_.get(), n * sizeof(cl_uint), "particle ids in cell order");
-    UninitialisedVector<cl_uint> ids(n);
-    parallelFor(n, [&](std::size_t i) { ids[i] = cl_uint(i); });
-    check(clEnqueueWriteBuffer(queue_.get(), ids_.get(), CL_TRUE, 0, n * sizeof(cl_uint), ids.data(), 0, nullptr,
-                               nullptr),
-          "clEnqueueWriteBuffer(particle ids)");
+    setKernelArgs(numberSlotsKernel_.get(), ids_.get(), cl_uint(n));
+    enqueue1d(queue_.get(), numberSlotsKernel_.get(), n, workGroupSize_, "numberSlots", profiler_.get());
     deviceGrid_ = DeviceGrid(context_.get(), device_, program_.get(), grid_.geometry, n, profiler_.get());
     deviceGrid_.count(queue_.get(), state_.get());
     buildGridEachStep();  // whatever the lists of a state before chose

@@ -96,6 +96,7 @@ private:
     void buildGridEachStep();              // halt[1] zeroed: the grid's kernels build it (kernels/params.h)
     opencl::Kernel fusedKernel_;           // resolveIntegrateAndCount
     opencl::Kernel finishAndCountKernel_;  // pairwise: finishPairwiseAndCount
+    opencl::Kernel numberSlotsKernel_;     // numberSlots: slot s holds particle s
     opencl::DeviceSmallSystem smallSystem_;
     bool inOneGroup_ = false;   // steps run whole in one work-group (smallSystem_)
     bool gathered_ = false;     // pairwise steps gather the state into sorted order (kGatherUpTo), never with lists
