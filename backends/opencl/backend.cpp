@@ -71,20 +71,22 @@ void OpenClBackend::load(const std::vector<Particle>& particles) {
     if (profiler_) profiler_->clear();  // the profile covers steps only
 }
 
-void OpenClBackend::createState(std::size_t n) {
-    // Free the previous state's buffers first: a state may fill the device.
-    releaseState();
-    state_.reset();
-    next_.reset();
-    tallies_.reset();
-    startState_.reset();
+void OpenClBackend::createState(std::size_t n, bool keepRoom) {
+    startState_.reset();  // made for particleCount_ at the first keepStepStart
     startIds_.reset();
     startTallies_.reset();
     views_.release();
-
-    state_ = createBuffer(context_.get(), n * sizeof(Particle), "particle state");
-    next_ = createBuffer(context_.get(), n * sizeof(Particle), "next particle state");
-    tallies_ = createBuffer(context_.get(), n * sizeof(ContactTally), "contact tallies");
+    if (!keepRoom || !state_.get() || stateRoom_ < n) {
+        // Free the previous state's buffers first: a state may fill the device.
+        releaseState();
+        state_.reset();
+        next_.reset();
+        tallies_.reset();
+        stateRoom_ = keepRoom ? n + n / 4 : n;
+        state_ = createBuffer(context_.get(), stateRoom_ * sizeof(Particle), "particle state");
+        next_ = createBuffer(context_.get(), stateRoom_ * sizeof(Particle), "next particle state");
+        tallies_ = createBuffer(context_.get(), stateRoom_ * sizeof(ContactTally), "contact tallies");
+    }
     enqueueZero(queue_.get(), tallies_.get(), n * sizeof(ContactTally), "contact tallies");
     check(clEnqueueWriteBuffer(queue_.get(), firstNonFinite_.get(), CL_TRUE, 0, sizeof(kNoneNonFinite), kNoneNonFinite,
                                0, nullptr, nullptr),

@@ -55,8 +55,13 @@ protected:
     // Makes the pipeline's buffers for `particles`, which state_ holds by id.
     virtual void loadState(const std::vector<Particle>& particles) = 0;
     // load()'s start: state_, next_ and tallies_ (zeroed) for n disks, the
-    // pipeline's buffers released and no disk non-finite; state_ is to be filled.
-    void createState(std::size_t n);
+    // pipeline's buffers released and no disk non-finite; state_ is to be
+    // filled. With `keepRoom` (a decomposed world's shares, whose size
+    // changes every substep), buffers that hold n disks are kept, and the
+    // pipeline's with them; new ones hold a quarter more.
+    void createState(std::size_t n, bool keepRoom = false);
+    // The disks state_, next_ and tallies_ hold: particleCount() or more.
+    std::size_t stateRoom() const { return stateRoom_; }
     // Enqueues one substep of dt.
     virtual void enqueueStep(float dt) = 0;
     // Enqueues up to `steps` (>= 1) substeps of dt and returns how many: one
@@ -144,6 +149,7 @@ private:
     void awaitSteps() final;
 
     opencl::DeviceViews views_;
+    std::size_t stateRoom_ = 0;
     std::uint64_t substep_ = 0;        // substeps enqueued since setParticles
     std::uint64_t nonFiniteBase_ = 0;  // the substep that step index 0 means
     // keepStepStart's copies of state_, slotIds() (where the pipeline has

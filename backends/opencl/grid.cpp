@@ -48,7 +48,7 @@ std::size_t DeviceGrid::scanGroupSize(const DeviceInfo& device, std::size_t kern
 
 DeviceGrid::DeviceGrid(cl_context context, const DeviceInfo& device, cl_program program, GridGeometry geometry,
                        std::size_t particleCount, Profiler* profiler, std::size_t maxScanGroupSize)
-    : geometry_(geometry), particleCount_(particleCount), profiler_(profiler) {
+    : geometry_(geometry), particleCount_(particleCount), room_(particleCount), profiler_(profiler) {
     const std::size_t cellCount = std::size_t(geometry.cols) * geometry.rows;
     if (cellCount >= std::numeric_limits<cl_uint>::max())
         throw Error("the resident pipeline supports fewer than 2^32 grid cells, this scene needs " +
@@ -88,6 +88,12 @@ DeviceGrid::DeviceGrid(cl_context context, const DeviceInfo& device, cl_program 
     cellCount_ = cellCount;
     scanStatus_ = createBuffer(context, (1 + tiles(cellCount)) * sizeof(cl_uint), "scan status");
     nextScanStatus_ = createBuffer(context, (1 + tiles(cellCount)) * sizeof(cl_uint), "next scan status");
+}
+
+bool DeviceGrid::holds(GridGeometry geometry, std::size_t particleCount) const {
+    return room_ >= particleCount && countKernel_.get() && geometry.cols == geometry_.cols &&
+           geometry.rows == geometry_.rows && geometry.cellsPerLengthX == geometry_.cellsPerLengthX &&
+           geometry.cellsPerLengthY == geometry_.cellsPerLengthY;
 }
 
 void DeviceGrid::count(cl_command_queue queue, cl_mem state) {

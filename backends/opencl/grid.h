@@ -40,6 +40,11 @@ public:
     DeviceGrid(cl_context context, const DeviceInfo& device, cl_program program, GridGeometry geometry,
                std::size_t particleCount, Profiler* profiler = nullptr, std::size_t maxScanGroupSize = 512);
 
+    // Whether this grid has `geometry` and buffers for `particleCount`
+    // particles or more; then setParticleCount takes it for as many as that.
+    bool holds(GridGeometry geometry, std::size_t particleCount) const;
+    void setParticleCount(std::size_t particleCount) { particleCount_ = particleCount; }
+
     // Counts the particles of `state` (slot order) into fresh current counts
     // (after a load).
     void count(cl_command_queue queue, cl_mem state);
@@ -97,6 +102,7 @@ private:
 
     GridGeometry geometry_{};
     std::size_t particleCount_ = 0;
+    std::size_t room_ = 0;  // particles the buffers hold
     Profiler* profiler_ = nullptr;
     std::size_t groupSize_ = 0;       // for the one-item-per-particle/cell kernels
     std::size_t scanGroupSize_ = 64;  // a power of two

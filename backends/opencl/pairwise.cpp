@@ -52,7 +52,11 @@ static_assert(sizeof(CaromEvent) == 8, "CaromEvent must match its OpenCL layout"
 
 DevicePairwise::DevicePairwise(cl_context context, const DeviceInfo& device, cl_program program,
                                std::size_t particleCount, cl_command_queue queue, Profiler* profiler)
-    : particleCount_(particleCount), profiler_(profiler), hostCounts_(CAROM_LIST_HEADER_WORDS) {
+    : particleCount_(particleCount),
+      room_(particleCount),
+      computeUnits_(std::max<std::size_t>(1, device.computeUnits)),
+      profiler_(profiler),
+      hostCounts_(CAROM_LIST_HEADER_WORDS) {
     startKernel_ = createKernel(program, "startPairwiseStep");
     findKernel_ = createKernel(program, "findEvents");
     searchChangedKernel_ = createKernel(program, "searchChanged");
@@ -63,10 +67,18 @@ DevicePairwise::DevicePairwise(cl_context context, const DeviceInfo& device, cl_
                         buildListsKernel_.get()})
         groupSize_ = std::min(groupSize_, kernelWorkGroupLimit(k, device.id));
     roundsGroupSize_ = std::min(kRoundsGroupSize, kernelWorkGroupLimit(roundsInGroupKernel_.get(), device.id));
-    listItems_ = std::min((particleCount + groupSize_ - 1) / groupSize_ * groupSize_,
-                          std::max<std::size_t>(1, device.computeUnits) * kListItemsPerComputeUnit);
     lists_ = createBuffer(context, (CAROM_LIST_HEADER_WORDS + kListWordsPerDisk * particleCount) * sizeof(cl_uint),
                           "pairwise lists");
+    setParticleCount(queue, particleCount);
+}
+
+// The lists' layout follows the count (kernels/pairwise.h), so the header
+// and the marks are cleared for it: a word of the layout before could read
+// as a mark.
+void DevicePairwise::setParticleCount(cl_command_queue queue, std::size_t particleCount) {
+    particleCount_ = particleCount;
+    listItems_ =
+        std::min((particleCount + groupSize_ - 1) / groupSize_ * groupSize_, computeUnits_ * kListItemsPerComputeUnit);
     enqueueZero(queue, lists_.get(), CAROM_LIST_HEADER_WORDS * sizeof(cl_uint), "pairwise lists' header");
     clearMarks(queue);
 }

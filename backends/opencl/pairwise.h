@@ -34,6 +34,11 @@ public:
     // recorded in `profiler` when given.
     DevicePairwise(cl_context context, const DeviceInfo& device, cl_program program, std::size_t particleCount,
                    cl_command_queue queue, Profiler* profiler = nullptr);
+    // The disks the buffers hold (the constructor's count); 0 for none.
+    std::size_t room() const { return room_; }
+    // Takes these buffers for `particleCount` (<= room()) disks, as the
+    // constructor leaves them (without neighbour lists).
+    void setParticleCount(cl_command_queue queue, std::size_t particleCount);
 
     // The grid and state of a step: `state[slots[k]]` is the disk at
     // sorted position k, `ids[k]` its id, `cellOf[slots[k]]` its cell; with
@@ -136,6 +141,8 @@ private:
     bool makeListRoom(cl_context context, std::size_t entries);  // neighbours_ for this many entries, if it can
 
     std::size_t particleCount_ = 0;
+    std::size_t room_ = 0;
+    std::size_t computeUnits_ = 1;
     Profiler* profiler_ = nullptr;
     cl_context context_ = nullptr;  // lists: where their room grows
     float skin_ = 0.0f;             // lists: their skin; 0 without

@@ -82,16 +82,25 @@ void OpenClResidentBackend::startState(std::size_t n) {
         if (listed) grid_.geometry = *wide;
     }
     gathered_ = !listed && gathers(n);
-    ids_ = createBuffer(context_.get(), n * sizeof(cl_uint), "particle ids");
-    sortedIds_ = createBuffer(context_.get(), n * sizeof(cl_uint), "particle ids in cell order");
+    // The buffers of a state before are still here where createState kept
+    // its own (releaseState frees them otherwise); new ones hold stateRoom().
+    const std::size_t room = stateRoom();
+    if (!ids_.get()) {
+        ids_ = createBuffer(context_.get(), room * sizeof(cl_uint), "particle ids");
+        sortedIds_ = createBuffer(context_.get(), room * sizeof(cl_uint), "particle ids in cell order");
+    }
     setKernelArgs(numberSlotsKernel_.get(), ids_.get(), cl_uint(n));
     enqueue1d(queue_.get(), numberSlotsKernel_.get(), n, workGroupSize_, "numberSlots", profiler_.get());
-    deviceGrid_ = DeviceGrid(context_.get(), device_, program_.get(), grid_.geometry, n, profiler_.get());
+    if (!deviceGrid_.holds(grid_.geometry, n))
+        deviceGrid_ = DeviceGrid(context_.get(), device_, program_.get(), grid_.geometry, room, profiler_.get());
+    deviceGrid_.setParticleCount(n);
     deviceGrid_.count(queue_.get(), state_.get());
     buildGridEachStep();  // whatever the lists of a state before chose
     speedKnown_ = false;
     if (!pairwise) return;
-    pairwise_ = DevicePairwise(context_.get(), device_, program_.get(), n, queue_.get(), profiler_.get());
+    const bool fresh = listed || pairwise_.room() < n;
+    if (fresh) pairwise_ = DevicePairwise(context_.get(), device_, program_.get(), room, queue_.get(), profiler_.get());
+    if (!fresh || room != n) pairwise_.setParticleCount(queue_.get(), n);
     if (listed) pairwise_.enableLists(context_.get(), skin);
     // The finish's record: no disk non-finite, no speed yet (zero).
     cl_uint record[DevicePairwise::kRecordWords] = {};
@@ -255,7 +264,7 @@ void OpenClResidentBackend::swapStepBuffers() {
 unsigned int OpenClResidentBackend::stepDeviceShare(cl_mem particles, cl_mem tallies, std::size_t count,
                                                     const Backend& whole, float dt) {
     return stepLoadedShare(count, whole, dt, [&] {
-        createState(count);
+        createState(count, true);
         enqueueCopy(queue_.get(), particles, state_.get(), count * sizeof(Particle), "a share's disks");
         enqueueCopy(queue_.get(), tallies, tallies_.get(), count * sizeof(ContactTally), "a share's tallies");
         startState(count);
