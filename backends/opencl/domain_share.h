@@ -4,8 +4,8 @@
 // copies, and reads back only the own disks near another domain and those
 // that left it; the merge into the next share, the step, and the maxima and
 // minima over the own disks run on the device. The whole share crosses the
-// bus only when the host reads the own disks (the gathers, the tallies'
-// drains and the step's start a stop may return to).
+// bus only when the host reads the own disks (the gathers and the tallies'
+// drains); the copy a stop may return to (clone) stays on the device.
 #pragma once
 
 #include <memory>
