@@ -1,7 +1,6 @@
 #include "backends/domain_share.h"
 
 #include <algorithm>
-#include <array>
 #include <utility>
 
 #include "engine/parallel.h"

@@ -107,7 +107,6 @@ void OpenClDomainShare::load(const DomainDisks& own, const DomainMap& map, int r
     }
     fit(list_, (1 + n) * sizeof(cl_uint), "a list of a share's slots");
     next_.count = 0;
-    nextStepped_ = false;
 }
 
 std::size_t OpenClDomainShare::listSlots(cl_kernel kernel) {
@@ -161,7 +160,6 @@ void OpenClDomainShare::mergeNext(const DomainDisks& arrived, const std::vector<
     fit(next_, total);
     next_.count = total;
     nextOwnCount_ = ownCount_ + came;
-    nextStepped_ = false;
     if (incoming > 0) {
         fit(incoming_, incoming * sizeof(Particle), "incoming disks");
         fit(incomingIds_, incoming * sizeof(cl_uint), "incoming ids");
@@ -206,15 +204,12 @@ void OpenClDomainShare::mergeNext(const DomainDisks& arrived, const std::vector<
 
 unsigned int OpenClDomainShare::stepNext(const Backend& whole, float dt) {
     if (next_.count == 0) return 0;
-    const unsigned int rounds =
-        engine_->stepDeviceShare(next_.particles.get(), next_.tallies.get(), next_.count, whole, dt);
-    nextStepped_ = true;
-    return rounds;
+    return engine_->stepDeviceShare(next_.particles.get(), next_.tallies.get(), next_.count, whole, dt);
 }
 
 DomainShare::Kept OpenClDomainShare::keepNext() {
     Kept kept;
-    if (nextStepped_) {
+    if (next_.count > 0) {  // stepNext stepped it on the engine
         const OpenClResidentBackend::SteppedShare stepped = engine_->steppedShare();
         cl_uint record[2] = {0, std::numeric_limits<cl_uint>::max()};
         fit(record_, sizeof record, "a share's record");

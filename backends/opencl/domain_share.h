@@ -69,7 +69,6 @@ private:
     int rank_ = 0;
     Disks held_, next_;
     std::size_t ownCount_ = 0, nextOwnCount_ = 0;
-    bool nextStepped_ = false;  // next_ was stepped on the engine (an empty one is not)
     // The domains of the cell columns and rows; near()'s marks.
     Array domainOfColumn_, domainOfRow_, nearColumns_, nearRows_;
     // mergeNext's uploads: the arrived disks then the copies (particles,
